@@ -1,0 +1,41 @@
+// ldsm: one executable, thin subcommands (one file each, see commands.h).
+#include <spdlog/spdlog.h>
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <exception>
+#include <string>
+
+#include "commands.h"
+#include "ldsm/error.h"
+#include "logging.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"ldsm: live monocular direct SLAM for robots", "ldsm"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("ldsm ") + LDSM_VERSION_STRING);
+  std::string log_level = "warn";
+  app.add_option("--log-level", log_level, "trace, debug, info, warn, error, off")
+      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}))
+      ->capture_default_str();
+  app.parse_complete_callback([&]() { ldsm::app::setupLogging(log_level); });
+
+  ldsm::app::CommandResult result;
+  ldsm::app::addConfigCommand(app, result);
+  ldsm::app::addInfoCommand(app, result);
+  ldsm::app::addSimCommand(app, result);
+  ldsm::app::addEvalCommand(app, result);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const ldsm::Error& e) {
+    std::fprintf(stderr, "ldsm: error: %s\n", e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "ldsm: unexpected error: %s\n", e.what());
+    return 2;
+  }
+  return result.exit_code;
+}

@@ -1,0 +1,29 @@
+# Warning flags, SIMD selection and the opt-in -march=native, as an interface target that every
+# ldsm target links privately.
+add_library(ldsm_build_flags INTERFACE)
+target_compile_options(ldsm_build_flags INTERFACE
+  $<$<CXX_COMPILER_ID:GNU,Clang>:-Wall -Wextra -Wpedantic -Wshadow=local -Wnon-virtual-dtor
+                                 -Wcast-align -Woverloaded-virtual -Wnull-dereference>)
+if(LDSM_WERROR)
+  target_compile_options(ldsm_build_flags INTERFACE $<$<CXX_COMPILER_ID:GNU,Clang>:-Werror>)
+endif()
+if(LDSM_NATIVE)
+  target_compile_options(ldsm_build_flags INTERFACE -march=native)
+endif()
+
+# Resolve LDSM_SIMD=auto to the instruction set of the target processor.
+set(LDSM_SIMD_RESOLVED ${LDSM_SIMD})
+if(LDSM_SIMD STREQUAL "auto")
+  if(CMAKE_SYSTEM_PROCESSOR MATCHES "^(x86_64|AMD64|amd64|i[3-6]86)$")
+    set(LDSM_SIMD_RESOLVED sse)
+  elseif(CMAKE_SYSTEM_PROCESSOR MATCHES "^(aarch64|arm64|armv7.*|arm)$")
+    set(LDSM_SIMD_RESOLVED neon)
+  else()
+    set(LDSM_SIMD_RESOLVED scalar)
+  endif()
+endif()
+if(NOT LDSM_SIMD_RESOLVED MATCHES "^(sse|neon|scalar)$")
+  message(FATAL_ERROR "LDSM_SIMD must be auto, sse, neon or scalar (got '${LDSM_SIMD}')")
+endif()
+message(STATUS "ldsm: SIMD kernels: ${LDSM_SIMD_RESOLVED}")
+install(TARGETS ldsm_build_flags EXPORT ldsmTargets)

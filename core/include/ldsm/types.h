@@ -1,0 +1,39 @@
+// Value types of the public API: poses, stamped poses, trajectories.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <vector>
+
+namespace ldsm {
+
+/// A rigid pose as a value: rotation (unit quaternion) and translation. When it describes a camera
+/// it is camera-to-world (T_wc), as in the TUM trajectory format.
+struct Pose {
+  Eigen::Quaterniond rotation = Eigen::Quaterniond::Identity();
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+
+  static Pose identity() { return {}; }
+  Eigen::Isometry3d isometry() const {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = rotation.normalized().toRotationMatrix();
+    T.translation() = translation;
+    return T;
+  }
+  static Pose fromIsometry(const Eigen::Isometry3d& T) {
+    Pose p;
+    p.rotation = Eigen::Quaterniond(T.rotation()).normalized();
+    p.translation = T.translation();
+    return p;
+  }
+};
+
+/// A pose at a time (seconds).
+struct StampedPose {
+  double timestamp = 0.0;
+  Pose pose;
+};
+
+using Trajectory = std::vector<StampedPose>;
+
+}  // namespace ldsm
