@@ -1,0 +1,124 @@
+// Configuration: a tree of plain structs with defaults. Every struct lists its fields once, in
+// visit(), with key, allowed range and help text; validation, YAML loading and printing of the
+// defaults are all driven from that single list (see config_visitors.h), so a field can never be
+// documented in one place and forgotten in another.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace ldsm {
+
+/// Inclusive range of allowed values of a numeric field.
+template <typename T>
+struct Range {
+  T min;
+  T max;
+};
+
+struct SystemConfig {
+  /// One thread, every stage in order: identical output for identical input.
+  bool deterministic = false;
+
+  template <typename V>
+  void visit(V& v) {
+    v.field("deterministic", deterministic,
+            "run every stage on one thread in order (bit-identical results)");
+  }
+};
+
+struct PhotometricConfig {
+  bool use_response = true;  ///< undo the inverse response G^-1 when pcalib.txt is given
+  bool use_vignette = true;  ///< divide by the vignette V(x) when vignette.png is given
+  bool use_exposure = true;  ///< use exposure times when the source provides them
+  /// Weight of the prior keeping affine brightness (a, b) near zero when exposures are unknown.
+  double affine_prior_weight_unknown = 1e-3;
+  /// Weight of that prior when the photometric calibration and exposures are known.
+  double affine_prior_weight_known = 1e6;
+
+  template <typename V>
+  void visit(V& v) {
+    v.field("use_response", use_response, "undo the camera response when pcalib.txt is given");
+    v.field("use_vignette", use_vignette, "correct the vignette when vignette.png is given");
+    v.field("use_exposure", use_exposure, "use exposure times when the source provides them");
+    v.field("affine_prior_weight_unknown", affine_prior_weight_unknown, Range<double>{0.0, 1e12},
+            "prior weight on affine brightness (a, b) when exposures are unknown");
+    v.field("affine_prior_weight_known", affine_prior_weight_known, Range<double>{0.0, 1e12},
+            "prior weight on affine brightness (a, b) with full photometric calibration");
+  }
+};
+
+struct PointSelectionConfig {
+  int points_per_keyframe = 2000;  ///< target number of selected pixels per keyframe
+  double corner_fraction = 0.15;   ///< share of those that are Shi-Tomasi corners (features)
+  int grid_block_size = 32;        ///< adaptive threshold grid cell, pixels
+  double min_gradient = 7.0;       ///< constant added to the regional gradient threshold
+
+  template <typename V>
+  void visit(V& v) {
+    v.field("points_per_keyframe", points_per_keyframe, Range<int>{100, 20000},
+            "target number of points selected per keyframe");
+    v.field("corner_fraction", corner_fraction, Range<double>{0.0, 1.0},
+            "share of selected points that are Shi-Tomasi corners (carry ORB descriptors)");
+    v.field("grid_block_size", grid_block_size, Range<int>{8, 128},
+            "cell size in pixels of the adaptive gradient-threshold grid");
+    v.field("min_gradient", min_gradient, Range<double>{0.0, 255.0},
+            "constant added to the regional gradient threshold");
+  }
+};
+
+struct TrackingConfig {
+  int pyramid_levels = 5;          ///< pyramid levels used by the coarse tracker
+  int max_iterations_per_level = 10;
+  double huber_threshold = 9.0;    ///< Huber threshold of the photometric residual, grey levels
+
+  template <typename V>
+  void visit(V& v) {
+    v.field("pyramid_levels", pyramid_levels, Range<int>{1, 8},
+            "image pyramid levels for coarse-to-fine tracking");
+    v.field("max_iterations_per_level", max_iterations_per_level, Range<int>{1, 100},
+            "Gauss-Newton iterations per pyramid level");
+    v.field("huber_threshold", huber_threshold, Range<double>{0.1, 255.0},
+            "Huber threshold of photometric residuals (grey levels)");
+  }
+};
+
+struct WindowConfig {
+  int min_keyframes = 5;  ///< keyframes kept before marginalisation starts
+  int max_keyframes = 7;  ///< hard upper bound of the optimisation window
+
+  template <typename V>
+  void visit(V& v) {
+    v.field("min_keyframes", min_keyframes, Range<int>{2, 20},
+            "keyframes in the window before old ones are marginalised");
+    v.field("max_keyframes", max_keyframes, Range<int>{3, 20},
+            "maximum keyframes in the optimisation window");
+  }
+};
+
+/// The whole configuration tree. Sections are added here as modules arrive.
+struct Config {
+  SystemConfig system;
+  PhotometricConfig photometric;
+  PointSelectionConfig points;
+  TrackingConfig tracking;
+  WindowConfig window;
+
+  template <typename V>
+  void visit(V& v) {
+    v.section("system", system, "threads and determinism");
+    v.section("photometric", photometric, "photometric calibration and exposure handling");
+    v.section("points", points, "point selection");
+    v.section("tracking", tracking, "coarse tracking of every frame");
+    v.section("window", window, "sliding-window bundle adjustment");
+  }
+};
+
+/// Every problem with `config`, one message each naming the key and the allowed range
+/// (empty when valid).
+std::vector<std::string> configProblems(const Config& config);
+
+/// Throws ldsm::ConfigError listing every problem when `config` is invalid.
+void validateConfig(const Config& config);
+
+}  // namespace ldsm
