@@ -1,0 +1,62 @@
+// The photometric residual of one point in one target keyframe over the 8-pixel pattern
+//   r_k = I_t[p'_k] - scale * I_h[p_k] - offset     (affineTransfer of host -> target)
+// with Huber and gradient-dependent weights, and its linearisation. Geometric Jacobians are
+// evaluated at the keyframes' first-estimate linearisation points (FEJ); residual values and image
+// gradients at the current estimate.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "frontend/pyramid_camera.h"
+#include "ldsm/image/gradient_pixel.h"
+#include "map/active_point.h"
+#include "map/window_keyframe.h"
+
+namespace ldsm {
+
+/// Relative parameters of a residual: [eps (6, left increment of T_t_h), a_h, b_h, a_t, b_t].
+constexpr int kRelParams = 10;
+using RelMatrix = Eigen::Matrix<double, kRelParams, kRelParams>;
+using RelVector = Eigen::Matrix<double, kRelParams, 1>;
+
+struct ResidualSettings {
+  float huber_threshold = 9.f;          ///< grey levels
+  float gradient_weight_c = 50.f;       ///< c of w = c^2 / (c^2 + |grad I|^2)
+  float outlier_energy = 12.f * 12.f * kPatternSize;  ///< pattern energy above: outlier
+  float border = 2.f;                   ///< pixels kept free at the image border
+};
+
+/// Everything about a (host, target) keyframe pair that residuals share.
+struct FramePairPrecalc {
+  Eigen::Matrix3f KRKi;  ///< K R_th K^-1 at the current estimate
+  Eigen::Vector3f Kt;    ///< K t_th at the current estimate
+  Eigen::Matrix3f R0;    ///< R_th at the linearisation point
+  Eigen::Vector3f t0;    ///< t_th at the linearisation point
+  float scale = 1.f, offset = 0.f, host_b = 0.f;
+  LevelCamera cam;
+  ImageView<const GradientPixel> target_image;
+
+  void set(const WindowKeyframe& host, const WindowKeyframe& target, const LevelCamera& camera);
+};
+
+/// Sums the Gauss-Newton terms of residuals into relative-parameter accumulators.
+struct ResidualAccumulator {
+  RelMatrix* H_pair = nullptr;  ///< sum w J_rel^T J_rel of the (host, target) pair
+  RelVector* b_pair = nullptr;  ///< sum w J_rel^T r
+  double H_dd = 0.0;            ///< this residual's sum w J_d^2
+  double b_d = 0.0;             ///< sum w J_d r
+  RelVector coupling = RelVector::Zero();  ///< sum w J_rel^T J_d
+};
+
+/// Evaluates the residual of `point` in the pair's target. Updates `res.state`, `res.energy`,
+/// `res.projection` and returns the energy. When `acc` is given and the residual is an inlier,
+/// adds its linearisation to it.
+float evaluateResidual(const ActivePoint& point, PointResidual& res, const FramePairPrecalc& pair,
+                       const ResidualSettings& settings, ResidualAccumulator* acc);
+
+/// Gradient weight c^2 / (c^2 + |g|^2), square-rooted (the weight on the residual itself).
+inline float gradientWeightSqrt(float dx, float dy, float c) {
+  return std::sqrt(c * c / (c * c + dx * dx + dy * dy));
+}
+
+}  // namespace ldsm

@@ -1,0 +1,349 @@
+#include "backend/window_optimizer.h"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+
+namespace ldsm {
+namespace {
+
+using Mat16 = Eigen::Matrix<double, 16, 16>;
+using Vec16 = Eigen::Matrix<double, 16, 1>;
+using Map10x16 = Eigen::Matrix<double, kRelParams, 16>;
+
+/// d(relative parameters) / d(host params, target params): eps = delta_t - Ad(T_th) delta_h.
+Map10x16 relativeToAbsolute(const Eigen::Matrix<double, 6, 6>& Ad) {
+  Map10x16 P = Map10x16::Zero();
+  P.block<6, 6>(0, 0) = -Ad;
+  P.block<6, 6>(0, 8) = Eigen::Matrix<double, 6, 6>::Identity();
+  P(6, 6) = 1.0;   // a_h
+  P(7, 7) = 1.0;   // b_h
+  P(8, 14) = 1.0;  // a_t
+  P(9, 15) = 1.0;  // b_t
+  return P;
+}
+
+void addPairBlocks(int h, int t, const Mat16& H16, const Vec16& b16, Eigen::MatrixXd& H,
+                   Eigen::VectorXd& b) {
+  const int k = kFrameParams;
+  H.block<k, k>(k * h, k * h) += H16.block<k, k>(0, 0);
+  H.block<k, k>(k * h, k * t) += H16.block<k, k>(0, k);
+  H.block<k, k>(k * t, k * h) += H16.block<k, k>(k, 0);
+  H.block<k, k>(k * t, k * t) += H16.block<k, k>(k, k);
+  b.segment<k>(k * h) += b16.head<k>();
+  b.segment<k>(k * t) += b16.tail<k>();
+}
+
+Eigen::VectorXd stackedDeltas(const std::vector<WindowKeyframe*>& window) {
+  Eigen::VectorXd d(kFrameParams * window.size());
+  for (size_t i = 0; i < window.size(); ++i)
+    d.segment<kFrameParams>(kFrameParams * i) = window[i]->delta();
+  return d;
+}
+
+std::vector<int> windowIds(const std::vector<WindowKeyframe*>& window) {
+  std::vector<int> ids;
+  for (const auto* kf : window) ids.push_back(kf->id());
+  return ids;
+}
+
+}  // namespace
+
+void WindowOptimizer::precalcPairs(const std::vector<WindowKeyframe*>& window) {
+  const size_t n = window.size();
+  pairs_.resize(n * n);
+  adjoints_.resize(n * n);
+  for (size_t i = 0; i < n; ++i) window[i]->window_index = static_cast<int>(i);
+  for (size_t h = 0; h < n; ++h)
+    for (size_t t = 0; t < n; ++t) {
+      if (h == t) continue;
+      pairs_[h * n + t].set(*window[h], *window[t], camera_);
+      adjoints_[h * n + t] =
+          (window[t]->T_c_w_eval * window[h]->T_c_w_eval.inverse()).adjoint();
+    }
+}
+
+double WindowOptimizer::addPriors(const std::vector<WindowKeyframe*>& window,
+                                  const MarginalizationPrior& prior, Eigen::MatrixXd* H,
+                                  Eigen::VectorXd* b) const {
+  const int k = kFrameParams;
+  double energy = 0.0;
+  for (size_t i = 0; i < window.size(); ++i) {
+    const WindowKeyframe& kf = *window[i];
+    const double a = kf.aff.a, bb = kf.aff.b;
+    energy += 0.5 * (settings_.affine_prior_a * a * a + settings_.affine_prior_b * bb * bb);
+    if (H) {
+      (*H)(k * i + 6, k * i + 6) += settings_.affine_prior_a;
+      (*H)(k * i + 7, k * i + 7) += settings_.affine_prior_b;
+      (*b)[k * i + 6] += settings_.affine_prior_a * a;
+      (*b)[k * i + 7] += settings_.affine_prior_b * bb;
+    }
+    if (kf.has_pose_prior) {
+      const Eigen::Matrix<double, 6, 1> d = kf.delta().head<6>();
+      energy += 0.5 * settings_.pose_prior * d.squaredNorm();
+      if (H) {
+        H->block<6, 6>(k * i, k * i).diagonal().array() += settings_.pose_prior;
+        b->segment<6>(k * i) += settings_.pose_prior * d;
+      }
+    }
+  }
+  if (!prior.empty()) {
+    // Gather the prior onto the window's block order.
+    const auto& ids = prior.ids();
+    std::vector<int> at(ids.size(), -1);
+    Eigen::VectorXd deltas(k * ids.size());
+    for (size_t j = 0; j < ids.size(); ++j) {
+      for (size_t i = 0; i < window.size(); ++i)
+        if (window[i]->id() == ids[j]) at[j] = static_cast<int>(i);
+      deltas.segment<k>(k * j) =
+          at[j] >= 0 ? window[at[j]]->delta() : FrameVector::Zero().eval();
+    }
+    energy += prior.energy(deltas);
+    if (H) {
+      const Eigen::VectorXd g = prior.b() + prior.H() * deltas;
+      for (size_t j = 0; j < ids.size(); ++j) {
+        if (at[j] < 0) continue;
+        b->segment<k>(k * at[j]) += g.segment<k>(k * j);
+        for (size_t l = 0; l < ids.size(); ++l)
+          if (at[l] >= 0)
+            H->block<k, k>(k * at[j], k * at[l]) += prior.H().block<k, k>(k * j, k * l);
+      }
+    }
+  }
+  return energy;
+}
+
+void WindowOptimizer::linearize(const std::vector<WindowKeyframe*>& window,
+                                const MarginalizationPrior& prior, System& sys) {
+  const int n = static_cast<int>(window.size());
+  const int dim = kFrameParams * n;
+  sys.H.setZero(dim, dim);
+  sys.b.setZero(dim);
+  sys.points.clear();
+  sys.H_dd.clear();
+  sys.b_d.clear();
+  sys.inliers = sys.outliers = 0;
+  sys.inlier_energy = 0.0;
+  pair_H_.assign(static_cast<size_t>(n) * n, RelMatrix::Zero());
+  pair_b_.assign(static_cast<size_t>(n) * n, RelVector::Zero());
+  std::vector<Map10x16> P(static_cast<size_t>(n) * n);
+  for (int h = 0; h < n; ++h)
+    for (int t = 0; t < n; ++t)
+      if (h != t) P[h * n + t] = relativeToAbsolute(adjoints_[h * n + t]);
+
+  size_t num_points = 0;
+  for (const auto* kf : window) num_points += kf->points.size();
+  sys.coupling.setZero(dim, static_cast<Eigen::Index>(num_points));
+
+  const float thr = settings_.residual.outlier_energy;
+  double residual_energy = 0.0;
+  for (int h = 0; h < n; ++h) {
+    for (auto& pt : window[h]->points) {
+      ActivePoint& p = *pt;
+      const Eigen::Index col = static_cast<Eigen::Index>(sys.points.size());
+      double H_dd = 0.0, b_d = 0.0;
+      int inl = 0;
+      for (auto& res : p.residuals) {
+        const int t = res.target->window_index;
+        const size_t pi = static_cast<size_t>(h) * n + t;
+        ResidualAccumulator acc;
+        acc.H_pair = &pair_H_[pi];
+        acc.b_pair = &pair_b_[pi];
+        const float e = evaluateResidual(p, res, pairs_[pi], settings_.residual, &acc);
+        if (res.state == ResidualState::Inlier) {
+          residual_energy += e;
+          sys.inlier_energy += e;
+          ++sys.inliers;
+          ++inl;
+          H_dd += acc.H_dd;
+          b_d += acc.b_d;
+          const Vec16 c16 = P[pi].transpose() * acc.coupling;
+          sys.coupling.block<kFrameParams, 1>(kFrameParams * h, col) += c16.head<kFrameParams>();
+          sys.coupling.block<kFrameParams, 1>(kFrameParams * t, col) += c16.tail<kFrameParams>();
+        } else {
+          residual_energy += thr;
+          if (res.state == ResidualState::Outlier) ++sys.outliers;
+        }
+      }
+      p.hessian_idepth = static_cast<float>(H_dd);
+      p.gradient_idepth = static_cast<float>(b_d);
+      p.inlier_residuals = inl;
+      sys.points.push_back(&p);
+      sys.H_dd.push_back(H_dd);
+      sys.b_d.push_back(b_d);
+    }
+  }
+  for (int h = 0; h < n; ++h)
+    for (int t = 0; t < n; ++t) {
+      if (h == t) continue;
+      const size_t pi = static_cast<size_t>(h) * n + t;
+      RelMatrix Hr = pair_H_[pi].selfadjointView<Eigen::Upper>();
+      const Map10x16& Pm = P[pi];
+      const Mat16 H16 = Pm.transpose() * Hr * Pm;
+      const Vec16 b16 = Pm.transpose() * pair_b_[pi];
+      addPairBlocks(h, t, H16, b16, sys.H, sys.b);
+    }
+  sys.energy = 0.5 * residual_energy + addPriors(window, prior, &sys.H, &sys.b);
+}
+
+void WindowOptimizer::solve(const System& sys, double lambda, Eigen::VectorXd& frame_step,
+                            std::vector<double>& point_step) const {
+  const Eigen::Index dim = sys.H.rows();
+  const Eigen::Index np = static_cast<Eigen::Index>(sys.points.size());
+  Eigen::VectorXd inv_dd(np);
+  for (Eigen::Index i = 0; i < np; ++i) {
+    const double hdd = sys.H_dd[i] * (1.0 + lambda);
+    inv_dd[i] = hdd > 1e-10 ? 1.0 / hdd : 0.0;
+  }
+  Eigen::MatrixXd Hs = sys.H;
+  Hs.noalias() -= sys.coupling * inv_dd.asDiagonal() * sys.coupling.transpose();
+  Eigen::VectorXd bs = sys.b;
+  for (Eigen::Index i = 0; i < np; ++i) bs -= sys.coupling.col(i) * (sys.b_d[i] * inv_dd[i]);
+
+  // Jacobi scaling makes poses, affine parameters and depths comparable; LM damping on top.
+  Eigen::VectorXd s(dim);
+  for (Eigen::Index i = 0; i < dim; ++i) s[i] = 1.0 / std::sqrt(std::max(Hs(i, i), 1e-12));
+  Eigen::MatrixXd A = s.asDiagonal() * Hs * s.asDiagonal();
+  A.diagonal().array() += lambda + 1e-10;
+  const Eigen::VectorXd y = A.ldlt().solve(-(s.asDiagonal() * bs));
+  frame_step = s.asDiagonal() * y;
+  if (!frame_step.allFinite()) frame_step.setZero(dim);
+
+  point_step.assign(static_cast<size_t>(np), 0.0);
+  for (Eigen::Index i = 0; i < np; ++i)
+    point_step[i] = -(sys.b_d[i] + sys.coupling.col(i).dot(frame_step)) * inv_dd[i];
+}
+
+double WindowOptimizer::evaluate(const std::vector<WindowKeyframe*>& window,
+                                 const MarginalizationPrior& prior) {
+  precalcPairs(window);
+  const int n = static_cast<int>(window.size());
+  double e = 0.0;
+  const float thr = settings_.residual.outlier_energy;
+  for (int h = 0; h < n; ++h)
+    for (auto& pt : window[h]->points) {
+      int inl = 0;
+      for (auto& res : pt->residuals) {
+        const size_t pi = static_cast<size_t>(h) * n + res.target->window_index;
+        const float r = evaluateResidual(*pt, res, pairs_[pi], settings_.residual, nullptr);
+        const bool inlier = res.state == ResidualState::Inlier;
+        e += inlier ? r : thr;
+        inl += inlier ? 1 : 0;
+      }
+      pt->inlier_residuals = inl;
+    }
+  return 0.5 * e + addPriors(window, prior, nullptr, nullptr);
+}
+
+WindowOptimizationResult WindowOptimizer::optimize(const std::vector<WindowKeyframe*>& window,
+                                                   const MarginalizationPrior& prior) {
+  WindowOptimizationResult result;
+  if (window.size() < 2) return result;
+  System sys, trial;
+  precalcPairs(window);
+  linearize(window, prior, sys);
+  result.initial_energy = sys.energy;
+  double lambda = settings_.initial_lambda;
+  Eigen::VectorXd frame_step;
+  std::vector<double> point_step;
+  for (int it = 0; it < settings_.max_iterations; ++it) {
+    solve(sys, lambda, frame_step, point_step);
+    for (size_t i = 0; i < window.size(); ++i) {
+      window[i]->backup();
+      window[i]->applyStep(frame_step.segment<kFrameParams>(kFrameParams * i));
+    }
+    for (size_t i = 0; i < sys.points.size(); ++i) {
+      ActivePoint& p = *sys.points[i];
+      p.idepth_backup = p.idepth;
+      const double nd = p.idepth + point_step[i];
+      // Keep depths positive: a point cannot jump behind its host.
+      p.idepth = static_cast<float>(nd > 0.25 * p.idepth ? nd : 0.25 * p.idepth);
+    }
+    precalcPairs(window);
+    linearize(window, prior, trial);
+    ++result.iterations;
+    if (trial.energy <= sys.energy) {
+      const double decrease = (sys.energy - trial.energy) / std::max(sys.energy, 1e-12);
+      std::swap(sys, trial);
+      lambda = std::max(lambda * 0.5, 1e-8);
+      if (decrease < settings_.min_relative_decrease) break;
+    } else {
+      for (auto* kf : window) kf->restore();
+      for (auto* p : sys.points) p->idepth = p->idepth_backup;
+      lambda *= 8.0;
+      precalcPairs(window);
+      linearize(window, prior, sys);  // restores residual states of the kept state
+      if (lambda > 1e4) break;
+    }
+  }
+  result.final_energy = sys.energy;
+  result.inlier_residuals = sys.inliers;
+  result.outlier_residuals = sys.outliers;
+  result.rmse =
+      sys.inliers > 0 ? std::sqrt(sys.inlier_energy / (sys.inliers * kPatternSize)) : 0.0;
+  return result;
+}
+
+Eigen::VectorXd WindowOptimizer::frameGradient(const std::vector<WindowKeyframe*>& window,
+                                              const MarginalizationPrior& prior) {
+  System sys;
+  precalcPairs(window);
+  linearize(window, prior, sys);
+  return sys.b;
+}
+
+void WindowOptimizer::marginalizePoint(const std::vector<WindowKeyframe*>& window,
+                                       const ActivePoint& point, MarginalizationPrior& prior) {
+  precalcPairs(window);
+  const int n = static_cast<int>(window.size());
+  const int dim = kFrameParams * n;
+  const int h = point.host->window_index;
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(dim, dim);
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(dim);
+  Eigen::VectorXd c = Eigen::VectorXd::Zero(dim);
+  double H_dd = 0.0, b_d = 0.0;
+  ActivePoint copy = point;  // residual states are updated by the evaluation
+  for (auto& res : copy.residuals) {
+    const int t = res.target->window_index;
+    const size_t pi = static_cast<size_t>(h) * n + t;
+    RelMatrix Hr = RelMatrix::Zero();
+    RelVector br = RelVector::Zero();
+    ResidualAccumulator acc;
+    acc.H_pair = &Hr;
+    acc.b_pair = &br;
+    evaluateResidual(copy, res, pairs_[pi], settings_.residual, &acc);
+    if (res.state != ResidualState::Inlier) continue;
+    const Map10x16 P = relativeToAbsolute(adjoints_[pi]);
+    const RelMatrix Hf = Hr.selfadjointView<Eigen::Upper>();
+    addPairBlocks(h, t, P.transpose() * Hf * P, P.transpose() * br, H, b);
+    const Vec16 c16 = P.transpose() * acc.coupling;
+    c.segment<kFrameParams>(kFrameParams * h) += c16.head<kFrameParams>();
+    c.segment<kFrameParams>(kFrameParams * t) += c16.tail<kFrameParams>();
+    H_dd += acc.H_dd;
+    b_d += acc.b_d;
+  }
+  if (H_dd < 1e-10) return;
+  H -= c * c.transpose() / H_dd;
+  b -= c * (b_d / H_dd);
+  prior.add(windowIds(window), H, b, stackedDeltas(window));
+}
+
+void WindowOptimizer::marginalizeFrame(const std::vector<WindowKeyframe*>& window,
+                                       const WindowKeyframe& frame, MarginalizationPrior& prior) {
+  // The frame's own priors go into the marginalisation prior before it is eliminated.
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(kFrameParams, kFrameParams);
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(kFrameParams);
+  H(6, 6) = settings_.affine_prior_a;
+  H(7, 7) = settings_.affine_prior_b;
+  b[6] = settings_.affine_prior_a * frame.aff.a;
+  b[7] = settings_.affine_prior_b * frame.aff.b;
+  if (frame.has_pose_prior) {
+    H.topLeftCorner<6, 6>().diagonal().array() += settings_.pose_prior;
+    b.head<6>() += settings_.pose_prior * frame.delta().head<6>();
+  }
+  prior.add({frame.id()}, H, b, frame.delta());
+  for (const auto* kf : window) prior.ensureFrame(kf->id());
+  prior.marginalizeFrame(frame.id());
+}
+
+}  // namespace ldsm

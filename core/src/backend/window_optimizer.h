@@ -1,0 +1,96 @@
+// Sliding-window photometric bundle adjustment: keyframe poses, affine brightness and the inverse
+// depths of the active points, optimised jointly with Levenberg-Marquardt. Inverse depths are
+// eliminated with the Schur complement (each depth couples only to its host and targets), so a
+// step solves a dense (8 x keyframes)^2 system. Also marginalises keyframes and points into the
+// MarginalizationPrior.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "backend/marginalization_prior.h"
+#include "backend/photometric_residual.h"
+#include "frontend/pyramid_camera.h"
+#include "map/window_keyframe.h"
+
+namespace ldsm {
+
+struct WindowOptimizerSettings {
+  int max_iterations = 6;
+  double initial_lambda = 1e-4;
+  double min_relative_decrease = 1e-4;  ///< stop when energy falls by less than this fraction
+  double affine_prior_a = 1e-3;  ///< prior weight on a (towards 0)
+  double affine_prior_b = 1e-3;  ///< prior weight on b (towards 0)
+  double pose_prior = 1e8;       ///< weight anchoring the gauge keyframe to its first estimate
+  ResidualSettings residual;
+};
+
+struct WindowOptimizationResult {
+  int iterations = 0;
+  double initial_energy = 0.0;
+  double final_energy = 0.0;
+  int inlier_residuals = 0;
+  int outlier_residuals = 0;
+  double rmse = 0.0;  ///< sqrt(mean pattern-pixel energy) of inliers, grey levels
+};
+
+class WindowOptimizer {
+ public:
+  WindowOptimizer(const WindowOptimizerSettings& settings, const LevelCamera& camera)
+      : settings_(settings), camera_(camera) {}
+
+  /// Optimises all keyframes of `window` (in window order) and their points.
+  WindowOptimizationResult optimize(const std::vector<WindowKeyframe*>& window,
+                                    const MarginalizationPrior& prior);
+
+  /// Evaluates every residual at the current state (states and energies), no linearisation.
+  double evaluate(const std::vector<WindowKeyframe*>& window, const MarginalizationPrior& prior);
+
+  /// Moves the information of `point` (its inlier residuals) into the prior.
+  void marginalizePoint(const std::vector<WindowKeyframe*>& window, const ActivePoint& point,
+                        MarginalizationPrior& prior);
+
+  /// Adds a keyframe's own priors (affine, gauge) to the prior, then marginalises it out.
+  void marginalizeFrame(const std::vector<WindowKeyframe*>& window, const WindowKeyframe& frame,
+                        MarginalizationPrior& prior);
+
+  /// Gradient of the energy w.r.t. the keyframe parameters (8 per keyframe, window order) with
+  /// the inverse depths held fixed, at the current state. For tests and diagnostics.
+  Eigen::VectorXd frameGradient(const std::vector<WindowKeyframe*>& window,
+                                const MarginalizationPrior& prior);
+
+  const WindowOptimizerSettings& settings() const { return settings_; }
+
+ private:
+  struct System {
+    Eigen::MatrixXd H;  ///< frames (8n x 8n), residuals + priors
+    Eigen::VectorXd b;
+    Eigen::MatrixXd coupling;    ///< 8n x points: sum w J_frame^T J_d per point
+    std::vector<double> H_dd;    ///< per point
+    std::vector<double> b_d;     ///< per point
+    std::vector<ActivePoint*> points;
+    double energy = 0.0;
+    int inliers = 0, outliers = 0;
+    double inlier_energy = 0.0;
+  };
+
+  void precalcPairs(const std::vector<WindowKeyframe*>& window);
+  /// Linearises every residual (and priors) at the current state into `sys`.
+  void linearize(const std::vector<WindowKeyframe*>& window, const MarginalizationPrior& prior,
+                 System& sys);
+  /// Adds the keyframe priors (affine towards 0, gauge anchor) and the marginalisation prior.
+  double addPriors(const std::vector<WindowKeyframe*>& window, const MarginalizationPrior& prior,
+                   Eigen::MatrixXd* H, Eigen::VectorXd* b) const;
+  /// Solves the damped Schur-complemented system; returns frame and point steps.
+  void solve(const System& sys, double lambda, Eigen::VectorXd& frame_step,
+             std::vector<double>& point_step) const;
+
+  WindowOptimizerSettings settings_;
+  LevelCamera camera_;
+  std::vector<FramePairPrecalc> pairs_;  ///< n x n, [host * n + target]
+  std::vector<Eigen::Matrix<double, 6, 6>> adjoints_;  ///< Ad(T_th) at the linearisation points
+  std::vector<RelMatrix> pair_H_;
+  std::vector<RelVector> pair_b_;
+};
+
+}  // namespace ldsm

@@ -1,0 +1,29 @@
+#include "map/active_point.h"
+
+#include <cmath>
+
+#include "ldsm/image/interpolation.h"
+#include "map/window_keyframe.h"
+
+namespace ldsm {
+
+bool initActivePoint(ActivePoint& point, WindowKeyframe& host, float u, float v, float idepth,
+                     float gradient_weight_c) {
+  const ImageView<const GradientPixel> img = host.pyramid().gradients(0);
+  if (!isInsideForBilinear(img, u, v, static_cast<float>(kPatternPadding) + 1.f)) return false;
+  point.host = &host;
+  point.u = u;
+  point.v = v;
+  point.idepth = point.idepth_backup = idepth;
+  const float c2 = gradient_weight_c * gradient_weight_c;
+  for (int k = 0; k < kPatternSize; ++k) {
+    const GradientPixel g = interpolateBilinear(img, u + static_cast<float>(kPatternOffsets[k][0]),
+                                                v + static_cast<float>(kPatternOffsets[k][1]));
+    if (!std::isfinite(g.intensity)) return false;
+    point.colors[k] = g.intensity;
+    point.grad_weights[k] = std::sqrt(c2 / (c2 + g.dx * g.dx + g.dy * g.dy));
+  }
+  return true;
+}
+
+}  // namespace ldsm

@@ -1,0 +1,50 @@
+// A point in the optimisation window: inverse depth in its host keyframe, the host's pattern
+// intensities, and one photometric residual per other keyframe of the window.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+#include "frontend/residual_pattern.h"
+
+namespace ldsm {
+
+class WindowKeyframe;
+
+enum class ResidualState : std::uint8_t { Inlier, Outlier, OutOfBounds };
+
+struct PointResidual {
+  WindowKeyframe* target = nullptr;
+  ResidualState state = ResidualState::Inlier;
+  float energy = 0.f;            ///< weighted Huber energy of the pattern at the last evaluation
+  Eigen::Vector2f projection = Eigen::Vector2f::Zero();  ///< centre pixel in the target at the last evaluation
+};
+
+struct ActivePoint {
+  std::uint64_t id = 0;
+  WindowKeyframe* host = nullptr;
+  float u = 0.f, v = 0.f;  ///< level-0 pixel in the host
+  float idepth = 1.f;
+  float idepth_backup = 1.f;
+  bool is_corner = false;
+  float colors[kPatternSize] = {};   ///< host intensities of the pattern
+  float grad_weights[kPatternSize] = {};  ///< c^2 / (c^2 + |grad I_host|^2) per pattern pixel
+  std::vector<PointResidual> residuals;
+
+  // Filled by the last linearisation (Schur complement on the inverse depth).
+  float hessian_idepth = 0.f;  ///< J_d^T W J_d summed over inlier residuals
+  float gradient_idepth = 0.f;
+  int inlier_residuals = 0;
+};
+
+}  // namespace ldsm
+
+namespace ldsm {
+
+/// Fills `point` for host pixel (u, v): pattern intensities and gradient weights from the host's
+/// level 0 (gradient weight constant c). Returns false when the pattern leaves the image.
+bool initActivePoint(ActivePoint& point, WindowKeyframe& host, float u, float v, float idepth,
+                     float gradient_weight_c);
+
+}  // namespace ldsm
