@@ -86,6 +86,11 @@ struct TrackingConfig {
 struct WindowConfig {
   int min_keyframes = 5;  ///< keyframes kept before marginalisation starts
   int max_keyframes = 7;  ///< hard upper bound of the optimisation window
+  int active_points = 2000;  ///< target number of active points in the whole window
+  int max_iterations = 6;    ///< Levenberg-Marquardt iterations per new keyframe
+  double outlier_threshold = 12.0;  ///< RMS pattern residual (grey levels) of an outlier
+  double min_trace_quality = 3.0;   ///< immature point: second-best / best match energy
+  double max_trace_interval = 8.0;  ///< immature point: depth interval in pixels to activate
 
   template <typename V>
   void visit(V& v) {
@@ -93,6 +98,39 @@ struct WindowConfig {
             "keyframes in the window before old ones are marginalised");
     v.field("max_keyframes", max_keyframes, Range<int>{3, 20},
             "maximum keyframes in the optimisation window");
+    v.field("active_points", active_points, Range<int>{100, 50000},
+            "target number of active points in the window");
+    v.field("max_iterations", max_iterations, Range<int>{1, 50},
+            "Levenberg-Marquardt iterations of the window per new keyframe");
+    v.field("outlier_threshold", outlier_threshold, Range<double>{1.0, 255.0},
+            "RMS pattern residual (grey levels) above which a residual is an outlier");
+    v.field("min_trace_quality", min_trace_quality, Range<double>{1.0, 100.0},
+            "second-best / best match energy an immature point needs to be activated");
+    v.field("max_trace_interval", max_trace_interval, Range<double>{0.5, 100.0},
+            "largest depth uncertainty (pixels along the epipolar line) to activate a point");
+  }
+};
+
+struct KeyframeConfig {
+  /// Weight of the RMS optical flow from translation alone, per pixel of (width + height)/1120.
+  double flow_translation_weight = 0.04;
+  /// Weight of the RMS optical flow of the full motion (rotation and translation).
+  double flow_full_weight = 0.02;
+  double brightness_weight = 2.0;  ///< weight of |log brightness change|
+  /// A keyframe is made when the tracking RMSE exceeds this times the RMSE of the first frame
+  /// tracked against the current reference.
+  double residual_factor = 2.0;
+
+  template <typename V>
+  void visit(V& v) {
+    v.field("flow_translation_weight", flow_translation_weight, Range<double>{0.0, 10.0},
+            "keyframe score weight of the translational optical flow");
+    v.field("flow_full_weight", flow_full_weight, Range<double>{0.0, 10.0},
+            "keyframe score weight of the full (rotation + translation) optical flow");
+    v.field("brightness_weight", brightness_weight, Range<double>{0.0, 100.0},
+            "keyframe score weight of |log brightness change|");
+    v.field("residual_factor", residual_factor, Range<double>{1.0, 100.0},
+            "new keyframe when the tracking RMSE grows by this factor");
   }
 };
 
@@ -103,6 +141,7 @@ struct Config {
   PointSelectionConfig points;
   TrackingConfig tracking;
   WindowConfig window;
+  KeyframeConfig keyframes;
 
   template <typename V>
   void visit(V& v) {
@@ -111,6 +150,7 @@ struct Config {
     v.section("points", points, "point selection");
     v.section("tracking", tracking, "coarse tracking of every frame");
     v.section("window", window, "sliding-window bundle adjustment");
+    v.section("keyframes", keyframes, "when a frame becomes a keyframe");
   }
 };
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "frontend/affine_light.h"
+#include "frontend/immature_point.h"
 #include "ldsm/image/image_pyramid.h"
 #include "ldsm/math/se3.h"
 #include "map/active_point.h"
@@ -16,6 +17,12 @@ namespace ldsm {
 
 /// Parameters of a keyframe in the optimiser: [xi (6, left increment of T_c_w), a, b].
 constexpr int kFrameParams = 8;
+
+/// A point candidate of a keyframe whose depth is still being searched for.
+struct ImmatureCandidate {
+  ImmaturePoint point;
+  bool is_corner = false;
+};
 using FrameVector = Eigen::Matrix<double, kFrameParams, 1>;
 
 class WindowKeyframe {
@@ -69,6 +76,8 @@ class WindowKeyframe {
   int window_index = -1;  ///< position in the window's Hessian (set by the window)
   bool has_pose_prior = false;  ///< the first keyframe: anchors the gauge
   std::vector<std::unique_ptr<ActivePoint>> points;
+  std::vector<ImmatureCandidate> immature;
+  int points_created = 0;  ///< active points ever hosted (for the marginalisation policy)
 
  private:
   SE3d T_c_w_backup;

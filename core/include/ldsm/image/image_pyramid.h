@@ -1,0 +1,58 @@
+// An image pyramid with per-level gradients, preallocated once for a fixed image size so that
+// building it for each new frame touches no heap memory.
+#pragma once
+
+#include <vector>
+
+#include "ldsm/image.h"
+#include "ldsm/image/gradient_pixel.h"
+
+namespace ldsm {
+
+/// Levels 0..levels-1 of a float image: level 0 is the input, level l+1 the 2x2 average of level l
+/// (size floor(w/2) x floor(h/2); an odd last row or column is dropped). Each level holds the
+/// intensity plane, the packed (intensity, dx, dy) plane with central-difference gradients that
+/// are zero on the one-pixel image border, and optionally dx^2 + dy^2.
+///
+/// Level coordinates: pixel centre x at level l+1 is the centre of pixels 2x and 2x+1 at level l,
+/// i.e. x_(l+1) = (x_l + 0.5) / 2 - 0.5.
+class ImagePyramid {
+ public:
+  /// Largest supported number of levels.
+  static constexpr int kMaxLevels = 16;
+
+  /// Allocates all levels for width x height input images. Throws InputError when the size is not
+  /// positive and ConfigError when levels is outside [1, maxLevels(width, height)].
+  ImagePyramid(int width, int height, int levels, bool with_grad_mag_sq = true);
+
+  /// The number of levels a width x height image supports (every level at least 1x1, at most
+  /// kMaxLevels); 0 when the size is not positive.
+  static int maxLevels(int width, int height);
+
+  /// Fills every level from `image` (any stride). Allocates nothing. Throws InputError when the
+  /// image size differs from the one given at construction or the view is empty.
+  void build(ImageView<const float> image);
+
+  int levels() const { return static_cast<int>(intensity_.size()); }
+  int width(int level) const { return intensity_[level].width(); }
+  int height(int level) const { return intensity_[level].height(); }
+  bool hasGradMagSq() const { return !grad_mag_sq_.empty(); }
+
+  /// Intensity plane of a level.
+  ImageView<const float> intensity(int level) const { return intensity_[level].view(); }
+  /// Packed (intensity, dx, dy) plane of a level.
+  ImageView<const GradientPixel> gradients(int level) const { return gradients_[level].view(); }
+  /// dx^2 + dy^2 of a level; an empty view when built without it.
+  ImageView<const float> gradMagSq(int level) const {
+    return hasGradMagSq() ? grad_mag_sq_[level].view() : ImageView<const float>();
+  }
+
+ private:
+  void computeGradients(int level);
+
+  std::vector<ImageF> intensity_;
+  std::vector<Image<GradientPixel>> gradients_;
+  std::vector<ImageF> grad_mag_sq_;
+};
+
+}  // namespace ldsm

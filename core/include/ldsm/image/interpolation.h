@@ -1,0 +1,59 @@
+// Bilinear interpolation of float images and of packed (intensity, dx, dy) pyramid levels, for
+// per-pixel use in tracking: inline, no checks beyond a debug assert; call isInsideForBilinear()
+// first. Pixel (x, y) has its centre at integer coordinates.
+#pragma once
+
+#include <cassert>
+
+#include "ldsm/image.h"
+#include "ldsm/image/gradient_pixel.h"
+
+namespace ldsm {
+
+/// True when (x, y) lies at least `margin` pixels inside the region where bilinear interpolation
+/// reads only valid pixels: margin <= x < width - 1 - margin, same for y. False for NaN.
+inline bool isInsideForBilinear(float x, float y, int width, int height, float margin = 0.f) {
+  return x >= margin && y >= margin && x < static_cast<float>(width - 1) - margin &&
+         y < static_cast<float>(height - 1) - margin;
+}
+
+template <typename T>
+inline bool isInsideForBilinear(const ImageView<T>& image, float x, float y, float margin = 0.f) {
+  return isInsideForBilinear(x, y, image.width, image.height, margin);
+}
+
+/// Bilinear interpolation of a float image at (x, y). Requires isInsideForBilinear(image, x, y).
+inline float interpolateBilinear(ImageView<const float> image, float x, float y) {
+  assert(isInsideForBilinear(image, x, y));
+  const int ix = static_cast<int>(x);
+  const int iy = static_cast<int>(y);
+  const float fx = x - static_cast<float>(ix);
+  const float fy = y - static_cast<float>(iy);
+  const float* p = image.data + iy * image.stride + ix;
+  const float* q = p + image.stride;
+  const float top = p[0] + fx * (p[1] - p[0]);
+  const float bottom = q[0] + fx * (q[1] - q[0]);
+  return top + fy * (bottom - top);
+}
+
+/// Bilinear interpolation of intensity, dx and dy of a packed level at (x, y). Requires
+/// isInsideForBilinear(image, x, y).
+inline GradientPixel interpolateBilinear(ImageView<const GradientPixel> image, float x, float y) {
+  assert(isInsideForBilinear(image, x, y));
+  const int ix = static_cast<int>(x);
+  const int iy = static_cast<int>(y);
+  const float fx = x - static_cast<float>(ix);
+  const float fy = y - static_cast<float>(iy);
+  const float w00 = (1.f - fx) * (1.f - fy);
+  const float w10 = fx * (1.f - fy);
+  const float w01 = (1.f - fx) * fy;
+  const float w11 = fx * fy;
+  const GradientPixel* p = image.data + iy * image.stride + ix;
+  const GradientPixel* q = p + image.stride;
+  return {w00 * p[0].intensity + w10 * p[1].intensity + w01 * q[0].intensity +
+              w11 * q[1].intensity,
+          w00 * p[0].dx + w10 * p[1].dx + w01 * q[0].dx + w11 * q[1].dx,
+          w00 * p[0].dy + w10 * p[1].dy + w01 * q[0].dy + w11 * q[1].dy};
+}
+
+}  // namespace ldsm

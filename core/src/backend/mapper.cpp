@@ -1,0 +1,308 @@
+#include "backend/mapper.h"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace ldsm {
+namespace {
+
+WindowOptimizerSettings optimizerSettings(const Config& c) {
+  WindowOptimizerSettings s;
+  s.max_iterations = c.window.max_iterations;
+  s.affine_prior_a = c.photometric.affine_prior_weight_unknown;
+  s.affine_prior_b = c.photometric.affine_prior_weight_unknown;
+  s.residual.huber_threshold = static_cast<float>(c.tracking.huber_threshold);
+  const float th = static_cast<float>(c.window.outlier_threshold);
+  s.residual.outlier_energy = th * th * kPatternSize;
+  return s;
+}
+
+}  // namespace
+
+Mapper::Mapper(const Config& config, const PyramidCamera& camera, MapStore& store)
+    : config_(config),
+      camera_(camera),
+      store_(store),
+      optimizer_(optimizerSettings(config), camera[0]),
+      selector_(camera[0].width, camera[0].height, config.points) {
+  trace_settings_.huber_threshold = static_cast<float>(config.tracking.huber_threshold);
+  trace_settings_.outlier_threshold = static_cast<float>(config.window.outlier_threshold);
+}
+
+Mapper::~Mapper() = default;
+
+std::vector<WindowKeyframe*> Mapper::windowView() const {
+  std::vector<WindowKeyframe*> w;
+  w.reserve(window_.size());
+  for (const auto& kf : window_) w.push_back(kf.get());
+  return w;
+}
+
+std::unique_ptr<ImagePyramid> Mapper::acquirePyramid() {
+  if (!pyramid_pool_.empty()) {
+    auto p = std::move(pyramid_pool_.back());
+    pyramid_pool_.pop_back();
+    return p;
+  }
+  return std::make_unique<ImagePyramid>(camera_[0].width, camera_[0].height, camera_.levels());
+}
+
+void Mapper::releasePyramid(std::unique_ptr<ImagePyramid> pyramid) {
+  if (pyramid) pyramid_pool_.push_back(std::move(pyramid));
+}
+
+WindowKeyframe& Mapper::insertKeyframe(std::unique_ptr<ImagePyramid> pyramid,
+                                       const MapperFrame& info) {
+  auto kf = std::make_unique<WindowKeyframe>(next_keyframe_id_++, info.frame_index, info.timestamp,
+                                             info.exposure, std::move(pyramid));
+  kf->setInitialState(info.T_c_w, info.aff);
+  window_.push_back(std::move(kf));
+  return *window_.back();
+}
+
+bool Mapper::initialize(const InitializationResult& result, const MapperFrame& reference,
+                        std::unique_ptr<ImagePyramid> reference_pyramid, const MapperFrame& last,
+                        std::unique_ptr<ImagePyramid> last_pyramid, KeyframeInsertion* insertion) {
+  reset();
+  WindowKeyframe& kf0 = insertKeyframe(std::move(reference_pyramid), reference);
+  kf0.has_pose_prior = true;
+  // Keep about the configured number of active points, spread evenly over the result.
+  std::vector<const InitializedPoint*> usable;
+  for (const auto& p : result.points)
+    if (p.good && p.idepth > 0.f && std::isfinite(p.idepth)) usable.push_back(&p);
+  const double keep = std::min(1.0, config_.window.active_points / std::max<double>(1, usable.size()));
+  double acc = 0.0;
+  const float c = optimizer_.settings().residual.gradient_weight_c;
+  for (const InitializedPoint* ip : usable) {
+    acc += keep;
+    if (acc < 1.0) continue;
+    acc -= 1.0;
+    auto p = std::make_unique<ActivePoint>();
+    if (!initActivePoint(*p, kf0, ip->u, ip->v, ip->idepth, c)) continue;
+    p->id = next_point_id_++;
+    p->is_corner = ip->is_corner;
+    kf0.points.push_back(std::move(p));
+    ++kf0.points_created;
+  }
+  if (kf0.points.size() < 50) {
+    spdlog::warn("initialisation left only {} usable points; starting over", kf0.points.size());
+    reset();
+    return false;
+  }
+  KeyframeInsertion ins = addKeyframe(std::move(last_pyramid), last);
+  if (insertion) *insertion = ins;
+  return true;
+}
+
+void Mapper::traceFrame(const ImagePyramid& frame, const MapperFrame& info) {
+  const ImageView<const GradientPixel> target = frame.gradients(0);
+  for (auto& kf : window_) {
+    if (kf->immature.empty()) continue;
+    const SE3f T_th = (info.T_c_w * kf->T_c_w.inverse()).cast<float>();
+    const Eigen::Vector2f aff =
+        affineTransfer(kf->exposure(), info.exposure, kf->aff, info.aff).cast<float>();
+    auto& cands = kf->immature;
+    size_t out = 0;
+    for (size_t i = 0; i < cands.size(); ++i) {
+      const TraceStatus st = cands[i].point.trace(target, camera_[0], T_th, aff, trace_settings_);
+      const bool drop = st == TraceStatus::kOob || cands[i].point.outlierCount() > 2;
+      if (!drop) {
+        if (out != i) cands[out] = std::move(cands[i]);
+        ++out;
+      }
+    }
+    cands.erase(cands.begin() + static_cast<std::ptrdiff_t>(out), cands.end());
+  }
+}
+
+void Mapper::addResidualsToNewest() {
+  WindowKeyframe* newest = window_.back().get();
+  for (size_t i = 0; i + 1 < window_.size(); ++i)
+    for (auto& p : window_[i]->points) p->residuals.push_back({newest});
+}
+
+KeyframeInsertion Mapper::addKeyframe(std::unique_ptr<ImagePyramid> pyramid,
+                                      const MapperFrame& info) {
+  KeyframeInsertion ins;
+  WindowKeyframe& kf = insertKeyframe(std::move(pyramid), info);
+  ins.keyframe_id = kf.id();
+  addResidualsToNewest();
+  ins.activated_points = activatePoints();
+  ins.optimization = optimizer_.optimize(windowView(), prior_);
+  removeBadResiduals();
+  ins.marginalized_frames = marginalizeFrames();
+  makeImmaturePoints(*window_.back());
+  publishPoses();
+  ins.active_points = activePointCount();
+  for (const auto& k : window_) ins.immature_points += static_cast<int>(k->immature.size());
+  return ins;
+}
+
+void Mapper::removeBadResiduals() {
+  for (auto& kf : window_) {
+    auto& pts = kf->points;
+    for (auto& p : pts) {
+      auto& rs = p->residuals;
+      rs.erase(std::remove_if(rs.begin(), rs.end(),
+                              [](const PointResidual& r) {
+                                return r.state != ResidualState::Inlier;
+                              }),
+               rs.end());
+    }
+    pts.erase(std::remove_if(pts.begin(), pts.end(),
+                             [](const std::unique_ptr<ActivePoint>& p) {
+                               return p->residuals.empty() || !(p->idepth > 0.f);
+                             }),
+              pts.end());
+  }
+}
+
+std::vector<int> Mapper::framesToMarginalize() const {
+  std::vector<int> out;
+  const int n = static_cast<int>(window_.size());
+  const WindowKeyframe& newest = *window_.back();
+  int remaining = n;
+  // Keyframes that lost most of their points or whose brightness changed too much.
+  for (int i = 0; i + 2 < n && remaining > config_.window.min_keyframes; ++i) {
+    const WindowKeyframe& kf = *window_[i];
+    const double in_fraction =
+        kf.points_created > 0 ? static_cast<double>(kf.points.size()) / kf.points_created : 1.0;
+    const double log_scale = std::log(
+        affineTransfer(kf.exposure(), newest.exposure(), kf.aff, newest.aff)[0]);
+    if (in_fraction < 0.05 || std::fabs(log_scale) > 0.7) {
+      out.push_back(i);
+      --remaining;
+    }
+  }
+  // Still too many: drop the keyframe that is closest to the others and far from the newest.
+  while (remaining > config_.window.max_keyframes) {
+    int best = -1;
+    double best_score = -1.0;
+    const Eigen::Vector3d c_new = newest.T_c_w.inverse().translation();
+    for (int i = 0; i + 2 < n; ++i) {
+      if (std::find(out.begin(), out.end(), i) != out.end()) continue;
+      const Eigen::Vector3d ci = window_[i]->T_c_w.inverse().translation();
+      double sum = 0.0;
+      for (int j = 0; j + 1 < n; ++j) {
+        if (j == i || std::find(out.begin(), out.end(), j) != out.end()) continue;
+        sum += 1.0 / ((window_[j]->T_c_w.inverse().translation() - ci).norm() + 1e-5);
+      }
+      const double score = std::sqrt((c_new - ci).norm()) * sum;
+      if (score > best_score) {
+        best_score = score;
+        best = i;
+      }
+    }
+    if (best < 0) break;
+    out.push_back(best);
+    --remaining;
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+int Mapper::marginalizeFrames() {
+  const std::vector<int> idx = framesToMarginalize();
+  for (auto it = idx.rbegin(); it != idx.rend(); ++it) marginalizeFrame(*it);
+  return static_cast<int>(idx.size());
+}
+
+void Mapper::marginalizeFrame(int window_index) {
+  const auto view = windowView();
+  WindowKeyframe& f = *window_[window_index];
+  std::vector<MapPoint> finished;
+  for (auto& p : f.points) {
+    if (p->inlier_residuals >= 1 && p->hessian_idepth > 0.f) {
+      optimizer_.marginalizePoint(view, *p, prior_);
+      finished.push_back(worldPoint(*p));
+    }
+  }
+  f.points.clear();
+  f.immature.clear();
+  for (auto& kf : window_) {
+    if (kf.get() == &f) continue;
+    for (auto& p : kf->points) {
+      auto& rs = p->residuals;
+      rs.erase(std::remove_if(rs.begin(), rs.end(),
+                              [&](const PointResidual& r) { return r.target == &f; }),
+               rs.end());
+    }
+    auto& pts = kf->points;
+    for (auto& p : pts)
+      if (p->residuals.empty()) finished.push_back(worldPoint(*p));
+    pts.erase(std::remove_if(pts.begin(), pts.end(),
+                             [](const std::unique_ptr<ActivePoint>& p) {
+                               return p->residuals.empty();
+                             }),
+              pts.end());
+  }
+  optimizer_.marginalizeFrame(view, f, prior_);
+  store_.setKeyframe({f.id(), f.frameIndex(), f.timestamp(), f.T_c_w.inverse()});
+  store_.addPoints(finished);
+  releasePyramid(f.releasePyramid());
+  window_.erase(window_.begin() + window_index);
+}
+
+void Mapper::makeImmaturePoints(WindowKeyframe& kf) {
+  selector_.select(kf.pyramid(), 1.f, selected_);
+  kf.immature.clear();
+  kf.immature.reserve(selected_.size());
+  const ImageView<const GradientPixel> img = kf.pyramid().gradients(0);
+  for (const SelectedPixel& s : selected_)
+    kf.immature.push_back({ImmaturePoint(img, s.u, s.v), s.is_corner});
+}
+
+void Mapper::publishPoses() const {
+  for (const auto& kf : window_)
+    store_.setKeyframe({kf->id(), kf->frameIndex(), kf->timestamp(), kf->T_c_w.inverse()});
+}
+
+MapPoint Mapper::worldPoint(const ActivePoint& p) const {
+  MapPoint m;
+  const Eigen::Vector3f ray = camera_[0].unproject(p.u, p.v);
+  m.position = p.host->T_c_w.inverse() * (ray.cast<double>() / static_cast<double>(p.idepth));
+  m.intensity = p.colors[4];
+  m.is_corner = p.is_corner;
+  return m;
+}
+
+std::vector<MapPoint> Mapper::activeMapPoints() const {
+  std::vector<MapPoint> out;
+  for (const auto& kf : window_)
+    for (const auto& p : kf->points) out.push_back(worldPoint(*p));
+  return out;
+}
+
+int Mapper::activePointCount() const {
+  int n = 0;
+  for (const auto& kf : window_) n += static_cast<int>(kf->points.size());
+  return n;
+}
+
+void Mapper::trackingPoints(std::vector<DepthPoint>& out) const {
+  out.clear();
+  if (window_.empty()) return;
+  const WindowKeyframe& newest = *window_.back();
+  const LevelCamera& cam = camera_[0];
+  for (const auto& kf : window_) {
+    const SE3f T_nh = (newest.T_c_w * kf->T_c_w.inverse()).cast<float>();
+    for (const auto& p : kf->points) {
+      const Eigen::Vector3f q = T_nh * (cam.unproject(p->u, p->v) / p->idepth);
+      if (!(q.z() > 1e-3f)) continue;
+      const Eigen::Vector2f px = cam.project(q);
+      if (px.x() < 0 || px.y() < 0 || px.x() > cam.width - 1 || px.y() > cam.height - 1) continue;
+      out.push_back({px.x(), px.y(), 1.f / q.z(), 1.f});
+    }
+  }
+}
+
+void Mapper::reset() {
+  publishPoses();
+  for (auto& kf : window_) releasePyramid(kf->releasePyramid());
+  window_.clear();
+  prior_ = MarginalizationPrior();
+}
+
+}  // namespace ldsm

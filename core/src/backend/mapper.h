@@ -1,0 +1,102 @@
+// The mapping module: owns the sliding window of keyframes, inserts new keyframes, traces and
+// activates immature points, runs the window bundle adjustment and marginalises old keyframes and
+// their points into the prior. Finished keyframe poses and points go to the MapStore.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "backend/marginalization_prior.h"
+#include "backend/window_optimizer.h"
+#include "frontend/coarse_initializer.h"
+#include "frontend/depth_map_pyramid.h"
+#include "frontend/pixel_selector.h"
+#include "frontend/pyramid_camera.h"
+#include "ldsm/config.h"
+#include "map/map_store.h"
+#include "map/window_keyframe.h"
+
+namespace ldsm {
+
+/// A tracked frame as the mapper sees it.
+struct MapperFrame {
+  std::int64_t frame_index = 0;
+  double timestamp = 0.0;
+  double exposure = 1.0;  ///< exposure time (1 when unknown)
+  SE3d T_c_w;
+  AffineLight aff;
+};
+
+/// What happened when a keyframe was inserted.
+struct KeyframeInsertion {
+  int keyframe_id = -1;
+  WindowOptimizationResult optimization;
+  int activated_points = 0;
+  int marginalized_frames = 0;
+  int active_points = 0;
+  int immature_points = 0;
+};
+
+class Mapper {
+ public:
+  Mapper(const Config& config, const PyramidCamera& camera, MapStore& store);
+  ~Mapper();
+
+  bool initialized() const { return !window_.empty(); }
+
+  /// Starts the window from a finished initialisation: the reference frame becomes keyframe 0
+  /// (gauge anchor, identity pose) with the initializer's points; the last frame is inserted as
+  /// the second keyframe. Returns false when too few usable points remain.
+  bool initialize(const InitializationResult& result, const MapperFrame& reference,
+                  std::unique_ptr<ImagePyramid> reference_pyramid, const MapperFrame& last,
+                  std::unique_ptr<ImagePyramid> last_pyramid, KeyframeInsertion* insertion);
+
+  /// Narrows the depth intervals of every window keyframe's immature points with a new frame.
+  void traceFrame(const ImagePyramid& frame, const MapperFrame& info);
+
+  /// Inserts a tracked frame as a new keyframe (takes its pyramid) and optimises the window.
+  KeyframeInsertion addKeyframe(std::unique_ptr<ImagePyramid> pyramid, const MapperFrame& info);
+
+  const WindowKeyframe& newestKeyframe() const { return *window_.back(); }
+  /// Every active point of the window projected into the newest keyframe.
+  void trackingPoints(std::vector<DepthPoint>& out) const;
+  int activePointCount() const;
+  /// Drops the window (tracking lost); keyframes keep their last poses in the map store.
+  void reset();
+  /// A pyramid for a new frame, from a pool of released ones when possible.
+  std::unique_ptr<ImagePyramid> acquirePyramid();
+  void releasePyramid(std::unique_ptr<ImagePyramid> pyramid);
+  /// Writes the window keyframes' current poses to the map store.
+  void publishPoses() const;
+  /// World positions of the active points.
+  std::vector<MapPoint> activeMapPoints() const;
+
+ private:
+  std::vector<WindowKeyframe*> windowView() const;
+  WindowKeyframe& insertKeyframe(std::unique_ptr<ImagePyramid> pyramid, const MapperFrame& info);
+  void addResidualsToNewest();
+  int activatePoints();
+  bool optimizeNewPointDepth(ActivePoint& point, const std::vector<FramePairPrecalc>& pairs);
+  void removeBadResiduals();
+  int marginalizeFrames();
+  std::vector<int> framesToMarginalize() const;
+  void marginalizeFrame(int window_index);
+  void makeImmaturePoints(WindowKeyframe& kf);
+  MapPoint worldPoint(const ActivePoint& p) const;
+
+  Config config_;
+  PyramidCamera camera_;
+  MapStore& store_;
+  WindowOptimizer optimizer_;
+  MarginalizationPrior prior_;
+  PixelSelector selector_;
+  TraceSettings trace_settings_;
+  std::vector<std::unique_ptr<WindowKeyframe>> window_;
+  std::vector<std::unique_ptr<ImagePyramid>> pyramid_pool_;
+  std::vector<SelectedPixel> selected_;
+  int next_keyframe_id_ = 0;
+  std::uint64_t next_point_id_ = 0;
+  float min_activation_distance_ = 2.f;
+};
+
+}  // namespace ldsm

@@ -1,0 +1,90 @@
+#include "ldsm/camera/rectifier.h"
+
+#include <cmath>
+
+#include "camera_common.h"
+#include "ldsm/error.h"
+
+namespace ldsm {
+
+Rectifier::Rectifier(const GeometricCalibration& calibration)
+    : input_(makeCameraModel(calibration.input)),
+      output_(computeOutputIntrinsics(*input_, calibration.output)) {
+  const CameraIntrinsics& in = input_->intrinsics();
+  identity_ = calibration.output.mode == OutputMode::None && output_.width == in.width &&
+              output_.height == in.height;
+  map_x_.resize(output_.width, output_.height);
+  map_y_.resize(output_.width, output_.height);
+  num_valid_ = 0;
+  Eigen::Vector2d px;
+  for (int v = 0; v < output_.height; ++v) {
+    float* mx = map_x_.row(v);
+    float* my = map_y_.row(v);
+    const double y = (v - output_.cy) / output_.fy;
+    for (int u = 0; u < output_.width; ++u) {
+      if (camera_detail::sampleInput(*input_, (u - output_.cx) / output_.fx, y, &px)) {
+        mx[u] = static_cast<float>(px.x());
+        my[u] = static_cast<float>(px.y());
+        ++num_valid_;
+      } else {
+        mx[u] = -1.0f;
+        my[u] = -1.0f;
+      }
+    }
+  }
+  if (num_valid_ == 0)
+    throw InputError("rectification: no pixel of the " + std::to_string(output_.width) + "x" +
+                     std::to_string(output_.height) +
+                     " output image sees a valid input pixel (check the output intrinsics)");
+}
+
+template <typename T>
+void Rectifier::remap(ImageView<const T> in, ImageF& out, float invalid_value) const {
+  const int w = input_->width(), h = input_->height();
+  if (in.width != w || in.height != h || in.data == nullptr)
+    throw InputError("rectification: input image is " + std::to_string(in.width) + "x" +
+                     std::to_string(in.height) + " but the calibration is for " +
+                     std::to_string(w) + "x" + std::to_string(h));
+  out.resize(output_.width, output_.height);
+  if (identity_) {
+    for (int y = 0; y < h; ++y) {
+      const T* src = in.row(y);
+      float* dst = out.row(y);
+      for (int x = 0; x < w; ++x) dst[x] = static_cast<float>(src[x]);
+    }
+    return;
+  }
+  const int max_x0 = std::max(w - 2, 0), max_y0 = std::max(h - 2, 0);
+  const std::ptrdiff_t dx1 = w > 1 ? 1 : 0;
+  const std::ptrdiff_t dy1 = h > 1 ? in.stride : 0;
+  for (int v = 0; v < output_.height; ++v) {
+    const float* mx = map_x_.row(v);
+    const float* my = map_y_.row(v);
+    float* dst = out.row(v);
+    for (int u = 0; u < output_.width; ++u) {
+      const float x = mx[u], y = my[u];
+      if (x < 0.0f) {
+        dst[u] = invalid_value;
+        continue;
+      }
+      const int x0 = std::min(static_cast<int>(x), max_x0);
+      const int y0 = std::min(static_cast<int>(y), max_y0);
+      const float ax = x - static_cast<float>(x0), ay = y - static_cast<float>(y0);
+      const T* p = in.row(y0) + x0;
+      const float top = static_cast<float>(p[0]) + ax * (static_cast<float>(p[dx1]) - p[0]);
+      const float bottom =
+          static_cast<float>(p[dy1]) + ax * (static_cast<float>(p[dy1 + dx1]) - p[dy1]);
+      dst[u] = top + ay * (bottom - top);
+    }
+  }
+}
+
+void Rectifier::rectify(ImageView<const std::uint8_t> in, ImageF& out, float invalid_value) const {
+  remap(in, out, invalid_value);
+}
+
+void Rectifier::rectify(ImageView<const float> in, ImageF& out, float invalid_value) const {
+  remap(in, out, invalid_value);
+}
+
+}  // namespace ldsm

@@ -1,0 +1,345 @@
+#include "frontend/coarse_initializer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <cstdlib>
+
+#include "ldsm/error.h"
+
+namespace ldsm {
+
+namespace {
+
+void require(bool ok, const std::string& what) {
+  if (!ok) throw ConfigError("coarse initializer: " + what);
+}
+
+bool finitePose(const SE3d& T) {
+  return T.translation().allFinite() && T.quaternion().coeffs().allFinite();
+}
+
+}  // namespace
+
+void CoarseInitializerSettings::validate() const {
+  require(max_levels >= 1 && max_levels <= kMaxPyramidLevels,
+          "max_levels must be in [1, " + std::to_string(kMaxPyramidLevels) + "]");
+  require(min_coarsest_size >= 2 * kPatternPadding + 4, "min_coarsest_size too small");
+  for (int l = 0; l < kMaxPyramidLevels; ++l) {
+    require(cell_size[l] >= 1 && cell_size[l] <= 64, "cell_size must be in [1, 64]");
+    require(max_iterations[l] >= 0 && max_iterations[l] <= 1000,
+            "max_iterations must be in [0, 1000]");
+  }
+  require(min_gradient >= 0.f && std::isfinite(min_gradient), "min_gradient must be >= 0");
+  require(neighbours >= 1 && neighbours <= kMaxNeighbours,
+          "neighbours must be in [1, " + std::to_string(kMaxNeighbours) + "]");
+  require(initial_lambda > 0 && initial_lambda < 1e6, "initial_lambda must be in (0, 1e6)");
+  require(convergence_energy_fraction >= 0 && convergence_energy_fraction < 1,
+          "convergence_energy_fraction must be in [0, 1)");
+  require(huber_threshold > 0.f && std::isfinite(huber_threshold), "huber_threshold must be > 0");
+  require(gradient_weight_c >= 0.f && std::isfinite(gradient_weight_c),
+          "gradient_weight_c must be >= 0");
+  require(outlier_rms > 0.f && std::isfinite(outlier_rms), "outlier_rms must be > 0");
+  require(smoothness_weight >= 0.f && std::isfinite(smoothness_weight) &&
+              smoothness_weight_parallax >= 0.f && std::isfinite(smoothness_weight_parallax),
+          "smoothness weights must be >= 0");
+  require(idepth_prior_weight > 0.f && std::isfinite(idepth_prior_weight),
+          "idepth_prior_weight must be > 0");
+  require(affine_prior_weight_a >= 0.f && affine_prior_weight_b >= 0.f &&
+              std::isfinite(affine_prior_weight_a) && std::isfinite(affine_prior_weight_b),
+          "affine prior weights must be >= 0");
+  require(min_parallax_flow > 0.f && std::isfinite(min_parallax_flow),
+          "min_parallax_flow must be > 0");
+  require(max_snap_rms > 0.f && fail_rms >= max_snap_rms, "need 0 < max_snap_rms <= fail_rms");
+  require(min_snap_good_fraction >= 0.f && min_snap_good_fraction <= 1.f &&
+              min_good_fraction >= 0.f && min_good_fraction <= min_snap_good_fraction,
+          "need 0 <= min_good_fraction <= min_snap_good_fraction <= 1");
+  require(confirm_frames >= 0 && confirm_frames <= 1000, "confirm_frames must be in [0, 1000]");
+  require(max_nonpositive_fraction >= 0.f && max_nonpositive_fraction <= 1.f,
+          "max_nonpositive_fraction must be in [0, 1]");
+  require(max_idepth_spread > 1.f, "max_idepth_spread must be > 1");
+  require(min_points >= 1, "min_points must be >= 1");
+}
+
+const char* toString(InitStatus status) {
+  switch (status) {
+    case InitStatus::kNoReference: return "no reference";
+    case InitStatus::kWaitingForParallax: return "waiting for parallax";
+    case InitStatus::kConfirming: return "confirming";
+    case InitStatus::kComplete: return "complete";
+    case InitStatus::kFailed: return "failed";
+  }
+  return "?";
+}
+
+const char* toString(InitFailure failure) {
+  switch (failure) {
+    case InitFailure::kNone: return "none";
+    case InitFailure::kTooFewPoints: return "too few textured points in the reference";
+    case InitFailure::kLostTrack: return "too few points tracked";
+    case InitFailure::kResidualTooLarge: return "photometric residual too large";
+    case InitFailure::kNotFinite: return "estimate not finite";
+    case InitFailure::kDegenerateDepths: return "degenerate inverse-depth distribution";
+  }
+  return "?";
+}
+
+CoarseInitializer::CoarseInitializer(const PyramidCamera& camera,
+                                     const CoarseInitializerSettings& settings)
+    : settings_(settings), camera_(camera) {
+  settings_.validate();
+  if (camera.levels() < 1 || camera[0].width <= 0 || camera[0].height <= 0) {
+    throw InputError("coarse initializer: the camera has no levels or a non-positive size");
+  }
+  width_ = camera[0].width;
+  height_ = camera[0].height;
+}
+
+void CoarseInitializer::reset() {
+  status_ = InitStatus::kNoReference;
+  failure_ = InitFailure::kNone;
+  frames_ = 0;
+  snapped_frames_ = 0;
+  stats_ = InitFrameStats{};
+}
+
+void CoarseInitializer::checkFrame(const ImagePyramid& pyramid, double exposure) const {
+  if (pyramid.levels() < 1 || pyramid.width(0) != width_ || pyramid.height(0) != height_) {
+    throw InputError("coarse initializer: frame is " +
+                     (pyramid.levels() < 1 ? std::string("empty")
+                                           : std::to_string(pyramid.width(0)) + "x" +
+                                                 std::to_string(pyramid.height(0))) +
+                     ", the camera is " + std::to_string(width_) + "x" + std::to_string(height_));
+  }
+  const bool tracking = status_ == InitStatus::kWaitingForParallax ||
+                        status_ == InitStatus::kConfirming;
+  if (tracking && pyramid.levels() < levels_) {
+    throw InputError("coarse initializer: frame pyramid has " + std::to_string(pyramid.levels()) +
+                     " levels, the reference had " + std::to_string(levels_));
+  }
+  if (!(exposure > 0.0) || !std::isfinite(exposure)) {
+    throw InputError("coarse initializer: exposure must be a positive finite number (got " +
+                     std::to_string(exposure) + ")");
+  }
+}
+
+bool CoarseInitializer::addFrame(const ImagePyramid& pyramid, double exposure) {
+  checkFrame(pyramid, exposure);
+  if (status_ != InitStatus::kWaitingForParallax && status_ != InitStatus::kConfirming) {
+    setReference(pyramid, exposure);
+    return false;
+  }
+  trackFrame(pyramid, exposure);
+  ++frames_;
+  decide();
+  return status_ == InitStatus::kComplete;
+}
+
+void CoarseInitializer::fail(InitFailure failure) {
+  status_ = InitStatus::kFailed;
+  failure_ = failure;
+}
+
+void CoarseInitializer::setReference(const ImagePyramid& pyramid, double exposure) {
+  reset();
+  exposure_ref_ = exposure;
+  T_ = SE3d();
+  T_prev_ = SE3d();
+  has_prev_ = false;
+  affine_ = AffineLight{};
+
+  int levels = std::min({settings_.max_levels, camera_.levels(), pyramid.levels()});
+  while (levels > 1 && (pyramid.width(levels - 1) < settings_.min_coarsest_size ||
+                        pyramid.height(levels - 1) < settings_.min_coarsest_size)) {
+    --levels;
+  }
+  // Points keep their whole pattern one pixel inside the image.
+  const int margin = kPatternPadding + 1;
+  levels_ = 0;
+  for (int lvl = 0; lvl < levels; ++lvl) {
+    Level& L = levels_data_[lvl];
+    const int n = selectBestGradientPerCell(pyramid.gradients(lvl), settings_.cell_size[lvl],
+                                            settings_.min_gradient, margin, L.u);
+    if (lvl == 0 && n < settings_.min_points) {
+      fail(InitFailure::kTooFewPoints);
+      return;
+    }
+    if (lvl > 0 && n < settings_.neighbours + 1) break;  // too coarse to be useful
+    levels_ = lvl + 1;
+  }
+
+  const int k = settings_.neighbours;
+  for (int lvl = 0; lvl < levels_; ++lvl) {
+    Level& L = levels_data_[lvl];
+    const std::size_t n = L.u.size();
+    const ImageView<const GradientPixel> img = pyramid.gradients(lvl);
+    L.ref.resize(n);
+    L.neighbours.resize(n);
+    L.neighbour_count.resize(n);
+    L.parent.assign(n, -1);
+    L.idepth.assign(n, 1.f);
+    L.idepth_trial.assign(n, 1.f);
+    L.ir.assign(n, 1.f);
+    L.lin.assign(n, PointLinearization{Eigen::Matrix<float, 8, 1>::Zero(), 0.f, 0.f, 0.f});
+    L.lin_trial.assign(n, L.lin.front());
+    L.good.assign(n, 0);
+    L.good_trial.assign(n, 0);
+    L.accum_w.assign(n, 0.f);
+    L.accum_wd.assign(n, 0.f);
+    for (std::size_t i = 0; i < n; ++i) {
+      const int x = static_cast<int>(L.u[i].x());
+      const int y = static_cast<int>(L.u[i].y());
+      for (int p = 0; p < kPatternSize; ++p) {
+        L.ref[i][p] = img(x + kPatternOffsets[p][0], y + kPatternOffsets[p][1]).intensity;
+      }
+    }
+    grid_.build(L.u, static_cast<float>(settings_.cell_size[lvl]), pyramid.width(lvl),
+                pyramid.height(lvl));
+    for (std::size_t i = 0; i < n; ++i) {
+      const int found = grid_.nearest(L.u[i], k, static_cast<int>(i), nn_scratch_);
+      L.neighbour_count[i] = found;
+      for (int j = 0; j < found; ++j) L.neighbours[i][j] = nn_scratch_[j];
+    }
+  }
+  // Parents: nearest point one level up, if within a few of that level's cells.
+  for (int lvl = 0; lvl + 1 < levels_; ++lvl) {
+    Level& L = levels_data_[lvl];
+    const Level& P = levels_data_[lvl + 1];
+    const float cell = static_cast<float>(settings_.cell_size[lvl + 1]);
+    const float max_dist_sq = (3.f * cell + 2.f) * (3.f * cell + 2.f);
+    grid_.build(P.u, cell, pyramid.width(lvl + 1), pyramid.height(lvl + 1));
+    for (std::size_t i = 0; i < L.u.size(); ++i) {
+      const Eigen::Vector2f up = (L.u[i].array() + 0.5f) * 0.5f - 0.5f;
+      if (grid_.nearest(up, 1, -1, nn_scratch_) == 1 &&
+          (P.u[nn_scratch_[0]] - up).squaredNorm() <= max_dist_sq) {
+        L.parent[i] = nn_scratch_[0];
+      }
+    }
+  }
+  status_ = InitStatus::kWaitingForParallax;
+}
+
+void CoarseInitializer::trackFrame(const ImagePyramid& pyramid, double exposure) {
+  frame_ = &pyramid;
+  exposure_frame_ = exposure;
+  exposure_ratio_ = static_cast<float>(exposure / exposure_ref_);
+  smoothness_weight_ = status_ == InitStatus::kConfirming ? settings_.smoothness_weight_parallax
+                                                          : settings_.smoothness_weight;
+  // Constant-velocity guess: the motion of the last frame repeated.
+  const SE3d guess = (has_prev_ && std::getenv("CV")) ? (T_ * T_prev_.inverse()) * T_ : T_;
+  T_prev_ = T_;
+  has_prev_ = true;
+  T_ = guess;
+
+  stats_.iterations = 0;
+  for (int lvl = levels_ - 1; lvl >= 0; --lvl) {
+    if (lvl + 1 < levels_) propagateDown(lvl);
+    computeSmoothnessTargets(lvl);
+    stats_.iterations += optimiseLevel(lvl);
+    normaliseScale(lvl);
+  }
+  propagateUp();
+  frame_ = nullptr;
+}
+
+void CoarseInitializer::decide() {
+  const Evaluation& e = eval_;  // level 0, the last optimised level
+  const int n = pointCount(0);
+  stats_.good_fraction = n > 0 ? static_cast<double>(e.good) / n : 0.0;
+  stats_.rms_residual =
+      e.good > 0 ? std::sqrt(2.0 * e.photo_good / (static_cast<double>(e.good) * kPatternSize))
+                 : 0.0;
+  stats_.flow_translation = e.good > 0 ? std::sqrt(e.flow_sq_sum / e.good) : 0.0;
+
+  if (!e.finite || !finitePose(T_) || !std::isfinite(affine_.a) || !std::isfinite(affine_.b)) {
+    fail(InitFailure::kNotFinite);
+    return;
+  }
+  if (stats_.good_fraction < settings_.min_good_fraction) {
+    fail(InitFailure::kLostTrack);
+    return;
+  }
+  if (stats_.rms_residual > settings_.fail_rms) {
+    fail(InitFailure::kResidualTooLarge);
+    return;
+  }
+  const bool parallax = stats_.flow_translation > settings_.min_parallax_flow &&
+                        stats_.rms_residual <= settings_.max_snap_rms &&
+                        stats_.good_fraction >= settings_.min_snap_good_fraction;
+  if (!parallax) {
+    status_ = InitStatus::kWaitingForParallax;
+    snapped_frames_ = 0;
+    return;
+  }
+  if (status_ == InitStatus::kWaitingForParallax) {
+    status_ = InitStatus::kConfirming;
+    snapped_frames_ = 0;
+  } else {
+    ++snapped_frames_;
+  }
+  if (snapped_frames_ < settings_.confirm_frames) return;
+  if (depthsDegenerate()) {
+    fail(InitFailure::kDegenerateDepths);
+    return;
+  }
+  publishResult();
+  status_ = InitStatus::kComplete;
+}
+
+bool CoarseInitializer::depthsDegenerate() {
+  const Level& L = levels_data_[0];
+  sort_scratch_.clear();
+  int nonpositive = 0;
+  int count = 0;
+  for (std::size_t i = 0; i < L.u.size(); ++i) {
+    if (!L.good[i]) continue;
+    ++count;
+    if (L.idepth[i] > 0.f) {
+      sort_scratch_.push_back(L.idepth[i]);
+    } else {
+      ++nonpositive;
+    }
+  }
+  if (count == 0 || sort_scratch_.empty()) return true;
+  if (static_cast<float>(nonpositive) > settings_.max_nonpositive_fraction * count) return true;
+  const auto at = [&](double q) {
+    const auto it = sort_scratch_.begin() +
+                    static_cast<std::ptrdiff_t>(q * static_cast<double>(sort_scratch_.size() - 1));
+    std::nth_element(sort_scratch_.begin(), it, sort_scratch_.end());
+    return *it;
+  };
+  const float median = at(0.5);
+  const float p95 = at(0.95);
+  return !(median > 0.f) || p95 > settings_.max_idepth_spread * median;
+}
+
+void CoarseInitializer::publishResult() {
+  const Level& L = levels_data_[0];
+  double sum = 0;
+  int count = 0;
+  for (std::size_t i = 0; i < L.u.size(); ++i) {
+    if (L.good[i]) {
+      sum += L.idepth[i];
+      ++count;
+    }
+  }
+  const double mean = count > 0 && sum > 0 ? sum / count : 1.0;
+  const float inv_mean = static_cast<float>(1.0 / mean);
+  result_.points.resize(L.u.size());
+  for (std::size_t i = 0; i < L.u.size(); ++i) {
+    InitializedPoint& p = result_.points[i];
+    p.u = L.u[i].x();
+    p.v = L.u[i].y();
+    p.idepth = L.idepth[i] * inv_mean;
+    p.hessian = L.lin[i].hphoto * static_cast<float>(mean * mean);
+    p.good = L.good[i] != 0;
+    p.is_corner = false;
+  }
+  result_.T_frame_ref = SE3d(T_.so3(), T_.translation() * mean);
+  result_.affine_frame = affine_;
+  result_.exposure_ref = exposure_ref_;
+  result_.exposure_frame = exposure_frame_;
+  result_.frames = frames_;
+}
+
+}  // namespace ldsm

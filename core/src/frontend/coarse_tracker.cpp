@@ -1,0 +1,379 @@
+#include "frontend/coarse_tracker.h"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "ldsm/error.h"
+#include "ldsm/image/interpolation.h"
+
+namespace ldsm {
+
+namespace {
+
+// Everything the warp of one level needs, in float.
+struct LevelWarp {
+  Eigen::Matrix3f KRKi;  // K R K^-1
+  Eigen::Vector3f Kt;    // K t
+  float fx, fy, fxi, fyi, cxi, cyi;
+  float margin;
+  float scale, b_ref, b;
+  ImageView<const GradientPixel> image;
+};
+
+struct WarpedPoint {
+  float dx_fx, dy_fy, nx, ny, iz, ref_term, residual;
+};
+
+LevelWarp makeLevelWarp(const LevelCamera& cam, const SE3d& T, const Eigen::Vector2d& transfer,
+                        double b_ref, const AffineLight& affine,
+                        ImageView<const GradientPixel> image, float margin) {
+  LevelWarp w;
+  const Eigen::Matrix3f K = cam.K();
+  Eigen::Matrix3f Ki;
+  Ki << cam.fxi, 0, cam.cxi, 0, cam.fyi, cam.cyi, 0, 0, 1;
+  w.KRKi = K * T.rotationMatrix().cast<float>() * Ki;
+  w.Kt = K * T.translation().cast<float>();
+  w.fx = cam.fx;
+  w.fy = cam.fy;
+  w.fxi = cam.fxi;
+  w.fyi = cam.fyi;
+  w.cxi = cam.cxi;
+  w.cyi = cam.cyi;
+  w.margin = margin;
+  w.scale = static_cast<float>(transfer(0));
+  w.b_ref = static_cast<float>(b_ref);
+  w.b = static_cast<float>(affine.b);
+  w.image = image;
+  return w;
+}
+
+// Projects reference pixel (x, y) with inverse depth `idepth` into the frame and computes its
+// residual. False when it lands outside the frame (with margin) or behind the camera.
+inline bool warpPoint(const LevelWarp& w, float x, float y, float idepth, float ref_intensity,
+                      WarpedPoint& out) {
+  const Eigen::Vector3f p = w.KRKi * Eigen::Vector3f(x, y, 1.f) + w.Kt * idepth;
+  if (!(p.z() > 0.f)) return false;
+  const float zi = 1.f / p.z();
+  const float u = p.x() * zi;
+  const float v = p.y() * zi;
+  if (!isInsideForBilinear(w.image, u, v, w.margin)) return false;
+  const GradientPixel g = interpolateBilinear(w.image, u, v);
+  out.dx_fx = g.dx * w.fx;
+  out.dy_fy = g.dy * w.fy;
+  out.nx = w.fxi * u + w.cxi;
+  out.ny = w.fyi * v + w.cyi;
+  out.iz = idepth * zi;
+  out.ref_term = w.scale * (ref_intensity - w.b_ref);
+  out.residual = g.intensity - out.ref_term - w.b;
+  return true;
+}
+
+void checkExposure(double exposure, const char* what) {
+  if (!(exposure > 0.0) || !std::isfinite(exposure)) {
+    throw InputError(std::string("coarse tracker: ") + what +
+                     " exposure must be finite and > 0 (got " + std::to_string(exposure) + ")");
+  }
+}
+
+}  // namespace
+
+const char* toString(TrackingFailure failure) {
+  switch (failure) {
+    case TrackingFailure::kNone:
+      return "none";
+    case TrackingFailure::kNoReference:
+      return "no reference points";
+    case TrackingFailure::kTooFewInImage:
+      return "too few points in the image";
+    case TrackingFailure::kNotFinite:
+      return "residual not finite";
+    case TrackingFailure::kResidualTooLarge:
+      return "residual above abort threshold";
+    case TrackingFailure::kTooFewInliers:
+      return "too few inlier residuals";
+  }
+  return "unknown";
+}
+
+CoarseTrackerSettings CoarseTrackerSettings::fromConfig(const Config& config,
+                                                        bool exposures_known) {
+  CoarseTrackerSettings s;
+  s.huber_threshold = static_cast<float>(config.tracking.huber_threshold);
+  const int it = config.tracking.max_iterations_per_level;
+  for (int l = 0; l < kMaxPyramidLevels; ++l)
+    s.max_iterations[l] = l == 0 ? it : (l == 1 ? 2 : 5) * it;
+  const double prior = exposures_known ? config.photometric.affine_prior_weight_known
+                                       : config.photometric.affine_prior_weight_unknown;
+  s.affine_prior_weight_a = prior;
+  s.affine_prior_weight_b = prior;
+  return s;
+}
+
+double CoarseTracker::Evaluation::rmse() const {
+  return in_image > 0 ? std::sqrt(huber_sq_sum / in_image)
+                      : std::numeric_limits<double>::infinity();
+}
+
+double CoarseTracker::Evaluation::meanEnergy() const {
+  return in_image > 0 ? energy / in_image : std::numeric_limits<double>::infinity();
+}
+
+CoarseTracker::CoarseTracker(int width, int height, int levels,
+                             const CoarseTrackerSettings& settings)
+    : settings_(settings), depth_maps_(width, height, levels) {
+  if (!(settings.huber_threshold > 0.f) || !std::isfinite(settings.huber_threshold)) {
+    throw ConfigError("coarse tracker: huber_threshold must be finite and > 0");
+  }
+  warped_.allocate(static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
+}
+
+void CoarseTracker::setReference(const ImagePyramid& reference, const PyramidCamera& camera,
+                                 const DepthPoint* points, std::size_t count, double exposure,
+                                 const AffineLight& affine) {
+  checkExposure(exposure, "reference");
+  if (camera.levels() < levels() || camera[0].width != depth_maps_.width(0) ||
+      camera[0].height != depth_maps_.height(0)) {
+    throw InputError("coarse tracker: camera is " + std::to_string(camera[0].width) + "x" +
+                     std::to_string(camera[0].height) + " with " + std::to_string(camera.levels()) +
+                     " levels, expected " + std::to_string(depth_maps_.width(0)) + "x" +
+                     std::to_string(depth_maps_.height(0)) + " with at least " +
+                     std::to_string(levels()) + " levels");
+  }
+  depth_maps_.build(points, count, reference);
+  camera_ = camera;
+  ref_exposure_ = exposure;
+  ref_affine_ = affine;
+  has_reference_ = true;
+}
+
+double CoarseTracker::scaleOf(double exposure, const AffineLight& affine) const {
+  return affineTransfer(ref_exposure_, exposure, ref_affine_, affine)(0);
+}
+
+CoarseTracker::Evaluation CoarseTracker::evaluate(const ImagePyramid& frame, double exposure,
+                                                  int level, const SE3d& T,
+                                                  const AffineLight& affine, float threshold) {
+  const LevelWarp w =
+      makeLevelWarp(camera_[level], T, affineTransfer(ref_exposure_, exposure, ref_affine_, affine),
+                    ref_affine_.b, affine, frame.gradients(level), settings_.border_margin);
+  const LevelPoints& pts = depth_maps_.points(level);
+  const float c2 = settings_.gradient_weight_c * settings_.gradient_weight_c;
+  const float base = settings_.huber_threshold;
+  Evaluation ev;
+  float energy = 0.f, huber_sq = 0.f;  // partial sums, flushed to double every block
+  int n = 0, base_outliers = 0;
+  for (int i = 0; i < pts.count; ++i) {
+    WarpedPoint wp;
+    if (!warpPoint(w, pts.x[i], pts.y[i], pts.idepth[i], pts.intensity[i], wp)) continue;
+    const float r = wp.residual;
+    const float abs_r = std::abs(r);
+    const float hw = abs_r < threshold ? 1.f : threshold / abs_r;
+    const float gw = c2 > 0.f ? c2 / (c2 + pts.grad_sq[i]) : 1.f;
+    const float cost = hw * (2.f - hw) * r * r;
+    energy += gw * cost;
+    huber_sq += cost;
+    ev.outliers += abs_r >= threshold ? 1 : 0;
+    base_outliers += abs_r >= base ? 1 : 0;
+    warped_.dx_fx[n] = wp.dx_fx;
+    warped_.dy_fy[n] = wp.dy_fy;
+    warped_.nx[n] = wp.nx;
+    warped_.ny[n] = wp.ny;
+    warped_.iz[n] = wp.iz;
+    warped_.ref_term[n] = wp.ref_term;
+    warped_.residual[n] = r;
+    warped_.weight[n] = hw * gw;
+    ++n;
+    if ((n & 255) == 0) {
+      ev.energy += energy;
+      ev.huber_sq_sum += huber_sq;
+      energy = huber_sq = 0.f;
+    }
+  }
+  ev.energy += energy;
+  ev.huber_sq_sum += huber_sq;
+  ev.in_image = n;
+  ev.base_inliers = n - base_outliers;
+  ev.finite = std::isfinite(ev.energy);
+  warped_.count = n;
+  return ev;
+}
+
+void CoarseTracker::addAffinePrior(const AffineLight& affine, CoarseMatrix& H,
+                                   CoarseVector& g) const {
+  H(6, 6) += settings_.affine_prior_weight_a;
+  H(7, 7) += settings_.affine_prior_weight_b;
+  g(6) += settings_.affine_prior_weight_a * (affine.a - ref_affine_.a);
+  g(7) += settings_.affine_prior_weight_b * (affine.b - ref_affine_.b);
+}
+
+double CoarseTracker::affinePriorEnergy(const AffineLight& affine) const {
+  const double da = affine.a - ref_affine_.a;
+  const double db = affine.b - ref_affine_.b;
+  return settings_.affine_prior_weight_a * da * da + settings_.affine_prior_weight_b * db * db;
+}
+
+CoarseTracker::Evaluation CoarseTracker::optimiseLevel(const ImagePyramid& frame, double exposure,
+                                                       int level, SE3d& T, AffineLight& affine,
+                                                       float& threshold, int& iterations) {
+  const int count = depth_maps_.points(level).count;
+  const auto usable = [&](const Evaluation& e) {
+    return e.finite && e.in_image > 0 &&
+           static_cast<float>(e.in_image) >= settings_.min_in_image_fraction * count;
+  };
+  Evaluation ev = evaluate(frame, exposure, level, T, affine, threshold);
+  if (!usable(ev)) return ev;
+  for (int d = 0; d < settings_.max_threshold_doublings &&
+                  ev.outliers > settings_.outlier_fraction_for_doubling * ev.in_image;
+       ++d) {
+    threshold *= 2.f;
+    ev = evaluate(frame, exposure, level, T, affine, threshold);
+  }
+  // The total cost compared between steps: mean data energy plus the prior spread the same way.
+  const auto cost = [&](const Evaluation& e, const AffineLight& aff) {
+    return e.meanEnergy() + affinePriorEnergy(aff) / e.in_image;
+  };
+  CoarseMatrix H;
+  CoarseVector g;
+  accumulateNormalEquations(warped_, H, g);
+  addAffinePrior(affine, H, g);
+  double current_cost = cost(ev, affine);
+  double lambda = settings_.initial_lambda;
+  for (int it = 0; it < settings_.max_iterations[level]; ++it) {
+    // Jacobi scaling makes the diagonal 1, so rotation, translation, a and b are comparable.
+    const CoarseVector D = (H.diagonal().array().max(1e-12)).sqrt().inverse().matrix();
+    CoarseMatrix A = D.asDiagonal() * H * D.asDiagonal();
+    A.diagonal().array() += lambda;
+    const CoarseVector step_scaled = -A.ldlt().solve(D.asDiagonal() * g);
+    if (!step_scaled.allFinite()) break;
+    const CoarseVector step = D.asDiagonal() * step_scaled;
+    const SE3d T_new = SE3d::exp(step.head<6>()) * T;
+    const AffineLight affine_new{affine.a + step(6), affine.b + step(7)};
+    const Evaluation ev_new = evaluate(frame, exposure, level, T_new, affine_new, threshold);
+    ++iterations;
+    const bool accepted = usable(ev_new) && cost(ev_new, affine_new) < current_cost;
+    if (accepted) {
+      T = T_new;
+      affine = affine_new;
+      ev = ev_new;
+      current_cost = cost(ev, affine);
+      accumulateNormalEquations(warped_, H, g);
+      addAffinePrior(affine, H, g);
+      lambda = std::max(lambda * 0.5, 1e-8);
+    } else {
+      lambda *= 4.0;
+    }
+    const double rms_step = std::sqrt(step_scaled.squaredNorm() / std::max(ev.in_image, 1));
+    if (rms_step < settings_.convergence_rms_step || lambda > 1e8) break;
+  }
+  return ev;
+}
+
+bool CoarseTracker::track(const ImagePyramid& frame, double exposure, SE3d& T_frame_ref,
+                          AffineLight& affine, int coarsest_level, const LevelValues& max_rmse,
+                          CoarseTrackingResult& result) {
+  result = CoarseTrackingResult();
+  checkExposure(exposure, "frame");
+  if (frame.width(0) != depth_maps_.width(0) || frame.height(0) != depth_maps_.height(0) ||
+      frame.levels() < levels()) {
+    throw InputError("coarse tracker: frame pyramid is " + std::to_string(frame.width(0)) + "x" +
+                     std::to_string(frame.height(0)) + " with " + std::to_string(frame.levels()) +
+                     " levels, expected " + std::to_string(depth_maps_.width(0)) + "x" +
+                     std::to_string(depth_maps_.height(0)) + " with at least " +
+                     std::to_string(levels()) + " levels");
+  }
+  const auto fail = [&](TrackingFailure why, int level) {
+    result.success = false;
+    result.failure = why;
+    result.failed_level = level;
+    return false;
+  };
+  if (!has_reference_) return fail(TrackingFailure::kNoReference, levels() - 1);
+  const int coarsest = std::clamp(coarsest_level, 0, levels() - 1);
+  bool repeated = false;
+  Evaluation ev;
+  for (int level = coarsest; level >= 0; --level) {
+    if (depth_maps_.points(level).count == 0) return fail(TrackingFailure::kNoReference, level);
+    float threshold = settings_.huber_threshold;
+    ev = optimiseLevel(frame, exposure, level, T_frame_ref, affine, threshold, result.iterations);
+    result.rmse(level) = ev.rmse();
+    if (!ev.finite) return fail(TrackingFailure::kNotFinite, level);
+    if (ev.in_image == 0 || static_cast<float>(ev.in_image) <
+                                settings_.min_in_image_fraction * depth_maps_.points(level).count) {
+      return fail(TrackingFailure::kTooFewInImage, level);
+    }
+    if (!(result.rmse(level) <= max_rmse(level))) {
+      return fail(TrackingFailure::kResidualTooLarge, level);
+    }
+    // The threshold had to grow: the start was far off. Run the level once more from the
+    // improved estimate with the normal threshold (once per frame).
+    if (threshold > settings_.huber_threshold && !repeated) {
+      repeated = true;
+      ++level;
+    }
+  }
+  result.in_image_fraction = static_cast<double>(ev.in_image) / depth_maps_.points(0).count;
+  result.inlier_fraction = static_cast<double>(ev.base_inliers) / ev.in_image;
+  result.brightness_scale = scaleOf(exposure, affine);
+  computeFlow(T_frame_ref, result);
+  if (result.inlier_fraction < settings_.min_inlier_fraction) {
+    return fail(TrackingFailure::kTooFewInliers, 0);
+  }
+  result.success = true;
+  return true;
+}
+
+void CoarseTracker::computeFlow(const SE3d& T, CoarseTrackingResult& result) const {
+  const LevelPoints& pts = depth_maps_.points(0);
+  const LevelCamera& cam = camera_[0];
+  const Eigen::Matrix3d R = T.rotationMatrix();
+  const Eigen::Vector3d t = T.translation();
+  const int stride = std::max(1, pts.count / 1000);
+  double full = 0, trans = 0, rot = 0;
+  int n = 0;
+  const auto shift2 = [&](const Eigen::Vector3d& q, double x, double y, double& acc) {
+    if (!(q.z() > 0)) return false;
+    const double du = cam.fx * q.x() / q.z() + cam.cx - x;
+    const double dv = cam.fy * q.y() / q.z() + cam.cy - y;
+    acc += du * du + dv * dv;
+    return true;
+  };
+  for (int i = 0; i < pts.count; i += stride) {
+    const double x = pts.x[i], y = pts.y[i];
+    const Eigen::Vector3d ray(cam.fxi * x + cam.cxi, cam.fyi * y + cam.cyi, 1.0);
+    const Eigen::Vector3d p = ray / pts.idepth[i];
+    double f = 0, ft = 0, fr = 0;
+    if (shift2(R * p + t, x, y, f) && shift2(p + t, x, y, ft) && shift2(R * ray, x, y, fr)) {
+      full += f;
+      trans += ft;
+      rot += fr;
+      ++n;
+    }
+  }
+  if (n == 0) return;
+  result.flow_full = std::sqrt(full / n);
+  result.flow_translation = std::sqrt(trans / n);
+  result.flow_rotation = std::sqrt(rot / n);
+}
+
+bool CoarseTracker::pointResidual(const ImagePyramid& frame, double exposure,
+                                  const SE3d& T_frame_ref, const AffineLight& affine, int level,
+                                  int index, float* residual, float* jacobian) const {
+  const LevelPoints& pts = depth_maps_.points(level);
+  if (!has_reference_ || index < 0 || index >= pts.count) return false;
+  const LevelWarp w = makeLevelWarp(
+      camera_[level], T_frame_ref, affineTransfer(ref_exposure_, exposure, ref_affine_, affine),
+      ref_affine_.b, affine, frame.gradients(level), settings_.border_margin);
+  WarpedPoint wp;
+  if (!warpPoint(w, pts.x[index], pts.y[index], pts.idepth[index], pts.intensity[index], wp)) {
+    return false;
+  }
+  if (residual != nullptr) *residual = wp.residual;
+  if (jacobian != nullptr) {
+    coarseJacobianRow(wp.dx_fx, wp.dy_fy, wp.nx, wp.ny, wp.iz, wp.ref_term, jacobian);
+  }
+  return true;
+}
+
+}  // namespace ldsm

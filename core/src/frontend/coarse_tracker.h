@@ -1,0 +1,157 @@
+// Coarse tracking of a new frame against the newest keyframe (DSO, "Initial Frame Tracking"):
+// the window's points projected into the reference become per-level inverse-depth maps
+// (DepthMapPyramid), and the frame's pose T_frame_ref and affine brightness (a, b) are found by
+// Levenberg-Marquardt on the Huber-weighted photometric error, coarse to fine over the pyramid.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <cstddef>
+#include <limits>
+#include <vector>
+
+#include "frontend/affine_light.h"
+#include "frontend/coarse_residuals.h"
+#include "frontend/depth_map_pyramid.h"
+#include "frontend/pyramid_camera.h"
+#include "ldsm/config.h"
+#include "ldsm/image/image_pyramid.h"
+#include "ldsm/math/se3.h"
+
+namespace ldsm {
+
+/// One value per pyramid level (only the tracked levels are meaningful).
+using LevelValues = Eigen::Matrix<double, kMaxPyramidLevels, 1>;
+
+/// LevelValues filled with +infinity: "no abort threshold".
+inline LevelValues noAbortThresholds() {
+  return LevelValues::Constant(std::numeric_limits<double>::infinity());
+}
+
+struct CoarseTrackerSettings {
+  float huber_threshold = 9.f;  ///< Huber threshold of residuals, grey levels
+  /// Levenberg-Marquardt iterations per level (level 0 first).
+  std::array<int, kMaxPyramidLevels> max_iterations{{10, 20, 50, 50, 50, 50, 50, 50}};
+  float border_margin = 2.f;           ///< projections closer to the border are skipped (pixels)
+  float min_in_image_fraction = 0.2f;  ///< a level fails when fewer of its points are in the frame
+  /// Tracking fails when, on level 0, fewer residuals than this are below the Huber threshold.
+  float min_inlier_fraction = 0.3f;
+  /// While more residuals of a level than this exceed the threshold, the threshold is doubled
+  /// (at most max_threshold_doublings times) and the level is run once more afterwards.
+  float outlier_fraction_for_doubling = 0.6f;
+  int max_threshold_doublings = 6;
+  /// c of the gradient-dependent weight c^2 / (c^2 + |grad I_ref|^2); 0 disables it.
+  float gradient_weight_c = 0.f;
+  /// Weights of the prior (a - a_ref)^2 and (b - b_ref)^2 on the frame's affine brightness.
+  double affine_prior_weight_a = 1e-3;
+  double affine_prior_weight_b = 1e-3;
+  double initial_lambda = 0.01;  ///< LM damping of the Jacobi-scaled normal equations
+  /// A level stops when a step changes the residuals by less than this (RMS, grey levels).
+  double convergence_rms_step = 1e-3;
+
+  /// Settings from the configuration: tracking.huber_threshold, tracking.max_iterations_per_level
+  /// (for level 0; level 1 gets twice and coarser levels five times as many, as coarse levels are
+  /// cheap and start furthest from the solution) and the affine prior weight for known or unknown
+  /// exposures.
+  static CoarseTrackerSettings fromConfig(const Config& config, bool exposures_known);
+};
+
+enum class TrackingFailure {
+  kNone,
+  kNoReference,       ///< setReference() was not called or left no points on a level
+  kTooFewInImage,     ///< too few points project into the frame
+  kNotFinite,         ///< the residual became NaN or infinite
+  kResidualTooLarge,  ///< a level's RMSE exceeded its abort threshold
+  kTooFewInliers,     ///< most residuals on level 0 are outliers (not the same image content)
+};
+
+/// Human-readable name of a TrackingFailure.
+const char* toString(TrackingFailure failure);
+
+struct CoarseTrackingResult {
+  bool success = false;
+  TrackingFailure failure = TrackingFailure::kNone;
+  int failed_level = -1;  ///< the level tracking stopped at, -1 on success
+  /// Huber RMSE (grey levels) per level at the end of the level; NaN for levels not tracked.
+  LevelValues rmse = LevelValues::Constant(std::numeric_limits<double>::quiet_NaN());
+  double inlier_fraction = 0;    ///< level 0: share of residuals below the Huber threshold
+  double in_image_fraction = 0;  ///< level 0: share of points projecting into the frame
+  int iterations = 0;            ///< LM iterations over all levels
+  /// Root-mean-square optical flow of the level-0 points (pixels) for the full motion, for the
+  /// translation alone (rotation removed) and for the rotation alone.
+  double flow_full = 0;
+  double flow_translation = 0;
+  double flow_rotation = 0;
+  double brightness_scale = 1;  ///< s = exp(a - a_ref) e_frame / e_ref
+};
+
+class CoarseTracker {
+ public:
+  /// Preallocates everything for width x height images and `levels` pyramid levels.
+  CoarseTracker(int width, int height, int levels, const CoarseTrackerSettings& settings);
+
+  /// Sets the reference keyframe: its pyramid (at least levels() levels of the constructed size),
+  /// camera, the window's points projected into it, its exposure time (1 when unknown) and affine
+  /// brightness. Allocates nothing.
+  void setReference(const ImagePyramid& reference, const PyramidCamera& camera,
+                    const DepthPoint* points, std::size_t count, double exposure,
+                    const AffineLight& affine);
+  void setReference(const ImagePyramid& reference, const PyramidCamera& camera,
+                    const std::vector<DepthPoint>& points, double exposure,
+                    const AffineLight& affine) {
+    setReference(reference, camera, points.data(), points.size(), exposure, affine);
+  }
+
+  /// Tracks `frame` (exposure time `exposure`) from level min(coarsest_level, levels() - 1) down
+  /// to 0. T_frame_ref and affine hold the initial guess and receive the estimate (also when
+  /// tracking fails). A level whose final RMSE exceeds max_rmse[level] aborts tracking. Returns
+  /// result.success. Allocates nothing.
+  bool track(const ImagePyramid& frame, double exposure, SE3d& T_frame_ref, AffineLight& affine,
+             int coarsest_level, const LevelValues& max_rmse, CoarseTrackingResult& result);
+
+  /// The residual of reference point `index` of `level` for the given parameters, and its
+  /// Jacobian w.r.t. [rho, phi, a, b] (left perturbation of T) when `jacobian` is not null.
+  /// Returns false when the point does not project into the frame. For tests and diagnostics.
+  bool pointResidual(const ImagePyramid& frame, double exposure, const SE3d& T_frame_ref,
+                     const AffineLight& affine, int level, int index, float* residual,
+                     float* jacobian) const;
+
+  int levels() const { return depth_maps_.levels(); }
+  const DepthMapPyramid& depthMaps() const { return depth_maps_; }
+  const CoarseTrackerSettings& settings() const { return settings_; }
+  bool hasReference() const { return has_reference_; }
+  const AffineLight& referenceAffine() const { return ref_affine_; }
+  double referenceExposure() const { return ref_exposure_; }
+
+ private:
+  struct Evaluation {
+    double energy = 0;        // sum of weighted Huber costs (2 rho(r))
+    double huber_sq_sum = 0;  // sum of unweighted Huber costs, for the RMSE
+    int in_image = 0;
+    int outliers = 0;      // residuals at or above the (possibly doubled) threshold
+    int base_inliers = 0;  // residuals below the configured Huber threshold
+    bool finite = true;
+    double rmse() const;
+    double meanEnergy() const;
+  };
+
+  Evaluation evaluate(const ImagePyramid& frame, double exposure, int level, const SE3d& T,
+                      const AffineLight& affine, float threshold);
+  /// Runs LM on one level; returns the final evaluation (and updates T, affine, threshold).
+  Evaluation optimiseLevel(const ImagePyramid& frame, double exposure, int level, SE3d& T,
+                           AffineLight& affine, float& threshold, int& iterations);
+  void addAffinePrior(const AffineLight& affine, CoarseMatrix& H, CoarseVector& g) const;
+  double affinePriorEnergy(const AffineLight& affine) const;
+  void computeFlow(const SE3d& T, CoarseTrackingResult& result) const;
+  double scaleOf(double exposure, const AffineLight& affine) const;
+
+  CoarseTrackerSettings settings_;
+  DepthMapPyramid depth_maps_;
+  PyramidCamera camera_;
+  WarpedResiduals warped_;
+  double ref_exposure_ = 1;
+  AffineLight ref_affine_;
+  bool has_reference_ = false;
+};
+
+}  // namespace ldsm

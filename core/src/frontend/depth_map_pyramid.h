@@ -1,0 +1,76 @@
+// Sparse inverse-depth maps of the tracking reference over the pyramid, and the point lists the
+// coarse tracker iterates over (DSO's "coarse depth" of the newest keyframe).
+//
+// Level 0 is filled by splatting the window's points projected into the reference (inverse depth
+// averaged with the points' weights at the nearest pixel); level l+1 is the weighted average of
+// the 2x2 children at level l; then every level is dilated once (an empty pixel takes the
+// weighted average of its known neighbours: diagonal ones on levels 0 and 1, the 4-neighbourhood
+// on coarser levels), so that coarse levels become dense enough to track with. Every known pixel
+// becomes a reference point (x, y, inverse depth, reference intensity, squared gradient).
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "frontend/pyramid_camera.h"
+#include "ldsm/image.h"
+#include "ldsm/image/image_pyramid.h"
+
+namespace ldsm {
+
+/// A point of the window projected into the reference keyframe.
+struct DepthPoint {
+  float u = 0;       ///< level-0 pixel column in the reference
+  float v = 0;       ///< level-0 pixel row in the reference
+  float idepth = 0;  ///< inverse depth in the reference frame, > 0
+  float weight = 1;  ///< confidence (e.g. inverse variance of the inverse depth), > 0
+};
+
+/// The reference points of one level as a struct of arrays. The arrays are allocated once for the
+/// level's pixel count; only the first `count` entries are valid.
+struct LevelPoints {
+  std::vector<float> x;          ///< pixel column at this level (integer valued)
+  std::vector<float> y;          ///< pixel row at this level (integer valued)
+  std::vector<float> idepth;     ///< inverse depth in the reference frame
+  std::vector<float> intensity;  ///< reference intensity at (x, y)
+  std::vector<float> grad_sq;    ///< squared reference gradient dx^2 + dy^2 at (x, y)
+  int count = 0;
+};
+
+class DepthMapPyramid {
+ public:
+  /// Preallocates maps and point lists for width x height images and `levels` levels (the sizes
+  /// of ImagePyramid). Throws InputError/ConfigError like ImagePyramid for bad sizes.
+  DepthMapPyramid(int width, int height, int levels);
+
+  /// Rebuilds every level from `count` points and the reference pyramid (which must have at
+  /// least levels() levels of the constructed size; InputError otherwise). Points outside the
+  /// image or with a non-finite or non-positive inverse depth or weight are skipped. Returns the
+  /// number of points used. Allocates nothing.
+  int build(const DepthPoint* points, std::size_t count, const ImagePyramid& reference);
+
+  int levels() const { return static_cast<int>(points_.size()); }
+  int width(int level) const { return idepth_sum_[level].width(); }
+  int height(int level) const { return idepth_sum_[level].height(); }
+  const LevelPoints& points(int level) const { return points_[level]; }
+  /// Inverse depth of pixel (x, y) of a level after dilation; 0 where unknown.
+  float idepthAt(int level, int x, int y) const;
+  /// Points rejected by the last build() (outside the image, bad inverse depth or weight).
+  int rejectedPoints() const { return rejected_; }
+
+ private:
+  void splat(const DepthPoint* points, std::size_t count);
+  void downsample(int level);
+  void dilate(int level, bool diagonal);
+  void extract(int level, const ImagePyramid& reference);
+
+  // Weighted sums: idepth_sum = sum(w * idepth), weight_sum = sum(w); 0 weight = unknown.
+  std::vector<ImageF> idepth_sum_;
+  std::vector<ImageF> weight_sum_;
+  ImageF scratch_idepth_;  ///< copy of a level read while dilating it
+  ImageF scratch_weight_;
+  std::vector<LevelPoints> points_;
+  int rejected_ = 0;
+};
+
+}  // namespace ldsm

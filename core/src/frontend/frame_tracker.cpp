@@ -1,0 +1,75 @@
+#include "frontend/frame_tracker.h"
+
+#include <cmath>
+#include <limits>
+
+namespace ldsm {
+
+FrameTracker::FrameTracker(const Config& config, const PyramidCamera& camera,
+                           bool exposures_known)
+    : kf_config_(config.keyframes),
+      camera_(camera),
+      tracker_(camera[0].width, camera[0].height, camera.levels(),
+               CoarseTrackerSettings::fromConfig(config, exposures_known)) {}
+
+void FrameTracker::setReference(const WindowKeyframe& keyframe,
+                                const std::vector<DepthPoint>& points) {
+  reference_ = &keyframe;
+  reference_id_ = keyframe.id();
+  T_ref_w_ = keyframe.T_c_w;
+  tracker_.setReference(keyframe.pyramid(), camera_, points, keyframe.exposure(), keyframe.aff);
+  first_rmse_ = -1.0;
+}
+
+void FrameTracker::resetMotion(const SE3d& T_c_w_last, const AffineLight& aff_last) {
+  T_last_w_ = T_c_w_last;
+  last_aff_ = aff_last;
+  has_last_ = true;
+  has_velocity_ = false;
+  last_rmse_ = 0.0;
+}
+
+FrameTrackingOutcome FrameTracker::track(const ImagePyramid& frame, double exposure) {
+  FrameTrackingOutcome out;
+  if (!reference_) {
+    out.failure = "no reference keyframe";
+    return out;
+  }
+  MotionHistory history;
+  history.T_last_ref = has_last_ ? T_last_w_ * T_ref_w_.inverse() : SE3d();
+  history.T_last_prelast = T_last_prelast_;
+  history.has_velocity = has_velocity_;
+  history.last_affine = last_aff_;
+  history.last_rmse = last_rmse_ > 0.0 ? last_rmse_ : std::numeric_limits<double>::infinity();
+  const HypothesisTrackingResult r =
+      trackWithHypotheses(tracker_, frame, exposure, history, hypotheses_);
+  out.hypotheses_tried = r.tried;
+  if (!r.success || !std::isfinite(r.rmse)) {
+    out.failure = std::string("coarse tracking failed: ") + toString(r.tracking.failure);
+    return out;
+  }
+  out.success = true;
+  out.T_c_w = r.T_frame_ref * T_ref_w_;
+  out.aff = r.affine;
+  out.rmse = r.rmse;
+  if (first_rmse_ < 0.0) first_rmse_ = r.rmse;
+  out.wants_keyframe = keyframeWanted(r.tracking, r.rmse);
+
+  T_last_prelast_ = has_last_ ? out.T_c_w * T_last_w_.inverse() : SE3d();
+  has_velocity_ = has_last_;
+  T_last_w_ = out.T_c_w;
+  has_last_ = true;
+  last_aff_ = out.aff;
+  last_rmse_ = r.rmse;
+  return out;
+}
+
+bool FrameTracker::keyframeWanted(const CoarseTrackingResult& r, double rmse) const {
+  const double size_norm = 1120.0 / (camera_[0].width + camera_[0].height);
+  const double score = kf_config_.flow_translation_weight * size_norm * r.flow_translation +
+                       kf_config_.flow_full_weight * size_norm * r.flow_full +
+                       kf_config_.brightness_weight * std::fabs(std::log(r.brightness_scale));
+  return score > 1.0 || (first_rmse_ > 0.0 && rmse > kf_config_.residual_factor * first_rmse_);
+}
+
+}  // namespace ldsm

@@ -1,0 +1,65 @@
+#include "map/map_store.h"
+
+namespace ldsm {
+
+void MapStore::setKeyframe(const KeyframeRecord& record) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (record.id >= static_cast<int>(keyframes_.size()))
+    {
+    KeyframeRecord empty;
+    empty.id = -1;
+    keyframes_.resize(static_cast<size_t>(record.id) + 1, empty);
+  }
+  keyframes_[record.id] = record;
+}
+
+void MapStore::addFrame(const FrameRecord& record) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  frames_.push_back(record);
+}
+
+void MapStore::addPoints(const std::vector<MapPoint>& points) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  points_.insert(points_.end(), points.begin(), points.end());
+}
+
+Trajectory MapStore::frameTrajectory() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  Trajectory out;
+  out.reserve(frames_.size());
+  for (const FrameRecord& f : frames_) {
+    if (f.reference_keyframe < 0 || f.reference_keyframe >= static_cast<int>(keyframes_.size()))
+      continue;
+    const KeyframeRecord& kf = keyframes_[f.reference_keyframe];
+    if (kf.id < 0) continue;
+    out.push_back({f.timestamp, (kf.T_w_c * f.T_ref_c).toPose()});
+  }
+  return out;
+}
+
+Trajectory MapStore::keyframeTrajectory() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  Trajectory out;
+  for (const KeyframeRecord& kf : keyframes_)
+    if (kf.id >= 0) out.push_back({kf.timestamp, kf.T_w_c.toPose()});
+  return out;
+}
+
+std::vector<MapPoint> MapStore::points() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return points_;
+}
+
+std::size_t MapStore::keyframeCount() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::size_t n = 0;
+  for (const auto& kf : keyframes_) n += kf.id >= 0 ? 1 : 0;
+  return n;
+}
+
+bool MapStore::hasKeyframe(int id) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return id >= 0 && id < static_cast<int>(keyframes_.size()) && keyframes_[id].id >= 0;
+}
+
+}  // namespace ldsm

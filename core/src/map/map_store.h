@@ -1,0 +1,51 @@
+// The map store: every keyframe ever created (pose kept up to date while it is in the window, final
+// once it leaves), every processed frame's pose relative to its reference keyframe, and the
+// points that left the window. Thread-safe: tracking, mapping and readers of results use it from
+// different threads.
+#pragma once
+
+#include <cstdint>
+#include <mutex>
+#include <vector>
+
+#include "ldsm/math/se3.h"
+#include "ldsm/system.h"
+
+namespace ldsm {
+
+struct KeyframeRecord {
+  int id = 0;
+  std::int64_t frame_index = 0;
+  double timestamp = 0.0;
+  SE3d T_w_c;  ///< camera-to-world
+};
+
+struct FrameRecord {
+  std::int64_t frame_index = 0;
+  double timestamp = 0.0;
+  int reference_keyframe = -1;  ///< id of the keyframe the frame was tracked against
+  SE3d T_ref_c;                 ///< frame pose relative to that keyframe
+};
+
+class MapStore {
+ public:
+  /// Adds or updates a keyframe's pose.
+  void setKeyframe(const KeyframeRecord& record);
+  void addFrame(const FrameRecord& record);
+  void addPoints(const std::vector<MapPoint>& points);
+
+  /// World pose of every recorded frame, composed with the current keyframe poses.
+  Trajectory frameTrajectory() const;
+  Trajectory keyframeTrajectory() const;
+  std::vector<MapPoint> points() const;
+  std::size_t keyframeCount() const;
+  bool hasKeyframe(int id) const;
+
+ private:
+  mutable std::mutex mutex_;
+  std::vector<KeyframeRecord> keyframes_;  ///< indexed by id
+  std::vector<FrameRecord> frames_;
+  std::vector<MapPoint> points_;
+};
+
+}  // namespace ldsm

@@ -1,0 +1,40 @@
+// Turns a raw 8-bit camera frame into what the engine works on: photometrically corrected
+// (inverse response, vignette) when a calibration is given, rectified to the ideal pinhole, and
+// built into an image pyramid with gradients. Buffers are allocated once.
+#pragma once
+
+#include <memory>
+
+#include "ldsm/camera/calibration.h"
+#include "ldsm/camera/photometric_model.h"
+#include "ldsm/camera/rectifier.h"
+#include "ldsm/config.h"
+#include "ldsm/image/image_pyramid.h"
+
+namespace ldsm {
+
+class FramePreprocessor {
+ public:
+  FramePreprocessor(const GeometricCalibration& geometric, const PhotometricCalibration& photometric,
+                    const PhotometricConfig& config);
+
+  /// Input size the frames must have.
+  int inputWidth() const { return input_width_; }
+  int inputHeight() const { return input_height_; }
+  const PinholeIntrinsics& output() const { return rectifier_.output(); }
+  bool photometricallyCalibrated() const { return photometric_ != nullptr; }
+
+  /// Corrects and rectifies `image` into `pyramid` (of the output size). Throws InputError when
+  /// the image size differs from the calibration's.
+  void process(ImageView<const std::uint8_t> image, ImagePyramid& pyramid);
+
+ private:
+  int input_width_;
+  int input_height_;
+  Rectifier rectifier_;
+  std::unique_ptr<PhotometricModel> photometric_;
+  ImageF corrected_;
+  ImageF rectified_;
+};
+
+}  // namespace ldsm

@@ -1,0 +1,171 @@
+#include "pipeline/odometry.h"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+
+namespace ldsm {
+namespace {
+
+int usableLevels(const PinholeIntrinsics& k, int wanted) {
+  int levels = 1;
+  while (levels < wanted && (k.width >> levels) >= 20 && (k.height >> levels) >= 15) ++levels;
+  return levels;
+}
+
+CoarseInitializerSettings initializerSettings(const Config& c, int levels) {
+  CoarseInitializerSettings s;
+  s.max_levels = levels;
+  s.huber_threshold = static_cast<float>(c.tracking.huber_threshold);
+  return s;
+}
+
+}  // namespace
+
+Odometry::Odometry(const Config& config, const GeometricCalibration& geometric,
+                   const PhotometricCalibration& photometric)
+    : config_(config),
+      preprocessor_(geometric, photometric, config.photometric),
+      camera_(preprocessor_.output(),
+              usableLevels(preprocessor_.output(), config.tracking.pyramid_levels)),
+      mapper_(config, camera_, store_),
+      initializer_(camera_, initializerSettings(config, camera_.levels())),
+      tracker_(config, camera_,
+               preprocessor_.photometricallyCalibrated() && config.photometric.use_exposure),
+      timer_({"preprocess", "initialize", "track", "trace", "mapping", "total"}, 100000) {}
+
+Odometry::~Odometry() = default;
+
+OdometryStep Odometry::process(ImageView<const std::uint8_t> image, std::int64_t index,
+                               double timestamp, double exposure) {
+  StageTimer::Scope total(timer_, kTotal);
+  std::unique_ptr<ImagePyramid> pyr = mapper_.acquirePyramid();
+  {
+    StageTimer::Scope t(timer_, kPreprocess);
+    preprocessor_.process(image, *pyr);
+  }
+  OdometryStep step = status_ == TrackingStatus::Tracking
+                          ? trackStep(std::move(pyr), index, timestamp, exposure)
+                          : initializeStep(std::move(pyr), index, timestamp, exposure);
+  step.frame.frame_index = index;
+  step.frame.timestamp = timestamp;
+  step.frame.status = status_;
+  return step;
+}
+
+OdometryStep Odometry::initializeStep(std::unique_ptr<ImagePyramid> pyr, std::int64_t index,
+                                      double timestamp, double exposure) {
+  OdometryStep step;
+  StageTimer::Scope t(timer_, kInitialize);
+  const bool done = initializer_.addFrame(*pyr, exposure);
+  if (initializer_.framesTracked() == 0 && !done) {
+    // This frame became the initializer's reference: keep its pyramid for the first keyframe.
+    mapper_.releasePyramid(std::move(init_reference_));
+    init_reference_ = std::move(pyr);
+    init_reference_info_ = {index, timestamp, exposure, world_anchor_, AffineLight{}};
+    return step;
+  }
+  if (!done) {
+    if (initializer_.failed())
+      spdlog::info("frame {}: initialisation restarts ({})", index,
+                   toString(initializer_.failure()));
+    mapper_.releasePyramid(std::move(pyr));
+    return step;
+  }
+  const InitializationResult& r = initializer_.result();
+  MapperFrame last{index, timestamp, exposure, r.T_frame_ref * world_anchor_, r.affine_frame};
+  KeyframeInsertion ins;
+  const bool ok = mapper_.initialize(r, init_reference_info_, std::move(init_reference_),
+                                     last, std::move(pyr), &ins);
+  initializer_.reset();
+  if (!ok) return step;
+  status_ = TrackingStatus::Tracking;
+  ++initializations_;
+  keyframes_ += 2;
+  const WindowKeyframe& newest = mapper_.newestKeyframe();
+  store_.addFrame({init_reference_info_.frame_index, init_reference_info_.timestamp,
+                   newest.id() - 1, SE3d()});
+  store_.addFrame({index, timestamp, newest.id(), SE3d()});
+  updateTrackerReference();
+  tracker_.resetMotion(newest.T_c_w, newest.aff);
+  step.initialized = InitializedEvent{index, timestamp, mapper_.activePointCount()};
+  step.frame.has_pose = true;
+  step.frame.is_keyframe = true;
+  step.frame.pose = newest.T_c_w.inverse().toPose();
+  step.keyframe = KeyframeEvent{newest.id(), index, timestamp, step.frame.pose,
+                                mapper_.activePointCount()};
+  spdlog::info("frame {}: initialised with {} points", index, mapper_.activePointCount());
+  return step;
+}
+
+OdometryStep Odometry::trackStep(std::unique_ptr<ImagePyramid> pyr, std::int64_t index,
+                                 double timestamp, double exposure) {
+  OdometryStep step;
+  step.frame.frame_index = index;
+  step.frame.timestamp = timestamp;
+  FrameTrackingOutcome outcome;
+  {
+    StageTimer::Scope t(timer_, kTrack);
+    outcome = tracker_.track(*pyr, exposure);
+  }
+  if (!outcome.success) {
+    mapper_.releasePyramid(std::move(pyr));
+    loseTracking(step, "frame " + std::to_string(index) + ": " + outcome.failure);
+    return step;
+  }
+  const SE3d T_ref_w = tracker_.referencePose();
+  store_.addFrame({index, timestamp, tracker_.referenceKeyframeId(),
+                   T_ref_w * outcome.T_c_w.inverse()});
+  MapperFrame info{index, timestamp, exposure, outcome.T_c_w, outcome.aff};
+  {
+    StageTimer::Scope t(timer_, kTrace);
+    mapper_.traceFrame(*pyr, info);
+  }
+  step.frame.has_pose = true;
+  step.frame.pose = outcome.T_c_w.inverse().toPose();
+  step.frame.residual_rmse = outcome.rmse;
+  if (!outcome.wants_keyframe) {
+    mapper_.releasePyramid(std::move(pyr));
+    return step;
+  }
+  StageTimer::Scope t(timer_, kMapping);
+  const KeyframeInsertion ins = mapper_.addKeyframe(std::move(pyr), info);
+  ++keyframes_;
+  const WindowKeyframe& newest = mapper_.newestKeyframe();
+  tracker_.refineLastPose(newest.T_c_w);
+  updateTrackerReference();
+  step.frame.is_keyframe = true;
+  step.keyframe = KeyframeEvent{newest.id(), index, timestamp, newest.T_c_w.inverse().toPose(),
+                                ins.active_points};
+  spdlog::debug("keyframe {} (frame {}): {} active, {} activated, {} marginalised, rmse {:.2f}",
+                newest.id(), index, ins.active_points, ins.activated_points,
+                ins.marginalized_frames, ins.optimization.rmse);
+  return step;
+}
+
+void Odometry::updateTrackerReference() {
+  mapper_.trackingPoints(depth_points_);
+  tracker_.setReference(mapper_.newestKeyframe(), depth_points_);
+}
+
+void Odometry::loseTracking(OdometryStep& step, const std::string& reason) {
+  spdlog::warn("tracking lost: {}", reason);
+  ++losses_;
+  step.lost = TrackingLostEvent{step.frame.frame_index, step.frame.timestamp, reason};
+  // The next map starts where the camera was last seen.
+  world_anchor_ = mapper_.newestKeyframe().T_c_w;
+  mapper_.reset();
+  initializer_.reset();
+  status_ = TrackingStatus::Lost;
+}
+
+void Odometry::flush() { mapper_.publishPoses(); }
+
+std::vector<MapPoint> Odometry::mapPoints() const {
+  std::vector<MapPoint> pts = store_.points();
+  const std::vector<MapPoint> active = mapper_.activeMapPoints();
+  pts.insert(pts.end(), active.begin(), active.end());
+  return pts;
+}
+
+}  // namespace ldsm

@@ -1,0 +1,80 @@
+// Helpers of the initializer tests: camera set-up, running the initializer over a rendered
+// sequence, and comparing its result with the scene's truth.
+#pragma once
+
+#include <chrono>
+#include <cstdio>
+#include <functional>
+#include <random>
+#include <vector>
+
+#include "frontend/coarse_initializer.h"
+#include "frontend/pyramid_camera.h"
+#include "ldsm/image/image_pyramid.h"
+#include "plane_scene.h"
+
+namespace ldsm::test {
+
+inline PinholeIntrinsics makeIntrinsics(int width, int height, double focal) {
+  PinholeIntrinsics K;
+  K.fx = focal;
+  K.fy = focal;
+  K.cx = (width - 1) / 2.0;
+  K.cy = (height - 1) / 2.0;
+  K.width = width;
+  K.height = height;
+  return K;
+}
+
+struct InitRun {
+  int completed_at = -1;  ///< index of the pose at which addFrame() returned true
+  int failures = 0;
+  int snaps = 0;          ///< frames that ended in kConfirming
+  double max_flow = 0;    ///< largest translation flow seen
+  double ms_per_frame = 0;
+};
+
+/// Renders the scene at each of `poses` (camera-to-world) and feeds the frames to `init`, until
+/// it completes (when stop_at_complete). `on_frame` (optional) sees the initializer after each
+/// frame.
+inline InitRun runSequence(CoarseInitializer& init, const PlaneScene& scene,
+                           const std::vector<SE3d>& poses, const PinholeIntrinsics& K, float noise,
+                           unsigned seed, bool stop_at_complete, bool verbose = false) {
+  std::mt19937 rng(seed);
+  ImagePyramid pyramid(K.width, K.height, 5);
+  InitRun run;
+  double ms = 0;
+  int timed = 0;
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    const ImageF image = scene.render(poses[i], K, 2, noise, &rng);
+    const auto t0 = std::chrono::steady_clock::now();
+    pyramid.build(image.view());
+    const bool done = init.addFrame(pyramid, 1.0);
+    const auto t1 = std::chrono::steady_clock::now();
+    if (i > 0) {
+      ms += std::chrono::duration<double, std::milli>(t1 - t0).count();
+      ++timed;
+    }
+    const InitFrameStats& s = init.lastFrameStats();
+    if (init.failed()) ++run.failures;
+    if (init.status() == InitStatus::kConfirming) ++run.snaps;
+    if (i > 0 && s.flow_translation > run.max_flow) run.max_flow = s.flow_translation;
+    if (verbose) {
+      const Eigen::Vector3d w = init.currentPose().so3().log() * 57.29578;
+      std::printf("frame %3zu: %-22s flow %6.2f rms %6.2f good %.2f it %3d  t=(%.4f %.4f %.4f) "
+                  "w=(%.3f %.3f %.3f)\n",
+                  i, toString(init.status()), s.flow_translation, s.rms_residual,
+                  s.good_fraction, s.iterations, init.currentPose().translation().x(),
+                  init.currentPose().translation().y(), init.currentPose().translation().z(),
+                  w.x(), w.y(), w.z());
+    }
+    if (done) {
+      run.completed_at = static_cast<int>(i);
+      if (stop_at_complete) break;
+    }
+  }
+  run.ms_per_frame = timed > 0 ? ms / timed : 0;
+  return run;
+}
+
+}  // namespace ldsm::test

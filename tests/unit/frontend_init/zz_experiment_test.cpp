@@ -1,0 +1,43 @@
+// TEMPORARY tuning harness (removed before hand-off).
+#include <gtest/gtest.h>
+#include <cstdlib>
+#include <algorithm>
+#include "init_test_util.h"
+namespace ldsm {
+namespace {
+constexpr double kDeg = 3.14159265358979323846 / 180.0;
+double envd(const char* n, double def) { const char* v = std::getenv(n); return v ? std::atof(v) : def; }
+TEST(Experiment, DISABLED_Sweep) {
+  const test::PlaneScene scene = test::wallAndFloorScene();
+  const PinholeIntrinsics K = test::makeIntrinsics(320, 240, 250);
+  struct C { const char* name; Eigen::Vector3d v; double yaw; };
+  std::vector<C> cases = {{"side", {0.012,0,0}, 0}, {"sideturn", {-0.012,0.002,0}, 0.05}, {"fwd", {0,0,0.03},0}, {"diag", {0.008,-0.004,0.015}, -0.03}};
+  for (auto& c : cases) {
+    CoarseInitializerSettings s;
+    s.smoothness_weight = envd("SW", s.smoothness_weight);
+    s.smoothness_weight_parallax = envd("SWP", s.smoothness_weight_parallax);
+    s.idepth_prior_weight = envd("WP", s.idepth_prior_weight);
+    s.min_parallax_flow = envd("FLOW", s.min_parallax_flow);
+    s.confirm_frames = (int)envd("CONF", s.confirm_frames);
+    int it0 = (int)envd("IT0", s.max_iterations[0]);
+    int it1 = (int)envd("IT1", s.max_iterations[1]);
+    s.max_iterations[0] = it0; s.max_iterations[1] = it1;
+    std::vector<SE3d> poses;
+    for (int i = 0; i < 40; ++i) poses.emplace_back(SO3d::exp(Eigen::Vector3d(0, c.yaw * kDeg * i, 0)), c.v * i);
+    CoarseInitializer init(PyramidCamera(K, 5), s);
+    auto run = test::runSequence(init, scene, poses, K, 1.5f, 7, true, envd("VERB",0) > 0);
+    if (run.completed_at < 0) { printf("%s: not done\n", c.name); continue; }
+    const auto& r = init.result();
+    SE3d Tt = poses[r.frames].inverse() * poses[0];
+    std::vector<double> ratio, est, tru;
+    for (auto& p : r.points) if (p.good) { double d = scene.inverseDepth(poses[0], K, p.u, p.v); ratio.push_back(d/p.idepth); est.push_back(p.idepth); tru.push_back(d);}
+    auto rs = ratio; std::nth_element(rs.begin(), rs.begin()+rs.size()/2, rs.end()); double sc = rs[rs.size()/2];
+    std::vector<double> err; for (size_t i=0;i<est.size();++i) err.push_back(std::abs(sc*est[i]-tru[i])/tru[i]);
+    std::nth_element(err.begin(), err.begin()+err.size()/2, err.end());
+    double ang = std::acos(std::clamp(Tt.translation().normalized().dot(r.T_frame_ref.translation().normalized()), -1.0, 1.0))/kDeg;
+    double rot = (Tt.so3().inverse()*r.T_frame_ref.so3()).angle()/kDeg;
+    printf("%-9s done@%2d pts %4zu deperr %5.2f%% tdir %5.2f rot %5.3f  %.1fms\n", c.name, run.completed_at, est.size(), 100*err[err.size()/2], ang, rot, run.ms_per_frame);
+  }
+}
+}  // namespace
+}  // namespace ldsm

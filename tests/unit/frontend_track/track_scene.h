@@ -1,0 +1,60 @@
+// Test scene of the coarse-tracker tests: three textured planes at known depths (a back wall and
+// two bounded, slanted planes in front of it, so that there are depth discontinuities), rendered
+// by ray casting with a smooth analytic texture; the reference points carry exact inverse depths.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "frontend/depth_map_pyramid.h"
+#include "frontend/pyramid_camera.h"
+#include "ldsm/camera/calibration.h"
+#include "ldsm/image.h"
+#include "ldsm/image/image_pyramid.h"
+#include "ldsm/math/se3.h"
+
+namespace ldsm::test {
+
+struct ScenePlane {
+  Eigen::Vector3d centre;
+  Eigen::Vector3d e1, e2;  ///< orthonormal in-plane axes
+  double half1, half2;     ///< half extents along e1, e2 (metres; large = unbounded)
+  double phase;            ///< texture variation between planes
+};
+
+class TrackScene {
+ public:
+  static constexpr int kWidth = 320;
+  static constexpr int kHeight = 240;
+  static constexpr int kLevels = 5;
+
+  TrackScene();
+
+  PinholeIntrinsics intrinsics() const { return k_; }
+  PyramidCamera camera() const { return PyramidCamera(k_, kLevels); }
+
+  /// Renders the view of a camera with pose T_world_cam (the reference camera is the world):
+  /// intensity, and inverse depth per pixel when `idepth` is not null.
+  void render(const SE3d& T_world_cam, ImageF& image, ImageF* idepth) const;
+
+  /// Texture value (roughly 30..225) at in-plane coordinates (s, t) of a plane with `phase`.
+  static double texture(double s, double t, double phase);
+
+ private:
+  PinholeIntrinsics k_;
+  std::vector<ScenePlane> planes_;
+};
+
+/// Points with a strong gradient, the best of each block x block cell, with their inverse depth
+/// read from `idepth` (exact at the pixel centre).
+std::vector<DepthPoint> selectPoints(const ImageF& image, const ImageF& idepth, int block = 4,
+                                     float min_gradient = 4.f);
+
+/// A pyramid of `image` with TrackScene::kLevels levels.
+ImagePyramid makePyramid(const ImageF& image);
+
+/// Rotation angle (radians) and translation distance between two transforms.
+double rotationError(const SE3d& a, const SE3d& b);
+double translationError(const SE3d& a, const SE3d& b);
+
+}  // namespace ldsm::test

@@ -1,0 +1,181 @@
+#include "ldsm/image/image_pyramid.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+#include <vector>
+
+#include "ldsm/error.h"
+
+namespace ldsm {
+namespace {
+
+// A w x h image stored with extra padding per row (stride > width) to exercise strided input.
+struct PaddedImage {
+  std::vector<float> data;
+  ImageView<const float> view;
+  PaddedImage(int w, int h, int pad, float (*f)(int, int)) : data((w + pad) * h, -999.f) {
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) data[y * (w + pad) + x] = f(x, y);
+    view = ImageView<const float>(data.data(), w, h, w + pad);
+  }
+};
+
+float quadratic(int x, int y) { return static_cast<float>(x * x + 3 * y); }
+
+TEST(ImagePyramid, LevelSizesHalveWithFloor) {
+  const ImagePyramid p(640, 480, 5);
+  ASSERT_EQ(p.levels(), 5);
+  const int widths[] = {640, 320, 160, 80, 40};
+  const int heights[] = {480, 240, 120, 60, 30};
+  for (int l = 0; l < 5; ++l) {
+    EXPECT_EQ(p.width(l), widths[l]);
+    EXPECT_EQ(p.height(l), heights[l]);
+    EXPECT_EQ(p.intensity(l).width, widths[l]);
+    EXPECT_EQ(p.gradients(l).height, heights[l]);
+    EXPECT_EQ(p.gradMagSq(l).width, widths[l]);
+  }
+  const ImagePyramid odd(7, 5, 3);
+  EXPECT_EQ(odd.width(1), 3);
+  EXPECT_EQ(odd.height(1), 2);
+  EXPECT_EQ(odd.width(2), 1);
+  EXPECT_EQ(odd.height(2), 1);
+}
+
+TEST(ImagePyramid, MaxLevels) {
+  EXPECT_EQ(ImagePyramid::maxLevels(8, 8), 4);  // 8, 4, 2, 1
+  EXPECT_EQ(ImagePyramid::maxLevels(640, 480), 9);
+  EXPECT_EQ(ImagePyramid::maxLevels(1, 100), 1);
+  EXPECT_EQ(ImagePyramid::maxLevels(0, 100), 0);
+  EXPECT_EQ(ImagePyramid::maxLevels(1 << 20, 1 << 20), ImagePyramid::kMaxLevels);
+}
+
+TEST(ImagePyramid, Level0CopiesTheStridedInput) {
+  const PaddedImage img(6, 4, 3, quadratic);
+  ImagePyramid p(6, 4, 2);
+  p.build(img.view);
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 6; ++x) {
+      EXPECT_EQ(p.intensity(0)(x, y), quadratic(x, y));
+      EXPECT_EQ(p.gradients(0)(x, y).intensity, quadratic(x, y));
+    }
+}
+
+TEST(ImagePyramid, CoarserLevelsAverage2x2BlocksAndDropOddEdges) {
+  // 5 x 3 image with values 10 y + x; level 1 is 2 x 1, level 2 would be 1 x 0 (not allowed).
+  const PaddedImage img(5, 3, 1, [](int x, int y) { return static_cast<float>(10 * y + x); });
+  ImagePyramid p(5, 3, 2);
+  p.build(img.view);
+  ASSERT_EQ(p.width(1), 2);
+  ASSERT_EQ(p.height(1), 1);
+  // (0 + 1 + 10 + 11) / 4 and (2 + 3 + 12 + 13) / 4; column 4 and row 2 are dropped.
+  EXPECT_FLOAT_EQ(p.intensity(1)(0, 0), 5.5f);
+  EXPECT_FLOAT_EQ(p.intensity(1)(1, 0), 7.5f);
+}
+
+TEST(ImagePyramid, ThreeLevelsOfRandomImageMatchDirectBlockMeans) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(0.f, 255.f);
+  const int w = 37;
+  const int h = 22;
+  std::vector<float> data(w * h);
+  for (float& v : data) v = u(rng);
+  ImagePyramid p(w, h, 3);
+  p.build(ImageView<const float>(data.data(), w, h));
+  // Level 2 pixel = mean of the 4x4 block at (4x, 4y) of the input.
+  for (int y = 0; y < p.height(2); ++y) {
+    for (int x = 0; x < p.width(2); ++x) {
+      double sum = 0;
+      for (int dy = 0; dy < 4; ++dy)
+        for (int dx = 0; dx < 4; ++dx) sum += data[(4 * y + dy) * w + 4 * x + dx];
+      EXPECT_NEAR(p.intensity(2)(x, y), sum / 16, 1e-4);
+    }
+  }
+}
+
+TEST(ImagePyramid, CentralDifferenceGradientsZeroOnTheBorder) {
+  // I = x^2 + 3y: dx = ((x+1)^2 - (x-1)^2) / 2 = 2x, dy = 3 inside.
+  const PaddedImage img(6, 5, 2, quadratic);
+  ImagePyramid p(6, 5, 1);
+  p.build(img.view);
+  const ImageView<const GradientPixel> g = p.gradients(0);
+  for (int y = 0; y < 5; ++y) {
+    for (int x = 0; x < 6; ++x) {
+      const bool border = x == 0 || y == 0 || x == 5 || y == 4;
+      const float dx = border ? 0.f : 2.f * x;
+      const float dy = border ? 0.f : 3.f;
+      EXPECT_EQ(g(x, y).dx, dx) << x << "," << y;
+      EXPECT_EQ(g(x, y).dy, dy) << x << "," << y;
+      EXPECT_EQ(p.gradMagSq(0)(x, y), dx * dx + dy * dy);
+    }
+  }
+}
+
+TEST(ImagePyramid, GradientsOnCoarserLevelsUseThatLevel) {
+  // A linear ramp I = 2x + y stays linear under 2x2 averaging with doubled slopes per level.
+  const PaddedImage img(16, 16, 0, [](int x, int y) { return static_cast<float>(2 * x + y); });
+  ImagePyramid p(16, 16, 3);
+  p.build(img.view);
+  for (int l = 0; l < 3; ++l) {
+    const float s = static_cast<float>(1 << l);
+    EXPECT_FLOAT_EQ(p.gradients(l)(2, 2).dx, 2.f * s);
+    EXPECT_FLOAT_EQ(p.gradients(l)(2, 2).dy, 1.f * s);
+  }
+}
+
+TEST(ImagePyramid, WithoutGradientMagnitude) {
+  const PaddedImage img(8, 8, 0, quadratic);
+  ImagePyramid p(8, 8, 2, /*with_grad_mag_sq=*/false);
+  p.build(img.view);
+  EXPECT_FALSE(p.hasGradMagSq());
+  EXPECT_TRUE(p.gradMagSq(0).empty());
+  EXPECT_EQ(p.gradients(0)(3, 3).dx, 6.f);
+}
+
+TEST(ImagePyramid, OnePixelLevelHasZeroGradient) {
+  const PaddedImage img(3, 3, 0, quadratic);
+  ImagePyramid p(3, 3, 2);
+  p.build(img.view);
+  EXPECT_EQ(p.gradients(0)(1, 1).dx, 2.f);
+  ASSERT_EQ(p.width(1), 1);
+  ASSERT_EQ(p.height(1), 1);
+  EXPECT_FLOAT_EQ(p.intensity(1)(0, 0), (0.f + 1.f + 3.f + 4.f) / 4);
+  EXPECT_EQ(p.gradients(1)(0, 0).dx, 0.f);
+  EXPECT_EQ(p.gradients(1)(0, 0).dy, 0.f);
+  EXPECT_THROW(ImagePyramid(2, 1, 2), ConfigError);  // level 1 would be 1 x 0
+}
+
+TEST(ImagePyramid, RejectsBadConstructionArguments) {
+  EXPECT_THROW(ImagePyramid(0, 10, 1), InputError);
+  EXPECT_THROW(ImagePyramid(10, -1, 1), InputError);
+  EXPECT_THROW(ImagePyramid(8, 8, 0), ConfigError);
+  EXPECT_THROW(ImagePyramid(8, 8, 5), ConfigError);  // 8, 4, 2, 1, 0
+  EXPECT_NO_THROW(ImagePyramid(8, 8, 4));
+  try {
+    ImagePyramid(8, 8, 5);
+    FAIL() << "no exception";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("[1, 4]"), std::string::npos) << e.what();
+  }
+}
+
+TEST(ImagePyramid, RejectsWrongInputImages) {
+  ImagePyramid p(8, 6, 2);
+  std::vector<float> data(64, 1.f);
+  EXPECT_THROW(p.build(ImageView<const float>(data.data(), 8, 8)), InputError);
+  EXPECT_THROW(p.build(ImageView<const float>(data.data(), 6, 8)), InputError);
+  EXPECT_THROW(p.build(ImageView<const float>()), InputError);
+  EXPECT_THROW(p.build(ImageView<const float>(nullptr, 8, 6)), InputError);
+  EXPECT_THROW(p.build(ImageView<const float>(data.data(), 8, 6, 4)), InputError);  // stride < w
+  EXPECT_NO_THROW(p.build(ImageView<const float>(data.data(), 8, 6)));
+  try {
+    p.build(ImageView<const float>(data.data(), 8, 8));
+    FAIL() << "no exception";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("8x8"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("8x6"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace ldsm
