@@ -109,12 +109,17 @@ bool printPhotometric(const drivers::DatasetDescription& d) {
     printField("photometric", "none (no pcalib.txt or vignette.png)");
     return true;
   }
-  std::string files;
-  if (!d.photometric_response_file.empty()) files += d.photometric_response_file + " (response)";
-  if (!d.vignette_file.empty()) {
-    files += (files.empty() ? "" : ", ") + d.vignette_file + " (vignette)";
+  if (!d.photometric_response_file.empty()) {
+    printField("photometric", d.photometric_response_file + " (response)");
   }
-  printField("photometric", files);
+  if (!d.vignette_file.empty()) {
+    const std::string vignette = d.vignette_file + " (vignette)";
+    if (d.photometric_response_file.empty()) {
+      printField("photometric", vignette);
+    } else {
+      printContinuation(vignette);
+    }
+  }
   try {
     const PhotometricCalibration photometric = calib::loadPhotometricCalibration(
         d.photometric_response_file, d.vignette_file, d.width, d.height);

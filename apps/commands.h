@@ -16,5 +16,6 @@ void addConfigCommand(CLI::App& app, CommandResult& result);
 void addInfoCommand(CLI::App& app, CommandResult& result);
 void addSimCommand(CLI::App& app, CommandResult& result);
 void addEvalCommand(CLI::App& app, CommandResult& result);
+void addRunCommand(CLI::App& app, CommandResult& result);
 
 }  // namespace ldsm::app

@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
   ldsm::app::addInfoCommand(app, result);
   ldsm::app::addSimCommand(app, result);
   ldsm::app::addEvalCommand(app, result);
+  ldsm::app::addRunCommand(app, result);
 
   try {
     app.parse(argc, argv);

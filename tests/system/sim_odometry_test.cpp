@@ -1,6 +1,8 @@
 // End-to-end: the odometry on rendered scenes with exact ground truth.
 #include <gtest/gtest.h>
 
+#include <spdlog/spdlog.h>
+
 #include <cstdlib>
 
 #include "ldsm/drivers/sim/sim_source.h"
@@ -17,6 +19,7 @@ struct RunResult {
 };
 
 RunResult runScene(const std::string& scene, std::int64_t frames, bool calibrated = true) {
+  if (std::getenv("LDSM_DEBUG")) spdlog::set_level(spdlog::level::debug);
   drivers::sim::SimOptions opt;
   opt.frames = frames;
   drivers::sim::SimSource source(scene, opt);

@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 namespace ldsm {
@@ -126,15 +127,27 @@ void Mapper::addResidualsToNewest() {
 KeyframeInsertion Mapper::addKeyframe(std::unique_ptr<ImagePyramid> pyramid,
                                       const MapperFrame& info) {
   KeyframeInsertion ins;
+  using Clock = std::chrono::steady_clock;
+  const auto t0 = Clock::now();
   WindowKeyframe& kf = insertKeyframe(std::move(pyramid), info);
   ins.keyframe_id = kf.id();
   addResidualsToNewest();
   ins.activated_points = activatePoints();
+  const auto t1 = Clock::now();
   ins.optimization = optimizer_.optimize(windowView(), prior_);
+  const auto t2 = Clock::now();
   removeBadResiduals();
   ins.marginalized_frames = marginalizeFrames();
+  const auto t3 = Clock::now();
   makeImmaturePoints(*window_.back());
   publishPoses();
+  const auto t4 = Clock::now();
+  auto ms = [](Clock::time_point a, Clock::time_point b) {
+    return std::chrono::duration<double, std::milli>(b - a).count();
+  };
+  spdlog::debug("mapping: activate {:.1f} ms, optimise {:.1f} ms ({} it), marginalise {:.1f} ms, "
+                "select {:.1f} ms", ms(t0, t1), ms(t1, t2), ins.optimization.iterations,
+                ms(t2, t3), ms(t3, t4));
   ins.active_points = activePointCount();
   for (const auto& k : window_) ins.immature_points += static_cast<int>(k->immature.size());
   return ins;

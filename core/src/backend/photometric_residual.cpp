@@ -97,26 +97,31 @@ float evaluateResidual(const ActivePoint& point, PointResidual& res, const Frame
   res.state = ResidualState::Inlier;
   if (acc == nullptr) return energy;
 
-  RelMatrix& H = *acc->H_pair;
-  RelVector& b = *acc->b_pair;
-  Eigen::Matrix<float, kRelParams, 1> J;
+  // Jacobian rows [eps (6), a_h, b_h, a_t, b_t, idepth] of the pattern pixels, then one small
+  // weighted outer product per residual.
+  Eigen::Matrix<float, kRelParams + 1, kPatternSize> J;
+  Eigen::Matrix<float, kPatternSize, 1> wv, wr;
   for (int k = 0; k < kPatternSize; ++k) {
     const PixelTerm& t = terms[k];
     const Eigen::RowVector2f grad(t.gx, t.gy);
-    J.head<6>() = (grad * dpx_deps).transpose();
+    J.block<6, 1>(0, k) = (grad * dpx_deps).transpose();
     const float dc = pair.scale * (t.color - pair.host_b);
-    J[6] = dc;           // a_h
-    J[7] = pair.scale;   // b_h
-    J[8] = -dc;          // a_t
-    J[9] = -1.f;         // b_t
-    const float Jd = grad.dot(dpx_dd);
-    const Eigen::Matrix<double, kRelParams, 1> Jw = (J * t.weight).cast<double>();
-    H.selfadjointView<Eigen::Upper>().rankUpdate(J.cast<double>(), t.weight);
-    b += Jw * t.r;
-    acc->H_dd += static_cast<double>(t.weight) * Jd * Jd;
-    acc->b_d += static_cast<double>(t.weight) * Jd * t.r;
-    acc->coupling += Jw * Jd;
+    J(6, k) = dc;          // a_h
+    J(7, k) = pair.scale;  // b_h
+    J(8, k) = -dc;         // a_t
+    J(9, k) = -1.f;        // b_t
+    J(10, k) = grad.dot(dpx_dd);
+    wv[k] = t.weight;
+    wr[k] = t.weight * t.r;
   }
+  const Eigen::Matrix<float, kRelParams + 1, kRelParams + 1> Hf =
+      (J * wv.asDiagonal()) * J.transpose();
+  const Eigen::Matrix<float, kRelParams + 1, 1> bf = J * wr;
+  *acc->H_pair += Hf.topLeftCorner<kRelParams, kRelParams>().cast<double>();
+  *acc->b_pair += bf.head<kRelParams>().cast<double>();
+  acc->H_dd += Hf(kRelParams, kRelParams);
+  acc->b_d += bf[kRelParams];
+  acc->coupling += Hf.block<kRelParams, 1>(0, kRelParams).cast<double>();
   return energy;
 }
 

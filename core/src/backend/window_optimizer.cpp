@@ -177,7 +177,7 @@ void WindowOptimizer::linearize(const std::vector<WindowKeyframe*>& window,
     for (int t = 0; t < n; ++t) {
       if (h == t) continue;
       const size_t pi = static_cast<size_t>(h) * n + t;
-      RelMatrix Hr = pair_H_[pi].selfadjointView<Eigen::Upper>();
+      const RelMatrix& Hr = pair_H_[pi];
       const Map10x16& Pm = P[pi];
       const Mat16 H16 = Pm.transpose() * Hr * Pm;
       const Vec16 b16 = Pm.transpose() * pair_b_[pi];
@@ -314,8 +314,7 @@ void WindowOptimizer::marginalizePoint(const std::vector<WindowKeyframe*>& windo
     evaluateResidual(copy, res, pairs_[pi], settings_.residual, &acc);
     if (res.state != ResidualState::Inlier) continue;
     const Map10x16 P = relativeToAbsolute(adjoints_[pi]);
-    const RelMatrix Hf = Hr.selfadjointView<Eigen::Upper>();
-    addPairBlocks(h, t, P.transpose() * Hf * P, P.transpose() * br, H, b);
+    addPairBlocks(h, t, P.transpose() * Hr * P, P.transpose() * br, H, b);
     const Vec16 c16 = P.transpose() * acc.coupling;
     c.segment<kFrameParams>(kFrameParams * h) += c16.head<kFrameParams>();
     c.segment<kFrameParams>(kFrameParams * t) += c16.tail<kFrameParams>();

@@ -180,6 +180,7 @@ void CoarseInitializer::setReference(const ImagePyramid& pyramid, double exposur
     L.idepth.assign(n, 1.f);
     L.idepth_trial.assign(n, 1.f);
     L.ir.assign(n, 1.f);
+    L.ir_trial.assign(n, 1.f);
     L.lin.assign(n, PointLinearization{Eigen::Matrix<float, 8, 1>::Zero(), 0.f, 0.f, 0.f});
     L.lin_trial.assign(n, L.lin.front());
     L.good.assign(n, 0);
@@ -234,7 +235,6 @@ void CoarseInitializer::trackFrame(const ImagePyramid& pyramid, double exposure)
   stats_.iterations = 0;
   for (int lvl = levels_ - 1; lvl >= 0; --lvl) {
     if (lvl + 1 < levels_) propagateDown(lvl);
-    computeSmoothnessTargets(lvl);
     stats_.iterations += optimiseLevel(lvl);
     normaliseScale(lvl);
   }

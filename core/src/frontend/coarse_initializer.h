@@ -75,16 +75,16 @@ struct CoarseInitializerSettings {
   // ---- acceptance
   /// RMS flow due to translation (level-0 pixels) that counts as real parallax.
   float min_parallax_flow = 6.f;
-  float max_snap_rms = 10.f;             ///< level-0 Huber RMS residual allowed when snapping
-  float min_snap_good_fraction = 0.6f;   ///< share of level-0 points that must be inliers to snap
-  int confirm_frames = 5;                ///< frames after the snap before the result is accepted
-  float max_nonpositive_fraction = 0.1f; ///< accepted map: share of inverse depths <= 0
-  float max_idepth_spread = 10.f;        ///< accepted map: 95th percentile / median inverse depth
+  float max_snap_rms = 10.f;              ///< level-0 Huber RMS residual allowed when snapping
+  float min_snap_good_fraction = 0.6f;    ///< share of level-0 points that must be inliers to snap
+  int confirm_frames = 5;                 ///< frames after the snap before the result is accepted
+  float max_nonpositive_fraction = 0.1f;  ///< accepted map: share of inverse depths <= 0
+  float max_idepth_spread = 10.f;         ///< accepted map: 95th percentile / median inverse depth
 
   // ---- failure
-  int min_points = 100;                ///< fewer selected level-0 points: refuse the reference
-  float min_good_fraction = 0.3f;      ///< fewer level-0 inliers: tracking lost
-  float fail_rms = 25.f;               ///< level-0 Huber RMS residual that means tracking is lost
+  int min_points = 100;            ///< fewer selected level-0 points: refuse the reference
+  float min_good_fraction = 0.3f;  ///< fewer level-0 inliers: tracking lost
+  float fail_rms = 25.f;           ///< level-0 Huber RMS residual that means tracking is lost
 
   /// Throws ConfigError naming the first invalid field.
   void validate() const;
@@ -113,9 +113,9 @@ const char* toString(InitFailure failure);
 /// A reference point of the finished initialisation (level-0 pixel coordinates).
 struct InitializedPoint {
   float u = 0, v = 0;
-  float idepth = 1;      ///< inverse depth in the reference frame (mean over the map = 1)
-  float hessian = 0;     ///< photometric Hessian of the inverse depth (information; 0: unknown)
-  bool good = false;     ///< an inlier in the last frame
+  float idepth = 1;   ///< inverse depth in the reference frame (mean over the map = 1)
+  float hessian = 0;  ///< photometric Hessian of the inverse depth (information; 0: unknown)
+  bool good = false;  ///< an inlier in the last frame
   bool is_corner = false;
 };
 
@@ -125,7 +125,7 @@ struct InitializationResult {
   AffineLight affine_frame;  ///< last frame's affine brightness relative to the reference (0, 0)
   double exposure_ref = 1;
   double exposure_frame = 1;
-  int frames = 0;            ///< frames tracked after the reference
+  int frames = 0;  ///< frames tracked after the reference
 };
 
 /// Diagnostics of the last addFrame().
@@ -182,22 +182,22 @@ class CoarseInitializer {
   struct Evaluation {
     Eigen::Matrix<double, 8, 8> H;
     Eigen::Matrix<double, 8, 1> b;
-    double energy = 0;        ///< total: photometric (capped) + priors
-    double photo_good = 0;    ///< Huber cost of inlier points
-    int good = 0;             ///< inlier points
-    double flow_sq_sum = 0;   ///< sum over inliers of squared translation flow (level-0 pixels)
+    double energy = 0;       ///< total: photometric (capped) + priors
+    double photo_good = 0;   ///< Huber cost of inlier points
+    int good = 0;            ///< inlier points
+    double flow_sq_sum = 0;  ///< sum over inliers of squared translation flow (level-0 pixels)
     bool finite = true;
   };
   struct Level {
-    std::vector<Eigen::Vector2f> u;                          ///< pixel at this level
-    std::vector<std::array<float, kPatternSize>> ref;        ///< reference intensities
+    std::vector<Eigen::Vector2f> u;                    ///< pixel at this level
+    std::vector<std::array<float, kPatternSize>> ref;  ///< reference intensities
     std::vector<std::array<int, CoarseInitializerSettings::kMaxNeighbours>> neighbours;
     std::vector<int> neighbour_count;
-    std::vector<int> parent;                                 ///< index one level up, -1: none
-    std::vector<float> idepth, idepth_trial, ir;
+    std::vector<int> parent;  ///< index one level up, -1: none
+    std::vector<float> idepth, idepth_trial, ir, ir_trial;
     std::vector<PointLinearization> lin, lin_trial;
     std::vector<std::uint8_t> good, good_trial;
-    std::vector<float> accum_w, accum_wd;                    ///< propagation scratch
+    std::vector<float> accum_w, accum_wd;  ///< propagation scratch
   };
 
   void setReference(const ImagePyramid& pyramid, double exposure);
@@ -205,12 +205,16 @@ class CoarseInitializer {
   void fail(InitFailure failure);
   void trackFrame(const ImagePyramid& pyramid, double exposure);
   int optimiseLevel(int lvl);
+  /// Energy of the level at (T, affine, idepth) with smoothness targets `ir`, and its linearisation
+  /// (normal equations of [rho, phi, a, b] in `out`, the depths' Schur data in `lin`).
   void evaluate(int lvl, const SE3d& T, const AffineLight& affine, const float* idepth,
-                PointLinearization* lin, std::uint8_t* good, Evaluation& out) const;
+                const float* ir, PointLinearization* lin, std::uint8_t* good,
+                Evaluation& out) const;
   bool computeStep(int lvl, double lambda, SE3d& T_new, AffineLight& affine_new);
   /// Rescales all depths and translations so that the mean inverse depth of `lvl` is 1.
   void normaliseScale(int lvl);
-  void computeSmoothnessTargets(int lvl);
+  /// ir[i] = median inverse depth of point i's neighbours (from `idepth`).
+  void computeSmoothnessTargets(int lvl, const float* idepth, float* ir) const;
   void propagateDown(int lvl);
   void propagateUp();
   void decide();
@@ -235,8 +239,8 @@ class CoarseInitializer {
   float exposure_ratio_ = 1.f;
   float smoothness_weight_ = 0.f;
 
-  SE3d T_;             ///< reference -> current frame
-  SE3d T_prev_;        ///< reference -> previous frame (for the constant-velocity guess)
+  SE3d T_;       ///< reference -> current frame
+  SE3d T_prev_;  ///< reference -> previous frame (for the constant-velocity guess)
   bool has_prev_ = false;
   AffineLight affine_;
   Evaluation eval_, eval_trial_;

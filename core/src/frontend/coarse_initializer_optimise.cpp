@@ -34,7 +34,7 @@ float huberCost(float r, float k) {
 }  // namespace
 
 void CoarseInitializer::evaluate(int lvl, const SE3d& T, const AffineLight& affine,
-                                 const float* idepth, PointLinearization* lin,
+                                 const float* idepth, const float* ir, PointLinearization* lin,
                                  std::uint8_t* good, Evaluation& out) const {
   const Level& L = levels_data_[lvl];
   const LevelCamera& cam = camera_[lvl];
@@ -71,7 +71,7 @@ void CoarseInitializer::evaluate(int lvl, const SE3d& T, const AffineLight& affi
   const int n = static_cast<int>(L.u.size());
   for (int i = 0; i < n; ++i) {
     const float d = idepth[i];
-    const float dr = d - L.ir[i];
+    const float dr = d - ir[i];
     const float dp = d - 1.f;
     reg_energy += 0.5f * (ws * dr * dr + wp * dp * dp);
     PointLinearization& P = lin[i];
@@ -250,7 +250,8 @@ bool CoarseInitializer::computeStep(int lvl, double lambda, SE3d& T_new,
 
 int CoarseInitializer::optimiseLevel(int lvl) {
   Level& L = levels_data_[lvl];
-  evaluate(lvl, T_, affine_, L.idepth.data(), L.lin.data(), L.good.data(), eval_);
+  computeSmoothnessTargets(lvl, L.idepth.data(), L.ir.data());
+  evaluate(lvl, T_, affine_, L.idepth.data(), L.ir.data(), L.lin.data(), L.good.data(), eval_);
   double lambda = settings_.initial_lambda;
   int iterations = 0;
   SE3d T_new;
@@ -258,11 +259,13 @@ int CoarseInitializer::optimiseLevel(int lvl) {
   for (int it = 0; it < settings_.max_iterations[lvl]; ++it) {
     ++iterations;
     if (!computeStep(lvl, lambda, T_new, affine_new)) break;
-    evaluate(lvl, T_new, affine_new, L.idepth_trial.data(), L.lin_trial.data(),
-             L.good_trial.data(), eval_trial_);
+    computeSmoothnessTargets(lvl, L.idepth_trial.data(), L.ir_trial.data());
+    evaluate(lvl, T_new, affine_new, L.idepth_trial.data(), L.ir_trial.data(),
+             L.lin_trial.data(), L.good_trial.data(), eval_trial_);
     if (eval_trial_.finite && eval_trial_.energy < eval_.energy) {
       const double decrease = (eval_.energy - eval_trial_.energy) / eval_.energy;
       std::swap(L.idepth, L.idepth_trial);
+      std::swap(L.ir, L.ir_trial);
       std::swap(L.lin, L.lin_trial);
       std::swap(L.good, L.good_trial);
       std::swap(eval_, eval_trial_);
@@ -298,18 +301,19 @@ void CoarseInitializer::normaliseScale(int lvl) {
   T_prev_.translation() *= mean;
 }
 
-void CoarseInitializer::computeSmoothnessTargets(int lvl) {
-  Level& L = levels_data_[lvl];
+void CoarseInitializer::computeSmoothnessTargets(int lvl, const float* idepth, float* ir) const {
+  const Level& L = levels_data_[lvl];
+  if (smoothness_weight_ == 0.f) return;  // unused
   float values[CoarseInitializerSettings::kMaxNeighbours];
   for (std::size_t i = 0; i < L.u.size(); ++i) {
     const int m = L.neighbour_count[i];
     if (m == 0) {
-      L.ir[i] = L.idepth[i];
+      ir[i] = idepth[i];
       continue;
     }
-    for (int j = 0; j < m; ++j) values[j] = L.idepth[static_cast<std::size_t>(L.neighbours[i][j])];
+    for (int j = 0; j < m; ++j) values[j] = idepth[L.neighbours[i][j]];
     std::nth_element(values, values + m / 2, values + m);
-    L.ir[i] = values[m / 2];
+    ir[i] = values[m / 2];
   }
 }
 

@@ -126,6 +126,9 @@ CoarseTracker::CoarseTracker(int width, int height, int levels,
   if (!(settings.huber_threshold > 0.f) || !std::isfinite(settings.huber_threshold)) {
     throw ConfigError("coarse tracker: huber_threshold must be finite and > 0");
   }
+  if (!(settings.outlier_threshold > 0.f) || !std::isfinite(settings.outlier_threshold)) {
+    throw ConfigError("coarse tracker: outlier_threshold must be finite and > 0");
+  }
   warped_.allocate(static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
 }
 
@@ -154,28 +157,37 @@ double CoarseTracker::scaleOf(double exposure, const AffineLight& affine) const 
 
 CoarseTracker::Evaluation CoarseTracker::evaluate(const ImagePyramid& frame, double exposure,
                                                   int level, const SE3d& T,
-                                                  const AffineLight& affine, float threshold) {
+                                                  const AffineLight& affine, float cutoff) {
   const LevelWarp w =
       makeLevelWarp(camera_[level], T, affineTransfer(ref_exposure_, exposure, ref_affine_, affine),
                     ref_affine_.b, affine, frame.gradients(level), settings_.border_margin);
   const LevelPoints& pts = depth_maps_.points(level);
   const float c2 = settings_.gradient_weight_c * settings_.gradient_weight_c;
-  const float base = settings_.huber_threshold;
+  const float k = settings_.huber_threshold;
+  const float base_cutoff = settings_.outlier_threshold;
+  // Cost of an outlier: the Huber cost at the cutoff, so the cost is continuous there.
+  const float outlier_cost = cutoff > k ? 2.f * k * cutoff - k * k : cutoff * cutoff;
   Evaluation ev;
   float energy = 0.f, huber_sq = 0.f;  // partial sums, flushed to double every block
-  int n = 0, base_outliers = 0;
+  int n = 0, in_image = 0, base_outliers = 0;
   for (int i = 0; i < pts.count; ++i) {
     WarpedPoint wp;
     if (!warpPoint(w, pts.x[i], pts.y[i], pts.idepth[i], pts.intensity[i], wp)) continue;
+    ++in_image;
     const float r = wp.residual;
     const float abs_r = std::abs(r);
-    const float hw = abs_r < threshold ? 1.f : threshold / abs_r;
     const float gw = c2 > 0.f ? c2 / (c2 + pts.grad_sq[i]) : 1.f;
+    base_outliers += abs_r > base_cutoff ? 1 : 0;
+    if (!(abs_r <= cutoff)) {  // also NaN
+      ++ev.outliers;
+      energy += gw * outlier_cost;
+      huber_sq += outlier_cost;
+      continue;
+    }
+    const float hw = abs_r < k ? 1.f : k / abs_r;
     const float cost = hw * (2.f - hw) * r * r;
     energy += gw * cost;
     huber_sq += cost;
-    ev.outliers += abs_r >= threshold ? 1 : 0;
-    base_outliers += abs_r >= base ? 1 : 0;
     warped_.dx_fx[n] = wp.dx_fx;
     warped_.dy_fy[n] = wp.dy_fy;
     warped_.nx[n] = wp.nx;
@@ -185,7 +197,7 @@ CoarseTracker::Evaluation CoarseTracker::evaluate(const ImagePyramid& frame, dou
     warped_.residual[n] = r;
     warped_.weight[n] = hw * gw;
     ++n;
-    if ((n & 255) == 0) {
+    if ((in_image & 255) == 0) {
       ev.energy += energy;
       ev.huber_sq_sum += huber_sq;
       energy = huber_sq = 0.f;
@@ -193,9 +205,9 @@ CoarseTracker::Evaluation CoarseTracker::evaluate(const ImagePyramid& frame, dou
   }
   ev.energy += energy;
   ev.huber_sq_sum += huber_sq;
-  ev.in_image = n;
-  ev.base_inliers = n - base_outliers;
-  ev.finite = std::isfinite(ev.energy);
+  ev.in_image = in_image;
+  ev.base_inliers = in_image - base_outliers;
+  ev.finite = std::isfinite(ev.energy) && n > 0;
   warped_.count = n;
   return ev;
 }
@@ -216,19 +228,19 @@ double CoarseTracker::affinePriorEnergy(const AffineLight& affine) const {
 
 CoarseTracker::Evaluation CoarseTracker::optimiseLevel(const ImagePyramid& frame, double exposure,
                                                        int level, SE3d& T, AffineLight& affine,
-                                                       float& threshold, int& iterations) {
+                                                       float& cutoff, int& iterations) {
   const int count = depth_maps_.points(level).count;
   const auto usable = [&](const Evaluation& e) {
     return e.finite && e.in_image > 0 &&
            static_cast<float>(e.in_image) >= settings_.min_in_image_fraction * count;
   };
-  Evaluation ev = evaluate(frame, exposure, level, T, affine, threshold);
+  Evaluation ev = evaluate(frame, exposure, level, T, affine, cutoff);
   if (!usable(ev)) return ev;
   for (int d = 0; d < settings_.max_threshold_doublings &&
                   ev.outliers > settings_.outlier_fraction_for_doubling * ev.in_image;
        ++d) {
-    threshold *= 2.f;
-    ev = evaluate(frame, exposure, level, T, affine, threshold);
+    cutoff *= 2.f;
+    ev = evaluate(frame, exposure, level, T, affine, cutoff);
   }
   // The total cost compared between steps: mean data energy plus the prior spread the same way.
   const auto cost = [&](const Evaluation& e, const AffineLight& aff) {
@@ -250,7 +262,7 @@ CoarseTracker::Evaluation CoarseTracker::optimiseLevel(const ImagePyramid& frame
     const CoarseVector step = D.asDiagonal() * step_scaled;
     const SE3d T_new = SE3d::exp(step.head<6>()) * T;
     const AffineLight affine_new{affine.a + step(6), affine.b + step(7)};
-    const Evaluation ev_new = evaluate(frame, exposure, level, T_new, affine_new, threshold);
+    const Evaluation ev_new = evaluate(frame, exposure, level, T_new, affine_new, cutoff);
     ++iterations;
     const bool accepted = usable(ev_new) && cost(ev_new, affine_new) < current_cost;
     if (accepted) {
@@ -295,8 +307,8 @@ bool CoarseTracker::track(const ImagePyramid& frame, double exposure, SE3d& T_fr
   Evaluation ev;
   for (int level = coarsest; level >= 0; --level) {
     if (depth_maps_.points(level).count == 0) return fail(TrackingFailure::kNoReference, level);
-    float threshold = settings_.huber_threshold;
-    ev = optimiseLevel(frame, exposure, level, T_frame_ref, affine, threshold, result.iterations);
+    float cutoff = settings_.outlier_threshold;
+    ev = optimiseLevel(frame, exposure, level, T_frame_ref, affine, cutoff, result.iterations);
     result.rmse(level) = ev.rmse();
     if (!ev.finite) return fail(TrackingFailure::kNotFinite, level);
     if (ev.in_image == 0 || static_cast<float>(ev.in_image) <
@@ -306,9 +318,9 @@ bool CoarseTracker::track(const ImagePyramid& frame, double exposure, SE3d& T_fr
     if (!(result.rmse(level) <= max_rmse(level))) {
       return fail(TrackingFailure::kResidualTooLarge, level);
     }
-    // The threshold had to grow: the start was far off. Run the level once more from the
+    // The outlier threshold had to grow: the start was far off. Run the level once more from the
     // improved estimate with the normal threshold (once per frame).
-    if (threshold > settings_.huber_threshold && !repeated) {
+    if (cutoff > settings_.outlier_threshold && !repeated) {
       repeated = true;
       ++level;
     }

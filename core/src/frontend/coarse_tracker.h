@@ -34,9 +34,12 @@ struct CoarseTrackerSettings {
   std::array<int, kMaxPyramidLevels> max_iterations{{10, 20, 50, 50, 50, 50, 50, 50}};
   float border_margin = 2.f;           ///< projections closer to the border are skipped (pixels)
   float min_in_image_fraction = 0.2f;  ///< a level fails when fewer of its points are in the frame
-  /// Tracking fails when, on level 0, fewer residuals than this are below the Huber threshold.
+  /// Residuals larger than this (grey levels) are outliers (occlusions, specularities): they add
+  /// a constant cost and no gradient.
+  float outlier_threshold = 20.f;
+  /// Tracking fails when, on level 0, fewer residuals than this are below outlier_threshold.
   float min_inlier_fraction = 0.3f;
-  /// While more residuals of a level than this exceed the threshold, the threshold is doubled
+  /// While more residuals of a level than this are outliers, the outlier threshold is doubled
   /// (at most max_threshold_doublings times) and the level is run once more afterwards.
   float outlier_fraction_for_doubling = 0.6f;
   int max_threshold_doublings = 6;
@@ -74,7 +77,7 @@ struct CoarseTrackingResult {
   int failed_level = -1;  ///< the level tracking stopped at, -1 on success
   /// Huber RMSE (grey levels) per level at the end of the level; NaN for levels not tracked.
   LevelValues rmse = LevelValues::Constant(std::numeric_limits<double>::quiet_NaN());
-  double inlier_fraction = 0;    ///< level 0: share of residuals below the Huber threshold
+  double inlier_fraction = 0;    ///< level 0: share of residuals below the outlier threshold
   double in_image_fraction = 0;  ///< level 0: share of points projecting into the frame
   int iterations = 0;            ///< LM iterations over all levels
   /// Root-mean-square optical flow of the level-0 points (pixels) for the full motion, for the
@@ -125,21 +128,21 @@ class CoarseTracker {
 
  private:
   struct Evaluation {
-    double energy = 0;        // sum of weighted Huber costs (2 rho(r))
-    double huber_sq_sum = 0;  // sum of unweighted Huber costs, for the RMSE
-    int in_image = 0;
-    int outliers = 0;      // residuals at or above the (possibly doubled) threshold
-    int base_inliers = 0;  // residuals below the configured Huber threshold
+    double energy = 0;        // sum of weighted Huber costs (2 rho(r)), outliers included
+    double huber_sq_sum = 0;  // the same without gradient-dependent weights, for the RMSE
+    int in_image = 0;         // points projecting into the frame
+    int outliers = 0;         // residuals above the (possibly doubled) outlier threshold
+    int base_inliers = 0;     // residuals below the configured outlier threshold
     bool finite = true;
     double rmse() const;
     double meanEnergy() const;
   };
 
   Evaluation evaluate(const ImagePyramid& frame, double exposure, int level, const SE3d& T,
-                      const AffineLight& affine, float threshold);
-  /// Runs LM on one level; returns the final evaluation (and updates T, affine, threshold).
+                      const AffineLight& affine, float cutoff);
+  /// Runs LM on one level; returns the final evaluation (and updates T, affine, cutoff).
   Evaluation optimiseLevel(const ImagePyramid& frame, double exposure, int level, SE3d& T,
-                           AffineLight& affine, float& threshold, int& iterations);
+                           AffineLight& affine, float& cutoff, int& iterations);
   void addAffinePrior(const AffineLight& affine, CoarseMatrix& H, CoarseVector& g) const;
   double affinePriorEnergy(const AffineLight& affine) const;
   void computeFlow(const SE3d& T, CoarseTrackingResult& result) const;

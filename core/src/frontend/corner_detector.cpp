@@ -143,36 +143,27 @@ void CornerDetector::collectLocalMaxima(const CornerParams& params) {
 }
 
 void CornerDetector::suppressByDistance(const CornerParams& params, std::vector<Corner>& out) {
-  const float min_dist = std::max(params.min_distance, 0.f);
-  const float min_dist_sq = min_dist * min_dist;
-  // Cells of side min_dist / sqrt(2) hold at most one kept corner.
-  const float cell = std::max(min_dist * 0.70710678f, 1.f);
-  const int gx = static_cast<int>(std::ceil(static_cast<float>(width_) / cell));
-  const int gy = static_cast<int>(std::ceil(static_cast<float>(height_) / cell));
-  const int reach = static_cast<int>(std::ceil(min_dist / cell));
-  grid_.assign(static_cast<std::size_t>(gx) * static_cast<std::size_t>(gy), -1);
-
+  // Each kept corner is the maximum of the score map over the (2r + 1)^2 square around it (ties
+  // broken by raster order as in collectLocalMaxima), so two kept corners are more than r pixels
+  // apart in x or y. Unlike a greedy strongest-first spacing, whether a corner survives depends
+  // only on the scores around it, which makes the choice stable under small image changes.
+  const int r = std::max(static_cast<int>(std::ceil(params.min_distance)) - 1, 1);
   for (const Candidate& c : candidates_) {
     if (static_cast<int>(out.size()) >= params.max_corners) break;
-    const int cx = std::min(static_cast<int>(static_cast<float>(c.x) / cell), gx - 1);
-    const int cy = std::min(static_cast<int>(static_cast<float>(c.y) / cell), gy - 1);
-    bool free = true;
-    for (int j = std::max(cy - reach, 0); free && j <= std::min(cy + reach, gy - 1); ++j) {
-      for (int i = std::max(cx - reach, 0); i <= std::min(cx + reach, gx - 1); ++i) {
-        const std::int32_t k = grid_[static_cast<std::size_t>(j * gx + i)];
-        if (k < 0) continue;
-        const float dx = out[k].u - static_cast<float>(c.x);
-        const float dy = out[k].v - static_cast<float>(c.y);
-        if (dx * dx + dy * dy < min_dist_sq) {
-          free = false;
+    const float v = c.score;
+    bool is_max = true;
+    for (int y = std::max(c.y - r, 0); is_max && y <= std::min(c.y + r, height_ - 1); ++y) {
+      const float* s = score_.row(y);
+      for (int x = std::max(c.x - r, 0); x <= std::min(c.x + r, width_ - 1); ++x) {
+        const bool earlier = y < c.y || (y == c.y && x < c.x);
+        if (earlier ? s[x] >= v : s[x] > v) {
+          is_max = false;
           break;
         }
       }
     }
-    if (!free) continue;
-    grid_[static_cast<std::size_t>(cy * gx + cx)] = static_cast<std::int32_t>(out.size());
-    // Integer position for now (the distance test uses it); refined below.
-    out.push_back({static_cast<float>(c.x), static_cast<float>(c.y), c.score});
+    // Integer position for now; refined below.
+    if (is_max) out.push_back({static_cast<float>(c.x), static_cast<float>(c.y), c.score});
   }
   for (Corner& c : out) {
     const int x = static_cast<int>(c.u);

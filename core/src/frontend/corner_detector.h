@@ -60,7 +60,6 @@ class CornerDetector {
   std::vector<Tensor> column_acc_;
   Image<float> score_;
   std::vector<Candidate> candidates_;
-  std::vector<std::int32_t> grid_;  ///< accepted corner per occupancy cell, -1 when empty
 };
 
 }  // namespace ldsm

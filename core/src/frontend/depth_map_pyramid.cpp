@@ -1,6 +1,8 @@
 #include "frontend/depth_map_pyramid.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "ldsm/error.h"
@@ -19,7 +21,8 @@ void clear(ImageF& image) {
 
 }  // namespace
 
-DepthMapPyramid::DepthMapPyramid(int width, int height, int levels) {
+DepthMapPyramid::DepthMapPyramid(int width, int height, int levels, float max_idepth_ratio)
+    : max_idepth_ratio_(max_idepth_ratio) {
   if (width <= 0 || height <= 0) {
     throw InputError("depth map pyramid: image size must be positive (got " +
                      sizeString(width, height) + ")");
@@ -138,14 +141,22 @@ void DepthMapPyramid::dilate(int level, bool diagonal) {
       if (scratch_weight_(x, y) > 0.f) continue;
       float s = 0.f;
       float ws = 0.f;
+      float lo = std::numeric_limits<float>::infinity();
+      float hi = 0.f;
       for (int k = 0; k < 4; ++k) {
         const int nx = x + offsets[k][0];
         const int ny = y + offsets[k][1];
         if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
-        s += scratch_idepth_(nx, ny);
-        ws += scratch_weight_(nx, ny);
+        const float wn = scratch_weight_(nx, ny);
+        if (!(wn > 0.f)) continue;
+        const float sn = scratch_idepth_(nx, ny);
+        s += sn;
+        ws += wn;
+        lo = std::min(lo, sn / wn);
+        hi = std::max(hi, sn / wn);
       }
-      if (ws > 0.f) {
+      // Neighbours on both sides of a depth discontinuity: an average would be a phantom depth.
+      if (ws > 0.f && hi <= max_idepth_ratio_ * lo) {
         sum(x, y) = s;
         weight(x, y) = ws;
       }

@@ -5,8 +5,9 @@
 // averaged with the points' weights at the nearest pixel); level l+1 is the weighted average of
 // the 2x2 children at level l; then every level is dilated once (an empty pixel takes the
 // weighted average of its known neighbours: diagonal ones on levels 0 and 1, the 4-neighbourhood
-// on coarser levels), so that coarse levels become dense enough to track with. Every known pixel
-// becomes a reference point (x, y, inverse depth, reference intensity, squared gradient).
+// on coarser levels; not across depth discontinuities), so that coarse levels become dense enough
+// to track with. Every known pixel becomes a reference point (x, y, inverse depth, reference
+// intensity, squared gradient).
 #pragma once
 
 #include <cstddef>
@@ -40,8 +41,10 @@ struct LevelPoints {
 class DepthMapPyramid {
  public:
   /// Preallocates maps and point lists for width x height images and `levels` levels (the sizes
-  /// of ImagePyramid). Throws InputError/ConfigError like ImagePyramid for bad sizes.
-  DepthMapPyramid(int width, int height, int levels);
+  /// of ImagePyramid). Throws InputError/ConfigError like ImagePyramid for bad sizes. Dilation
+  /// leaves a pixel empty when its known neighbours' inverse depths differ by more than the factor
+  /// `max_idepth_ratio` (a depth discontinuity).
+  DepthMapPyramid(int width, int height, int levels, float max_idepth_ratio = 1.25f);
 
   /// Rebuilds every level from `count` points and the reference pyramid (which must have at
   /// least levels() levels of the constructed size; InputError otherwise). Points outside the
@@ -70,6 +73,7 @@ class DepthMapPyramid {
   ImageF scratch_idepth_;  ///< copy of a level read while dilating it
   ImageF scratch_weight_;
   std::vector<LevelPoints> points_;
+  float max_idepth_ratio_;
   int rejected_ = 0;
 };
 

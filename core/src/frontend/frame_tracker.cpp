@@ -5,8 +5,7 @@
 
 namespace ldsm {
 
-FrameTracker::FrameTracker(const Config& config, const PyramidCamera& camera,
-                           bool exposures_known)
+FrameTracker::FrameTracker(const Config& config, const PyramidCamera& camera, bool exposures_known)
     : kf_config_(config.keyframes),
       camera_(camera),
       tracker_(camera[0].width, camera[0].height, camera.levels(),

@@ -19,7 +19,7 @@ struct FrameTrackingOutcome {
   std::string failure;  ///< why tracking failed
   SE3d T_c_w;           ///< world -> camera of the frame
   AffineLight aff;
-  double rmse = 0.0;    ///< level-0 RMSE, grey levels
+  double rmse = 0.0;  ///< level-0 RMSE, grey levels
   bool wants_keyframe = false;
   int hypotheses_tried = 0;
 };

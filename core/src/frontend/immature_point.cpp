@@ -163,6 +163,7 @@ TraceStatus ImmaturePoint::trace(ImageView<const GradientPixel> target, const Le
   const Eigen::Vector3f h_lo = pr + idepth_min_ * Kt;
   if (!(h_lo.z() > 0.f)) return status_ = TraceStatus::kOob;
   const Eigen::Vector2f a_px = h_lo.head<2>() / h_lo.z();
+  if (!a_px.allFinite()) return status_ = TraceStatus::kOob;
 
   // Pattern orientation in the target: the rotation-only homography's local linear map J.
   Eigen::Matrix2f J = Eigen::Matrix2f::Identity();
@@ -214,9 +215,16 @@ TraceStatus ImmaturePoint::trace(ImageView<const GradientPixel> target, const Le
   // Walkable part of the segment (from the idepth_min end, capped in length).
   float s0 = 0.f;
   float s1 = std::min({length, settings.max_search_length, static_cast<float>(kMaxSearchLength)});
-  clipAxis(a_px.x(), dir.x(), margin, x_max, s0, s1);
-  clipAxis(a_px.y(), dir.y(), margin, y_max, s0, s1);
-  if (!(s0 <= s1)) return status_ = TraceStatus::kOob;
+  constexpr float kClipTolerance = 0.01f;  // clip a little inside, so the ends pass the check
+  clipAxis(a_px.x(), dir.x(), margin + kClipTolerance, x_max - kClipTolerance, s0, s1);
+  clipAxis(a_px.y(), dir.y(), margin + kClipTolerance, y_max - kClipTolerance, s0, s1);
+  // The rectangle is convex, so both ends inside means the whole walk is inside; checking them
+  // also guards against precision loss far outside the image.
+  auto inside = [&](float t) {
+    const Eigen::Vector2f q = a_px + t * dir;
+    return q.x() >= margin && q.y() >= margin && q.x() <= x_max && q.y() <= y_max;
+  };
+  if (!(s0 <= s1) || !inside(s0) || !inside(s1)) return status_ = TraceStatus::kOob;
   if (!(length >= settings.min_search_length)) return status_ = TraceStatus::kSkipped;
 
   // Error bound along the line. The target-image derivative of the pattern along a target
@@ -235,7 +243,8 @@ TraceStatus ImmaturePoint::trace(ImageView<const GradientPixel> target, const Le
   if (!(along > 0.f)) return status_ = TraceStatus::kBadCondition;
   const float error_px =
       settings.matching_error + settings.epipolar_error * std::sqrt((along + across) / along);
-  if (!(2.f * error_px * settings.min_improvement <= length)) {
+  if (!(2.f * error_px * settings.min_improvement <=
+        std::min(length, settings.max_search_length))) {
     return status_ = TraceStatus::kBadCondition;
   }
 
@@ -248,9 +257,14 @@ TraceStatus ImmaturePoint::trace(ImageView<const GradientPixel> target, const Le
     energies[i] = m.energy(a_px.x() + s * dir.x(), a_px.y() + s * dir.y());
     if (energies[i] < energies[best]) best = i;
   }
+  // The second best is the lowest other local minimum, so that the flanks of a broad best basin
+  // do not count as ambiguity.
   float second = kInf;
   for (int i = 0; i < steps; ++i) {
-    if (std::abs(i - best) > settings.second_best_radius) second = std::min(second, energies[i]);
+    if (std::abs(i - best) <= settings.second_best_radius || energies[i] >= second) continue;
+    const bool left_ok = i == 0 || energies[i] <= energies[i - 1];
+    const bool right_ok = i == steps - 1 || energies[i] <= energies[i + 1];
+    if (left_ok && right_ok) second = energies[i];
   }
   if (std::isfinite(second)) quality_ = second / std::max(energies[best], 1e-3f);
 

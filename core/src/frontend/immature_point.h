@@ -19,11 +19,13 @@
 namespace ldsm {
 
 enum class TraceStatus : std::uint8_t {
-  kUntraced,      ///< not traced yet
-  kGood,          ///< matched; the interval was updated
-  kOob,           ///< the interval projects outside the image (or behind the camera): drop it
-  kOutlier,       ///< the best match's energy is too high (occlusion, wrong brightness, ...)
-  kSkipped,       ///< the interval projects to < min_search_length pixels: converged / no parallax
+  kUntraced,  ///< not traced yet
+  kGood,      ///< matched; the interval was updated
+  kOob,       ///< the interval projects outside the image (or behind the camera): drop it
+  kOutlier,   ///< the best match's energy is too high (occlusion, wrong brightness, ...)
+  /// The interval projects to < min_search_length pixels (no parallax), or to no more than a
+  /// search could reach (2 (matching_error + epipolar_error) min_improvement): converged.
+  kSkipped,
   kBadCondition,  ///< the gradient is (nearly) perpendicular to the line: search would not help
 };
 
@@ -44,7 +46,7 @@ struct TraceSettings {
   float matching_error = 0.2f;
   float epipolar_error = 0.3f;
   /// BADCONDITION when the new interval (2 e) would not be at least this factor shorter than the
-  /// projected one.
+  /// projected one (or than max_search_length when that is shorter).
   float min_improvement = 2.f;
   /// Map the pattern through the rotation-only homography (else it keeps its host orientation).
   bool rotate_pattern = true;
@@ -84,7 +86,8 @@ class ImmaturePoint {
   float idepthEstimate() const;
   /// Half width of the interval (+inf when unbounded).
   float idepthUncertainty() const { return 0.5f * (idepth_max_ - idepth_min_); }
-  /// Second best / best energy of the last search that had a second candidate (0 before).
+  /// Energy of the best other local minimum (outside second_best_radius) / best energy, from the
+  /// last search that had one (0 before any).
   float quality() const { return quality_; }
   TraceStatus lastStatus() const { return status_; }
   /// Length in pixels of the interval's projection in the last traced frame.

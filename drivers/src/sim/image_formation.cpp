@@ -67,13 +67,15 @@ ImageFormation::ImageFormation(const SimOptions& options, const PinholeIntrinsic
 }
 
 double ImageFormation::responseGrey(double e) const {
-  if (!(e > 0.0)) return table_[0];
-  if (e >= 1.0) return table_[kTableSize];
+  // Exactly as apply() does it: the table position in float, clamped, then interpolated.
+  constexpr float kLast = static_cast<float>(kTableSize) - (1.0f / 1024.0f);
   const float p = static_cast<float>(e) * static_cast<float>(kTableSize);
-  const int i = static_cast<int>(p);
-  const float f = p - static_cast<float>(i);
-  return table_[static_cast<std::size_t>(i)] +
-         f * (table_[static_cast<std::size_t>(i) + 1] - table_[static_cast<std::size_t>(i)]);
+  const float p0 = p > 0.0f ? p : 0.0f;
+  const float p1 = p0 < kLast ? p0 : kLast;
+  const int i = static_cast<int>(p1);
+  const float f = p1 - static_cast<float>(i);
+  const float* table = table_.data();
+  return table[i] + f * (table[i + 1] - table[i]);
 }
 
 void ImageFormation::apply(const ImageF& irradiance, double exposure_ms, std::uint32_t noise_key,
@@ -88,35 +90,36 @@ void ImageFormation::apply(const ImageF& irradiance, double exposure_ms, std::ui
   const float noise_scale = static_cast<float>(sigma_ / kByteSumSigma);
   const bool noisy = sigma_ > 0.0;
   const float* table = table_.data();
-  const float top = table_[kTableSize];
+  constexpr float kLast = static_cast<float>(kTableSize) - (1.0f / 1024.0f);
+  std::vector<float> pos(static_cast<std::size_t>(W)), noise(static_cast<std::size_t>(W), 0.0f);
   for (int y = 0; y < H; ++y) {
     const float* b = irradiance.row(y);
     const float* v = vignette_.row(y);
     std::uint8_t* o = out.row(y);
+    // Table position of the exposure (e clamped to [0, 1]) and the noise: vectorisable.
     for (int x = 0; x < W; ++x) {
-      const float e = (b[x] * v[x]) * k;
-      float g;
-      if (!(e > 0.0f)) {
-        g = table[0];
-      } else if (e >= 1.0f) {
-        g = top;
-      } else {
-        const float p = e * static_cast<float>(kTableSize);
-        const int i = static_cast<int>(p);
-        const float f = p - static_cast<float>(i);
-        g = table[i] + f * (table[i + 1] - table[i]);
+      const float p = ((b[x] * v[x]) * k) * static_cast<float>(kTableSize);
+      const float p0 = p > 0.0f ? p : 0.0f;  // also maps NaN to 0
+      pos[static_cast<std::size_t>(x)] = p0 < kLast ? p0 : kLast;
+    }
+    if (noisy) {
+      const std::uint32_t base = static_cast<std::uint32_t>(y) * static_cast<std::uint32_t>(W);
+      for (int x = 0; x < W; ++x) {
+        const std::uint32_t h = hash32(base + static_cast<std::uint32_t>(x), noise_key);
+        const std::uint32_t sum = (h & 0xffu) + ((h >> 8) & 0xffu) + ((h >> 16) & 0xffu) + (h >> 24);
+        noise[static_cast<std::size_t>(x)] =
+            static_cast<float>(static_cast<int>(sum) - 510) * noise_scale;
       }
-      if (noisy) {
-        const std::uint32_t h =
-            hash32(static_cast<std::uint32_t>(y) * static_cast<std::uint32_t>(W) +
-                       static_cast<std::uint32_t>(x),
-                   noise_key);
-        const int sum = static_cast<int>((h & 0xffu) + ((h >> 8) & 0xffu) + ((h >> 16) & 0xffu) +
-                                         (h >> 24));
-        g += static_cast<float>(sum - 510) * noise_scale;
-      }
-      g = g < 0.0f ? 0.0f : (g > 255.0f ? 255.0f : g);
-      o[x] = static_cast<std::uint8_t>(static_cast<int>(g + 0.5f));
+    }
+    for (int x = 0; x < W; ++x) {
+      const float p = pos[static_cast<std::size_t>(x)];
+      const int i = static_cast<int>(p);
+      const float f = p - static_cast<float>(i);
+      float g = table[i] + f * (table[i + 1] - table[i]);
+      g += noise[static_cast<std::size_t>(x)];
+      const float g0 = g > 0.0f ? g : 0.0f;
+      const float g1 = g0 < 255.0f ? g0 : 255.0f;
+      o[x] = static_cast<std::uint8_t>(static_cast<int>(g1 + 0.5f));
     }
   }
 }

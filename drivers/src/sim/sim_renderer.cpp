@@ -23,7 +23,12 @@ inline int floorToInt(float s) {
   return i - (s < static_cast<float>(i) ? 1 : 0);
 }
 
-inline float clampCoord(float s) { return s < -1e7f ? -1e7f : (s > 1e7f ? 1e7f : s); }
+inline float clampTo(float s, float lo, float hi) {
+  const float a = s < lo ? lo : s;  // two plain selects vectorise; a nested one does not
+  return a > hi ? hi : a;
+}
+
+inline float clampCoord(float s) { return clampTo(s, -1e7f, 1e7f); }
 
 // log2 of a positive normal float, piecewise linear between powers of two (error < 0.09);
 // exact at powers of two and continuous, so mip blending stays smooth.
@@ -42,69 +47,46 @@ struct SimRendererKernels {
 
   static TextureRef makeRef(const MipTexture& t, const std::string& what);
 
-  // Bilinear lookup at (s, t) in level texels. Coordinates are converted to 16.16 fixed point
-  // (|s|, |t| < 32768 after clamping), which gives the floor and the fraction without branches.
-  static float bilinear(const SimRenderer::Level& L, bool wrap, float s, float t) {
-    int i, j;
-    float a, b;
-    const float* r0;
-    const float* r1;
-    int i0, i1;
-    if (wrap) {
-      s = s < -32000.0f ? -32000.0f : (s > 32000.0f ? 32000.0f : s);
-      t = t < -32000.0f ? -32000.0f : (t > 32000.0f ? 32000.0f : t);
-      const int fs = static_cast<int>(s * 65536.0f), ft = static_cast<int>(t * 65536.0f);
-      i = fs >> 16;
-      j = ft >> 16;
-      a = static_cast<float>(fs & 0xffff) * (1.0f / 65536.0f);
-      b = static_cast<float>(ft & 0xffff) * (1.0f / 65536.0f);
-      const int mx = L.width - 1, my = L.height - 1;
-      r0 = L.data + static_cast<std::ptrdiff_t>(j & my) * L.width;
-      r1 = L.data + static_cast<std::ptrdiff_t>((j + 1) & my) * L.width;
-      i0 = i & mx;
-      i1 = (i + 1) & mx;
-    } else {
-      const float smax = static_cast<float>(L.width - 1), tmax = static_cast<float>(L.height - 1);
-      s = s < 0.0f ? 0.0f : (s > smax ? smax : s);
-      t = t < 0.0f ? 0.0f : (t > tmax ? tmax : t);
-      const int fs = static_cast<int>(s * 65536.0f), ft = static_cast<int>(t * 65536.0f);
-      i = fs >> 16;
-      j = ft >> 16;
-      a = static_cast<float>(fs & 0xffff) * (1.0f / 65536.0f);
-      b = static_cast<float>(ft & 0xffff) * (1.0f / 65536.0f);
-      if (i > L.width - 2) {
-        i = L.width - 2;
-        a = 1.0f;
-      }
-      if (j > L.height - 2) {
-        j = L.height - 2;
-        b = 1.0f;
-      }
-      r0 = L.data + static_cast<std::ptrdiff_t>(j) * L.width;
-      r1 = r0 + L.width;
-      i0 = i;
-      i1 = i + 1;
-    }
-    const float top = r0[i0] + a * (r0[i1] - r0[i0]);
-    const float bottom = r1[i0] + a * (r1[i1] - r1[i0]);
+  // Bilinear lookup in level L at canonical level-0 coordinates (s, t >= 0: wrapped into the
+  // period or clamped to the border). The padding column/row makes i + 1, j + 1 always valid.
+  static float bilinear(const SimRenderer::Level& L, float s, float t) {
+    const float x = s * L.scale_u, y = t * L.scale_v;
+    int i = static_cast<int>(x), j = static_cast<int>(y);
+    i = i < L.width - 1 ? i : L.width - 1;
+    j = j < L.height - 1 ? j : L.height - 1;
+    const float a = x - static_cast<float>(i), b = y - static_cast<float>(j);
+    const float* p = L.data + static_cast<std::ptrdiff_t>(j) * L.stride + i;
+    const float* q = p + L.stride;
+    const float top = p[0] + a * (p[1] - p[0]);
+    const float bottom = q[0] + a * (q[1] - q[0]);
     return top + b * (bottom - top);
   }
 
-  // Trilinear lookup at level-0 texel coordinates (s, t) with level of detail lambda.
+  // Trilinear lookup at canonical level-0 coordinates (s, t) with level of detail lambda.
   static float sample(const TextureRef& T, float s, float t, float lambda) {
-    if (!(lambda > 0.0f)) return bilinear(T.levels[0], T.wrap, s, t);
+    if (!(lambda > 0.0f)) return bilinear(T.levels[0], s, t);
     const int last = T.count - 1;
-    if (lambda >= static_cast<float>(last)) {
-      const SimRenderer::Level& L = T.levels[last];
-      return bilinear(L, T.wrap, s * L.scale, t * L.scale);
-    }
+    if (lambda >= static_cast<float>(last)) return bilinear(T.levels[last], s, t);
     const int l = static_cast<int>(lambda);
     const float f = lambda - static_cast<float>(l);
-    const SimRenderer::Level& A = T.levels[l];
-    const SimRenderer::Level& B = T.levels[l + 1];
-    const float va = bilinear(A, T.wrap, s * A.scale, t * A.scale);
-    const float vb = bilinear(B, T.wrap, s * B.scale, t * B.scale);
+    const float va = bilinear(T.levels[l], s, t);
+    const float vb = bilinear(T.levels[l + 1], s, t);
     return va + f * (vb - va);
+  }
+
+  // Coordinate s (level-0 texels) of texture T made canonical: wrapped into [0, size) or clamped
+  // to [0, size - 1]. |s| <= 1e7 (see clampCoord).
+  template <bool kWrap>
+  static inline float canonical(float s, float size, float inv_size) {
+    if constexpr (kWrap) {
+      const float r = s * inv_size;
+      int k = static_cast<int>(r);
+      k -= static_cast<int>(r < static_cast<float>(k));  // floor (integer form vectorises)
+      const float m = s - static_cast<float>(k) * size;
+      return clampTo(m, 0.0f, size - (1.0f / 256.0f));
+    }
+    (void)inv_size;
+    return clampTo(s, 0.0f, size - 1.0f);
   }
 
   static float inverseDepth(const FrameQuad& q, float xc, float yc) {
@@ -113,9 +95,11 @@ struct SimRendererKernels {
 
   // Texture coordinates (level-0 texels) and levels of detail of the albedo pattern (b) and the
   // detail map (d) where the ray through (xc, yc) meets quad q. kb, kd: texels per metre.
-  static inline void lookupCoords(const FrameQuad& q, float kb, float kd, float xc, float yc,
-                                  float& sb, float& tb, float& lb, float& sd, float& td,
-                                  float& ld) {
+  template <bool kWrapB, bool kWrapD>
+  static inline void lookupCoords(const FrameQuad& q, const TextureRef& B, const TextureRef& D,
+                                  float xc, float yc, float& sb, float& tb, float& lb, float& sd,
+                                  float& td, float& ld) {
+    const float kb = B.texels_per_m, kd = D.texels_per_m;
     const float w = inverseDepth(q, xc, yc);
     const float inv = 1.0f / w;
     const float nu = q.ux * xc + (q.uy * yc + q.u0);
@@ -127,20 +111,27 @@ struct SimRendererKernels {
     const float fx2 = dudx * dudx + dvdx * dvdx, fy2 = dudy * dudy + dvdy * dvdy;
     const float rho2 = fx2 > fy2 ? fx2 : fy2;  // squared metres per pixel
     const float u = up + q.bu, v = vp + q.bv;
-    sb = clampCoord((u + q.off_u) * kb);
-    tb = clampCoord((v + q.off_v) * kb);
+    sb = canonical<kWrapB>(clampCoord((u + q.off_u) * kb), B.size_u, B.inv_size_u);
+    tb = canonical<kWrapB>(clampCoord((v + q.off_v) * kb), B.size_v, B.inv_size_v);
     lb = 0.5f * fastLog2(rho2 * (kb * kb) + 1e-30f);
-    sd = clampCoord(u * kd);
-    td = clampCoord(v * kd);
+    sd = canonical<kWrapD>(clampCoord(u * kd), D.size_u, D.inv_size_u);
+    td = canonical<kWrapD>(clampCoord(v * kd), D.size_v, D.inv_size_v);
     ld = 0.5f * fastLog2(rho2 * (kd * kd) + 1e-30f);
   }
 
   // Irradiance of quad q at centred pixel coordinates (xc, yc).
   static float shade(const FrameQuad& q, const TextureRef& tex, const TextureRef* det, float xc,
                      float yc) {
-    const float kd = det != nullptr ? det->texels_per_m : 1.0f;
     float sb, tb, lb, sd, td, ld;
-    lookupCoords(q, tex.texels_per_m, kd, xc, yc, sb, tb, lb, sd, td, ld);
+    const TextureRef& D = det != nullptr ? *det : tex;
+    if (tex.wrap && D.wrap)
+      lookupCoords<true, true>(q, tex, D, xc, yc, sb, tb, lb, sd, td, ld);
+    else if (tex.wrap)
+      lookupCoords<true, false>(q, tex, D, xc, yc, sb, tb, lb, sd, td, ld);
+    else if (D.wrap)
+      lookupCoords<false, true>(q, tex, D, xc, yc, sb, tb, lb, sd, td, ld);
+    else
+      lookupCoords<false, false>(q, tex, D, xc, yc, sb, tb, lb, sd, td, ld);
     float value = sample(tex, sb, tb, lb);
     if (det != nullptr) value *= sample(*det, sd, td, ld);
     return value;
@@ -149,12 +140,25 @@ struct SimRendererKernels {
   // shade() for n <= kChunk consecutive pixels of one row: the coordinate computations run as a
   // separate (vectorisable) loop before the texture fetches.
   static constexpr int kChunk = 64;
+  template <bool kWrapB, bool kWrapD>
+  static void coordsLoop(const FrameQuad& q, const TextureRef& B, const TextureRef& D,
+                         const float* xc, int n, float yc, float* sb, float* tb, float* lb,
+                         float* sd, float* td, float* ld) {
+    for (int i = 0; i < n; ++i)
+      lookupCoords<kWrapB, kWrapD>(q, B, D, xc[i], yc, sb[i], tb[i], lb[i], sd[i], td[i], ld[i]);
+  }
   static void shadeRun(const FrameQuad& q, const TextureRef& tex, const TextureRef* det,
                        const float* xc, int n, float yc, float* out) {
     alignas(32) float sb[kChunk], tb[kChunk], lb[kChunk], sd[kChunk], td[kChunk], ld[kChunk];
-    const float kb = tex.texels_per_m, kd = det != nullptr ? det->texels_per_m : 1.0f;
-    for (int i = 0; i < n; ++i)
-      lookupCoords(q, kb, kd, xc[i], yc, sb[i], tb[i], lb[i], sd[i], td[i], ld[i]);
+    const TextureRef& D = det != nullptr ? *det : tex;
+    if (tex.wrap && D.wrap)
+      coordsLoop<true, true>(q, tex, D, xc, n, yc, sb, tb, lb, sd, td, ld);
+    else if (tex.wrap)
+      coordsLoop<true, false>(q, tex, D, xc, n, yc, sb, tb, lb, sd, td, ld);
+    else if (D.wrap)
+      coordsLoop<false, true>(q, tex, D, xc, n, yc, sb, tb, lb, sd, td, ld);
+    else
+      coordsLoop<false, false>(q, tex, D, xc, n, yc, sb, tb, lb, sd, td, ld);
     if (det != nullptr) {
       for (int i = 0; i < n; ++i) out[i] = sample(tex, sb[i], tb[i], lb[i]) * sample(*det, sd[i], td[i], ld[i]);
     } else {
@@ -180,12 +184,19 @@ SimRenderer::TextureRef SimRendererKernels::makeRef(const MipTexture& t, const s
   r.wrap = t.wrap;
   r.texels_per_m = static_cast<float>(1.0 / t.texel_size_m);
   r.count = t.levelCount();
-  if (r.count < 1 || r.count > 20)
+  if (r.count < 1 || r.count > 24)
     throw InputError("sim renderer: " + what + " has " + std::to_string(r.count) +
-                     " mip levels (1..20 supported)");
+                     " mip levels (1..24 supported)");
+  r.size_u = static_cast<float>(t.levels[0].width);
+  r.size_v = static_cast<float>(t.levels[0].height);
+  r.inv_size_u = 1.0f / r.size_u;
+  r.inv_size_v = 1.0f / r.size_v;
   for (int l = 0; l < r.count; ++l) {
-    const ImageF& img = t.levels[static_cast<std::size_t>(l)];
-    r.levels[l] = {img.data(), img.width(), img.height(), std::ldexp(1.0f, -l)};
+    const MipLevel& level = t.levels[static_cast<std::size_t>(l)];
+    if (level.texels.width() != level.width + 1 || level.texels.height() != level.height + 1)
+      throw InputError("sim renderer: " + what + " level " + std::to_string(l) + " is not padded");
+    r.levels[l] = {level.texels.data(), level.texels.width(), level.width, level.height,
+                   static_cast<float>(level.scale_u), static_cast<float>(level.scale_v)};
   }
   return r;
 }

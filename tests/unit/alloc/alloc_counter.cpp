@@ -26,7 +26,9 @@ void* countedAlignedAlloc(std::size_t size, std::size_t alignment) {
 }  // namespace
 
 namespace ldsm::test {
-std::size_t allocationCount() { return g_allocations.load(std::memory_order_relaxed); }
+std::size_t allocationCount() {
+  return g_allocations.load(std::memory_order_relaxed);
+}
 }  // namespace ldsm::test
 
 // ldsm::Image allocates with aligned_alloc; this definition in the executable takes precedence over
@@ -35,8 +37,12 @@ extern "C" void* aligned_alloc(std::size_t alignment, std::size_t size) noexcept
   return countedAlignedAlloc(size, alignment);
 }
 
-void* operator new(std::size_t size) { return countedAlloc(size); }
-void* operator new[](std::size_t size) { return countedAlloc(size); }
+void* operator new(std::size_t size) {
+  return countedAlloc(size);
+}
+void* operator new[](std::size_t size) {
+  return countedAlloc(size);
+}
 void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
   try {
     return countedAlloc(size);
@@ -59,11 +65,27 @@ void* operator new[](std::size_t size, std::align_val_t al) {
   if (void* p = countedAlignedAlloc(size, static_cast<std::size_t>(al))) return p;
   throw std::bad_alloc();
 }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
-void operator delete(void* p, std::align_val_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::align_val_t) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
+void operator delete(void* p) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, std::size_t) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p, std::size_t) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, std::align_val_t) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p, std::align_val_t) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, std::size_t, std::align_val_t) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p, std::size_t, std::align_val_t) noexcept {
+  std::free(p);
+}

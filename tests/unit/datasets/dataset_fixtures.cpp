@@ -30,6 +30,10 @@ void writeZip(const std::string& path,
   zip_t* archive = zip_open(path.c_str(), ZIP_CREATE | ZIP_TRUNCATE, &error);
   ASSERT_NE(archive, nullptr) << path;
   for (const auto& [name, bytes] : entries) {
+    if (!name.empty() && name.back() == '/') {
+      ASSERT_GE(zip_dir_add(archive, name.c_str(), ZIP_FL_ENC_UTF_8), 0) << name;
+      continue;
+    }
     // The source does not free the buffer; `entries` outlives zip_close().
     zip_source_t* source = zip_source_buffer(archive, bytes.data(), bytes.size(), 0);
     ASSERT_NE(source, nullptr);

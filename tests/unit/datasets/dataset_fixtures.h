@@ -64,7 +64,8 @@ inline std::vector<unsigned char> encodePng(const cv::Mat& image) {
   return bytes;
 }
 
-/// A zip archive of (entry name, bytes) pairs, written with libzip.
+/// A zip archive of (entry name, bytes) pairs, written with libzip; a name ending in '/' adds a
+/// folder entry.
 void writeZip(const std::string& path,
               const std::vector<std::pair<std::string, std::vector<unsigned char>>>& entries);
 

@@ -78,6 +78,13 @@ TEST(DatasetSource, TumMonoImagesFolderWithExposures) {
 TEST(DatasetSource, TumMonoImagesZip) {
   const std::string dir = testDir();
   test::writeTumMonoFixture(dir, 4, true);
+  // Rewrite the archive out of order, with a folder entry and a file that is not an image.
+  test::writeZip(dir + "/images.zip", {{"00003.png", test::encodePng(test::patternImage(3))},
+                                       {"notes.txt", {'h', 'i'}},
+                                       {"extra/", {}},
+                                       {"00001.png", test::encodePng(test::patternImage(1))},
+                                       {"00000.png", test::encodePng(test::patternImage(0))},
+                                       {"00002.png", test::encodePng(test::patternImage(2))}});
   const DatasetDescription d = describeDataset(dir);
   EXPECT_EQ(d.format, DatasetFormat::TumMono);
   EXPECT_THAT(d.image_archive, EndsWith("/images.zip"));

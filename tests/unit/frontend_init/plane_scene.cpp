@@ -73,12 +73,12 @@ float PlaneScene::shade(int plane, const Eigen::Vector3d& X) const {
   const TexturedPlane& p = planes_[static_cast<std::size_t>(plane)];
   const double s = p.axis_s.dot(X);
   const double t = p.axis_t.dot(X);
-  // Octaves from 0.5 m down to 6 cm wavelength.
-  double value = 0, total = 0, amplitude = 1, freq = 2.0;
-  for (int o = 0; o < 4; ++o) {
+  // Octaves with lattice spacings from 0.4 m down to 10 cm.
+  double value = 0, total = 0, amplitude = 1, freq = 2.5;
+  for (int o = 0; o < 3; ++o) {
     value += amplitude * valueNoise(s * freq, t * freq, p.seed + 101U * static_cast<unsigned>(o));
     total += amplitude;
-    amplitude *= 0.75;
+    amplitude *= 0.8;
     freq *= 2.0;
   }
   return static_cast<float>(30.0 + 195.0 * value / total);

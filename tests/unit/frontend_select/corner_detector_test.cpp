@@ -112,11 +112,11 @@ double repeatability(const std::function<double(double, double)>& f, double sx, 
 }
 
 TEST(CornerDetector, IsRepeatableUnderShift) {
-  auto textured = [](double x, double y) { return test::texture(x, y, 10.0, 4); };
+  auto textured = [](double x, double y) { return test::texture(x, y, 12.0, 4); };
   EXPECT_GE(repeatability(textured, 2.4, 1.7), 0.8);
   EXPECT_GE(repeatability(textured, -3.3, 0.5), 0.8);
   auto board = [](double x, double y) {
-    return 0.6 * test::checkerboard(x, y, 30.0, 3.0, 2.0) + 0.4 * test::texture(x, y, 10.0, 8);
+    return 0.6 * test::checkerboard(x, y, 30.0, 3.0, 2.0) + 0.4 * test::texture(x, y, 12.0, 8);
   };
   EXPECT_GE(repeatability(board, 1.6, -2.2), 0.8);
 }

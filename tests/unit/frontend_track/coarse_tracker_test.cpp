@@ -133,3 +133,36 @@ TEST_F(CoarseTrackerTest, DebugResiduals) {
 }
 }
 }
+namespace ldsm {
+namespace {
+TEST_F(CoarseTrackerTest, DebugNoOcclusion) {
+  const SE3d truth = makeMotion(Eigen::Vector3d(0.02, -0.035, 0.015),
+                                Eigen::Vector3d(0.05, -0.02, 0.04));
+  const ImagePyramid frame = renderFrame(truth);
+  ImageF fimg, fid;
+  scene_.render(truth.inverse(), fimg, &fid);
+  const LevelCamera cam = scene_.camera()[0];
+  std::vector<DepthPoint> vis;
+  for (const DepthPoint& p : points_) {
+    Eigen::Vector3d X = Eigen::Vector3d((p.u - cam.cx) / cam.fx, (p.v - cam.cy) / cam.fy, 1) / p.idepth;
+    Eigen::Vector3d q = truth * X;
+    int u = int(std::floor(cam.fx * q.x() / q.z() + cam.cx + 0.5)), v = int(std::floor(cam.fy * q.y() / q.z() + cam.cy + 0.5));
+    if (u < 0 || v < 0 || u >= 320 || v >= 240) continue;
+    bool ok = true;
+    for (int dy = -3; dy <= 3; ++dy) for (int dx = -3; dx <= 3; ++dx) {
+      int uu = std::clamp(u + dx, 0, 319), vv = std::clamp(v + dy, 0, 239);
+      if (std::abs(fid(uu, vv) * q.z() - 1) > 0.05) ok = false;
+    }
+    if (ok) vis.push_back(p);
+  }
+  std::printf("visible %zu of %zu\n", vis.size(), points_.size());
+  for (int variant = 0; variant < 2; ++variant) {
+    CoarseTracker tracker = makeTracker(variant ? vis : points_);
+    SE3d T; AffineLight affine; CoarseTrackingResult result;
+    tracker.track(frame, 1.0, T, affine, 4, noAbortThresholds(), result);
+    std::printf("%s: rot %g trans %g a %g b %g rmse %g inl %g\n", variant ? "visible" : "all", test::rotationError(T, truth),
+              test::translationError(T, truth), affine.a, affine.b, result.rmse(0), result.inlier_fraction);
+  }
+}
+}
+}

@@ -5,7 +5,7 @@
 
 namespace ldsm::test {
 
-TrackScene::TrackScene() {
+TrackScene::TrackScene(Layout layout) {
   k_.fx = 250;
   k_.fy = 250;
   k_.cx = 159.5;
@@ -15,6 +15,11 @@ TrackScene::TrackScene() {
   const double big = 1e3;
   // Back wall at z = 6.
   planes_.push_back({{0, 0, 6}, {1, 0, 0}, {0, 1, 0}, big, big, 0.0});
+  if (layout == Layout::kRoomCorner) {
+    planes_.push_back({{0, 1.2, 4}, {1, 0, 0}, {0, 0, 1}, big, big, 1.3});    // floor, y = 1.2
+    planes_.push_back({{-2.0, 0, 4}, {0, 0, 1}, {0, 1, 0}, big, big, 2.9});  // left wall
+    return;
+  }
   // A plane on the left, turned about the vertical axis, about 3 m away.
   planes_.push_back({{-1.0, -0.1, 3.0},
                      Eigen::Vector3d(1, 0, 0.6).normalized(),

@@ -1,6 +1,8 @@
-// Test scene of the coarse-tracker tests: three textured planes at known depths (a back wall and
-// two bounded, slanted planes in front of it, so that there are depth discontinuities), rendered
-// by ray casting with a smooth analytic texture; the reference points carry exact inverse depths.
+// Test scenes of the coarse-tracker tests: three textured planes at known depths, rendered by ray
+// casting with a smooth analytic texture; the reference points carry exact inverse depths.
+//   kRoomCorner: back wall, floor and left wall of a room seen from inside (no occlusions).
+//   kOccludingPlanes: a back wall and two bounded, slanted planes in front of it (depth
+//   discontinuities, so that points get occluded or disoccluded when the camera moves).
 #pragma once
 
 #include <Eigen/Core>
@@ -28,7 +30,9 @@ class TrackScene {
   static constexpr int kHeight = 240;
   static constexpr int kLevels = 5;
 
-  TrackScene();
+  enum class Layout { kRoomCorner, kOccludingPlanes };
+
+  explicit TrackScene(Layout layout = Layout::kRoomCorner);
 
   PinholeIntrinsics intrinsics() const { return k_; }
   PyramidCamera camera() const { return PyramidCamera(k_, kLevels); }

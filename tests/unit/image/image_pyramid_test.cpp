@@ -21,7 +21,9 @@ struct PaddedImage {
   }
 };
 
-float quadratic(int x, int y) { return static_cast<float>(x * x + 3 * y); }
+float quadratic(int x, int y) {
+  return static_cast<float>(x * x + 3 * y);
+}
 
 TEST(ImagePyramid, LevelSizesHalveWithFloor) {
   const ImagePyramid p(640, 480, 5);

@@ -95,8 +95,8 @@ TEST(Interpolation, AgreesWithScalarInterpolationOnAPyramidLevel) {
 TEST(Interpolation, BoundsCheck) {
   EXPECT_TRUE(isInsideForBilinear(0.f, 0.f, 10, 8));
   EXPECT_TRUE(isInsideForBilinear(8.999f, 6.999f, 10, 8));
-  EXPECT_FALSE(isInsideForBilinear(9.f, 3.f, 10, 8));   // would read x = 10
-  EXPECT_FALSE(isInsideForBilinear(3.f, 7.f, 10, 8));   // would read y = 8
+  EXPECT_FALSE(isInsideForBilinear(9.f, 3.f, 10, 8));  // would read x = 10
+  EXPECT_FALSE(isInsideForBilinear(3.f, 7.f, 10, 8));  // would read y = 8
   EXPECT_FALSE(isInsideForBilinear(-0.001f, 3.f, 10, 8));
   EXPECT_FALSE(isInsideForBilinear(3.f, -1e-6f, 10, 8));
   const float nan = std::numeric_limits<float>::quiet_NaN();

@@ -17,9 +17,9 @@ namespace {
 
 #ifdef LDSM_HAVE_CERES_JET
 
+using Eigen::Vector3d;
 using test::maxAbsDiff;
 using test::TestRandom;
-using Eigen::Vector3d;
 
 // Jets for d = 0 seeded with the unit directions, and the derivative part of a result.
 template <int N>
@@ -89,8 +89,7 @@ TEST(LieAutodiff, Sim3ActionAndLog) {
       EXPECT_LT(maxAbsDiff(derivative(q), T.actionJacobianLeft(p)), kTol);
       // The series Jacobian is accurate to ~|ad(x)|^10 / 4.8e7 here.
       const Eigen::Matrix<J7, 7, 1> y = (Tj * Sim3<J7>::exp(d)).log();
-      EXPECT_LT(maxAbsDiff(derivative(y), T.logJacobianRight()), 1e-10)
-          << angle << " " << sigma;
+      EXPECT_LT(maxAbsDiff(derivative(y), T.logJacobianRight()), 1e-10) << angle << " " << sigma;
     }
   }
 }
@@ -105,7 +104,9 @@ TEST(LieAutodiff, FloatJetsCompile) {
 
 #else
 
-TEST(LieAutodiff, SkippedWithoutCeres) { GTEST_SKIP() << "ceres/jet.h not available"; }
+TEST(LieAutodiff, SkippedWithoutCeres) {
+  GTEST_SKIP() << "ceres/jet.h not available";
+}
 
 #endif
 

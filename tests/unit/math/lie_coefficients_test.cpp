@@ -15,8 +15,8 @@ namespace {
 using LD = long double;
 
 // Angles around every switch of the implementation (series below 0.01 rad) and up to pi.
-const double kThetas[] = {0.0,  1e-12, 1e-8,  1e-5,  1e-3, 0.0099999, 0.01,
-                          0.0100001, 0.02, 0.1, 0.5, 1.0, 2.0,  3.0, M_PI};
+const double kThetas[] = {0.0,  1e-12, 1e-8, 1e-5, 1e-3, 0.0099999, 0.01, 0.0100001,
+                          0.02, 0.1,   0.5,  1.0,  2.0,  3.0,       M_PI};
 
 // sum_{k>=k0} term(k) until the terms vanish in long double.
 LD series(int k0, const std::function<LD(int)>& term) {
@@ -48,8 +48,8 @@ TEST(LieCoefficients, SO3AndSE3CoefficientsMatchTheirSeries) {
       "sin(t/2)/t", [](double t2) { return sinHalfOverTheta(t2); },
       [](LD t) {
         return series(0, [&](int k) {
-          return std::pow(-1.0L, k) * std::pow(t, 2 * k) / (std::pow(2.0L, 2 * k + 1) *
-                                                             factorial(2 * k + 1));
+          return std::pow(-1.0L, k) * std::pow(t, 2 * k) /
+                 (std::pow(2.0L, 2 * k + 1) * factorial(2 * k + 1));
         });
       });
   expectAccurate(
@@ -57,14 +57,16 @@ TEST(LieCoefficients, SO3AndSE3CoefficientsMatchTheirSeries) {
   expectAccurate(
       "(1-cos t)/t^2", [](double t2) { return oneMinusCosOverTheta2(t2); },
       [](LD t) {
-        return series(
-            0, [&](int k) { return std::pow(-1.0L, k) * std::pow(t, 2 * k) / factorial(2 * k + 2); });
+        return series(0, [&](int k) {
+          return std::pow(-1.0L, k) * std::pow(t, 2 * k) / factorial(2 * k + 2);
+        });
       });
   expectAccurate(
       "(t-sin t)/t^3", [](double t2) { return thetaMinusSinOverTheta3(t2); },
       [](LD t) {
-        return series(
-            0, [&](int k) { return std::pow(-1.0L, k) * std::pow(t, 2 * k) / factorial(2 * k + 3); });
+        return series(0, [&](int k) {
+          return std::pow(-1.0L, k) * std::pow(t, 2 * k) / factorial(2 * k + 3);
+        });
       });
   expectAccurate(
       "(t^2+2cos t-2)/(2t^4)", [](double t2) { return se3QCoefficient2(t2); },
@@ -100,8 +102,7 @@ TEST(LieCoefficients, QuaternionLogFactorIsTwoAtan2OverN) {
     const double w = std::cos(theta / 2);
     const LD ref = n == 0 ? 2.0L / w : 2 * std::atan2(static_cast<LD>(n), static_cast<LD>(w)) / n;
     const double got = quaternionLogFactor(n * n, w);
-    EXPECT_LE(std::fabs(got - static_cast<double>(ref)), 2e-15 * static_cast<double>(ref))
-        << theta;
+    EXPECT_LE(std::fabs(got - static_cast<double>(ref)), 2e-15 * static_cast<double>(ref)) << theta;
   }
 }
 
@@ -168,15 +169,13 @@ TEST(LieCoefficients, ExpMomentsMatchQuadrature) {
 
 TEST(LieCoefficients, Sim3WCoefficientsMatchQuadrature) {
   const GaussLegendre gl(24);
-  for (double sigma :
-       {0.0, 1e-12, -1e-10, 1e-6, -1e-3, 0.3, -0.999, 1.0, -1.0, 1.7, -2.5}) {
-    for (double theta : {0.0, 1e-12, 1e-8, 1e-5, 1e-3, 0.01, 0.1, 0.2999999, 0.3, 0.3000001,
-                          0.5, 1.0, 2.0, 3.0, M_PI}) {
+  for (double sigma : {0.0, 1e-12, -1e-10, 1e-6, -1e-3, 0.3, -0.999, 1.0, -1.0, 1.7, -2.5}) {
+    for (double theta : {0.0, 1e-12, 1e-8, 1e-5, 1e-3, 0.01, 0.1, 0.2999999, 0.3, 0.3000001, 0.5,
+                         1.0, 2.0, 3.0, M_PI}) {
       const LD th = theta;
       const LD a = gl.integrate([&](LD t) { return std::exp(sigma * t); });
-      const LD b = gl.integrate([&](LD t) {
-        return std::exp(sigma * t) * (th == 0 ? t : std::sin(th * t) / th);
-      });
+      const LD b = gl.integrate(
+          [&](LD t) { return std::exp(sigma * t) * (th == 0 ? t : std::sin(th * t) / th); });
       const LD c = gl.integrate([&](LD t) {
         const LD s = std::sin(th * t / 2);
         return std::exp(sigma * t) * (th == 0 ? t * t / 2 : 2 * s * s / (th * th));

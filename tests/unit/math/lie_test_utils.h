@@ -42,7 +42,9 @@ double maxAbsDiff(const Eigen::MatrixBase<A>& a, const Eigen::MatrixBase<B>& b) 
 class TestRandom {
  public:
   explicit TestRandom(unsigned seed) : rng_(seed) {}
-  double uniform(double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng_); }
+  double uniform(double lo, double hi) {
+    return std::uniform_real_distribution<double>(lo, hi)(rng_);
+  }
   /// A vector with components uniform in [-a, a].
   template <int N>
   Eigen::Matrix<double, N, 1> vector(double a) {

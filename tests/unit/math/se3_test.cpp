@@ -10,14 +10,14 @@
 namespace ldsm {
 namespace {
 
-using test::kJacobianTolerance;
-using test::maxAbsDiff;
-using test::numericJacobian;
-using test::TestRandom;
 using Eigen::Matrix3d;
 using Eigen::Matrix4d;
 using Eigen::Vector3d;
 using Eigen::VectorXd;
+using test::kJacobianTolerance;
+using test::maxAbsDiff;
+using test::numericJacobian;
+using test::TestRandom;
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
 using Vector6d = Eigen::Matrix<double, 6, 1>;
 
@@ -93,9 +93,9 @@ TEST(SE3, AdjointIdentity) {
   for (int i = 0; i < 50; ++i) {
     const SE3d T = SE3d::exp(randomTangent(rnd, rnd.uniform(0, 3)));
     const Vector6d x = randomTangent(rnd, rnd.uniform(0, 1.5));
-    EXPECT_LT(maxAbsDiff(SE3d::exp(T.adjoint() * x).matrix(),
-                         (T * SE3d::exp(x) * T.inverse()).matrix()),
-              1e-13);
+    EXPECT_LT(
+        maxAbsDiff(SE3d::exp(T.adjoint() * x).matrix(), (T * SE3d::exp(x) * T.inverse()).matrix()),
+        1e-13);
   }
 }
 
@@ -112,30 +112,26 @@ TEST_P(SE3Jacobians, MatchNumericDifferentiation) {
     const Matrix6d Jr = numericJacobian(
         [&](const VectorXd& y) -> VectorXd { return (T.inverse() * SE3d::exp(y)).log(); }, x);
     const Matrix6d Jl_inv = numericJacobian(
-        [&](const VectorXd& d) -> VectorXd { return (SE3d::exp(d) * T).log(); },
-        Vector6d::Zero());
+        [&](const VectorXd& d) -> VectorXd { return (SE3d::exp(d) * T).log(); }, Vector6d::Zero());
     const Matrix6d Jr_inv = numericJacobian(
-        [&](const VectorXd& d) -> VectorXd { return (T * SE3d::exp(d)).log(); },
-        Vector6d::Zero());
+        [&](const VectorXd& d) -> VectorXd { return (T * SE3d::exp(d)).log(); }, Vector6d::Zero());
     EXPECT_LT(maxAbsDiff(SE3d::leftJacobian(x), Jl), kJacobianTolerance);
     EXPECT_LT(maxAbsDiff(SE3d::rightJacobian(x), Jr), kJacobianTolerance);
     EXPECT_LT(maxAbsDiff(SE3d::leftJacobianInverse(x), Jl_inv), kJacobianTolerance);
     EXPECT_LT(maxAbsDiff(SE3d::rightJacobianInverse(x), Jr_inv), kJacobianTolerance);
     EXPECT_LT(maxAbsDiff(T.logJacobianLeft(), Jl_inv), kJacobianTolerance);
     EXPECT_LT(maxAbsDiff(T.logJacobianRight(), Jr_inv), kJacobianTolerance);
-    EXPECT_LT(maxAbsDiff(SE3d::leftJacobian(x) * SE3d::leftJacobianInverse(x),
-                         Matrix6d::Identity()),
-              1e-13);
+    EXPECT_LT(
+        maxAbsDiff(SE3d::leftJacobian(x) * SE3d::leftJacobianInverse(x), Matrix6d::Identity()),
+        1e-13);
 
     const Vector3d p = rnd.vector<3>(3.0);
     const Eigen::MatrixXd Jal = numericJacobian(
-        [&](const VectorXd& d) -> VectorXd { return (SE3d::exp(d) * T) * p; },
-        Vector6d::Zero());
+        [&](const VectorXd& d) -> VectorXd { return (SE3d::exp(d) * T) * p; }, Vector6d::Zero());
     const Eigen::MatrixXd Jar = numericJacobian(
-        [&](const VectorXd& d) -> VectorXd { return (T * SE3d::exp(d)) * p; },
-        Vector6d::Zero());
-    const Eigen::MatrixXd Jp = numericJacobian(
-        [&](const VectorXd& q) -> VectorXd { return T * Vector3d(q); }, p);
+        [&](const VectorXd& d) -> VectorXd { return (T * SE3d::exp(d)) * p; }, Vector6d::Zero());
+    const Eigen::MatrixXd Jp =
+        numericJacobian([&](const VectorXd& q) -> VectorXd { return T * Vector3d(q); }, p);
     EXPECT_LT(maxAbsDiff(T.actionJacobianLeft(p), Jal), kJacobianTolerance);
     EXPECT_LT(maxAbsDiff(SE3d::actionJacobianAtIdentity(T * p), Jal), kJacobianTolerance);
     EXPECT_LT(maxAbsDiff(T.actionJacobianRight(p), Jar), kJacobianTolerance);
@@ -156,8 +152,7 @@ TEST(SE3, FloatAgreesWithDouble) {
     EXPECT_LT(maxAbsDiff(Tf.matrix(), Td.matrix()), 2e-6) << angle;
     EXPECT_LT(maxAbsDiff(Tf.log(), Td.log()), 1e-5) << angle;
     EXPECT_LT(maxAbsDiff(Tf * p.cast<float>(), Td * p), 1e-5) << angle;
-    EXPECT_LT(maxAbsDiff(SE3f::leftJacobianInverse(x.cast<float>()),
-                         SE3d::leftJacobianInverse(x)),
+    EXPECT_LT(maxAbsDiff(SE3f::leftJacobianInverse(x.cast<float>()), SE3d::leftJacobianInverse(x)),
               1e-5)
         << angle;
     EXPECT_LT(maxAbsDiff(Td.cast<float>().matrix(), Td.matrix()), 1e-6);

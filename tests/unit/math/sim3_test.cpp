@@ -10,13 +10,13 @@
 namespace ldsm {
 namespace {
 
+using Eigen::Matrix4d;
+using Eigen::Vector3d;
+using Eigen::VectorXd;
 using test::kJacobianTolerance;
 using test::maxAbsDiff;
 using test::numericJacobian;
 using test::TestRandom;
-using Eigen::Matrix4d;
-using Eigen::Vector3d;
-using Eigen::VectorXd;
 using Matrix7d = Eigen::Matrix<double, 7, 7>;
 using Vector7d = Eigen::Matrix<double, 7, 1>;
 
@@ -96,9 +96,9 @@ TEST(Sim3, CompositionInverseActionAndConstruction) {
     EXPECT_LT(maxAbsDiff((A * A.inverse()).matrix(), Matrix4d::Identity()), 1e-13);
     EXPECT_LT(maxAbsDiff(A.inverse().matrix(), A.matrix().inverse()), 1e-12);
     EXPECT_LT(maxAbsDiff(Sim3d(A.matrix()).matrix(), A.matrix()), 1e-13);
-    EXPECT_LT(maxAbsDiff(Sim3d(A.rotationMatrix(), A.translation(), A.scale()).matrix(),
-                         A.matrix()),
-              1e-13);
+    EXPECT_LT(
+        maxAbsDiff(Sim3d(A.rotationMatrix(), A.translation(), A.scale()).matrix(), A.matrix()),
+        1e-13);
     Sim3d C = A;
     C *= B;
     EXPECT_LT(maxAbsDiff(C.matrix(), (A * B).matrix()), 1e-15);
@@ -150,13 +150,11 @@ TEST(Sim3, ActionJacobiansMatchNumericDifferentiation) {
       const Sim3d T = Sim3d::exp(randomTangent(rnd, angle, sigma));
       const Vector3d p = rnd.vector<3>(3.0);
       const Eigen::MatrixXd Jal = numericJacobian(
-          [&](const VectorXd& d) -> VectorXd { return (Sim3d::exp(d) * T) * p; },
-          Vector7d::Zero());
+          [&](const VectorXd& d) -> VectorXd { return (Sim3d::exp(d) * T) * p; }, Vector7d::Zero());
       const Eigen::MatrixXd Jar = numericJacobian(
-          [&](const VectorXd& d) -> VectorXd { return (T * Sim3d::exp(d)) * p; },
-          Vector7d::Zero());
-      const Eigen::MatrixXd Jp = numericJacobian(
-          [&](const VectorXd& q) -> VectorXd { return T * Vector3d(q); }, p);
+          [&](const VectorXd& d) -> VectorXd { return (T * Sim3d::exp(d)) * p; }, Vector7d::Zero());
+      const Eigen::MatrixXd Jp =
+          numericJacobian([&](const VectorXd& q) -> VectorXd { return T * Vector3d(q); }, p);
       EXPECT_LT(maxAbsDiff(T.actionJacobianLeft(p), Jal), kJacobianTolerance);
       EXPECT_LT(maxAbsDiff(Sim3d::actionJacobianAtIdentity(T * p), Jal), kJacobianTolerance);
       EXPECT_LT(maxAbsDiff(T.actionJacobianRight(p), Jar), kJacobianTolerance);
@@ -171,15 +169,14 @@ TEST(Sim3, LogJacobiansMatchNumericDifferentiation) {
   TestRandom rnd(39);
   for (double angle : {0.0, 1e-7, 0.01, 0.2, 0.4}) {
     for (double sigma : {0.0, 1e-10, -0.2, 0.3}) {
-      const Vector7d x =
-          tangent(rnd.vector<3>(0.2), rnd.rotationVector(angle, angle), sigma);
+      const Vector7d x = tangent(rnd.vector<3>(0.2), rnd.rotationVector(angle, angle), sigma);
       const Sim3d T = Sim3d::exp(x);
-      const Matrix7d Jl_inv = numericJacobian(
-          [&](const VectorXd& d) -> VectorXd { return (Sim3d::exp(d) * T).log(); },
-          Vector7d::Zero());
-      const Matrix7d Jr_inv = numericJacobian(
-          [&](const VectorXd& d) -> VectorXd { return (T * Sim3d::exp(d)).log(); },
-          Vector7d::Zero());
+      const Matrix7d Jl_inv =
+          numericJacobian([&](const VectorXd& d) -> VectorXd { return (Sim3d::exp(d) * T).log(); },
+                          Vector7d::Zero());
+      const Matrix7d Jr_inv =
+          numericJacobian([&](const VectorXd& d) -> VectorXd { return (T * Sim3d::exp(d)).log(); },
+                          Vector7d::Zero());
       EXPECT_LT(maxAbsDiff(Sim3d::leftJacobianInverse(x), Jl_inv), kJacobianTolerance);
       EXPECT_LT(maxAbsDiff(Sim3d::rightJacobianInverse(x), Jr_inv), kJacobianTolerance);
       EXPECT_LT(maxAbsDiff(T.logJacobianLeft(), Jl_inv), kJacobianTolerance);

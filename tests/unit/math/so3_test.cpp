@@ -9,13 +9,13 @@
 namespace ldsm {
 namespace {
 
+using Eigen::Matrix3d;
+using Eigen::Vector3d;
+using Eigen::VectorXd;
 using test::kJacobianTolerance;
 using test::maxAbsDiff;
 using test::numericJacobian;
 using test::TestRandom;
-using Eigen::Matrix3d;
-using Eigen::Vector3d;
-using Eigen::VectorXd;
 
 // Independent ground truth: Eigen's angle-axis to matrix conversion.
 Matrix3d rodrigues(const Vector3d& w) {
@@ -37,8 +37,8 @@ TEST(SO3, ExpMatchesAngleAxisAndLogInvertsIt) {
 
 TEST(SO3, RoundTripAtSingularAngles) {
   TestRandom rnd(12);
-  const double angles[] = {0.0,  1e-12, 1e-10,         1e-6,          1e-3,  0.01 - 1e-9,
-                           0.01, 0.02,  M_PI - 1e-3,   M_PI - 1e-6,   M_PI - 1e-9};
+  const double angles[] = {0.0,  1e-12, 1e-10,       1e-6,        1e-3,       0.01 - 1e-9,
+                           0.01, 0.02,  M_PI - 1e-3, M_PI - 1e-6, M_PI - 1e-9};
   for (double angle : angles) {
     for (int i = 0; i < 20; ++i) {
       const Vector3d w = rnd.rotationVector(angle, angle);
@@ -100,9 +100,9 @@ TEST(SO3, AdjointIdentity) {
   for (int i = 0; i < 50; ++i) {
     const SO3d R = SO3d::exp(rnd.rotationVector(0, 3));
     const Vector3d w = rnd.rotationVector(0, 2);
-    EXPECT_LT(maxAbsDiff(SO3d::exp(R.adjoint() * w).matrix(),
-                         (R * SO3d::exp(w) * R.inverse()).matrix()),
-              1e-14);
+    EXPECT_LT(
+        maxAbsDiff(SO3d::exp(R.adjoint() * w).matrix(), (R * SO3d::exp(w) * R.inverse()).matrix()),
+        1e-14);
   }
 }
 
@@ -115,41 +115,31 @@ TEST_P(SO3Jacobians, MatchNumericDifferentiation) {
     const Vector3d w = rnd.rotationVector(angle, angle);
     const SO3d R = SO3d::exp(w);
     const Matrix3d Jl = numericJacobian(
-        [&](const VectorXd& x) -> VectorXd {
-          return (SO3d::exp(x) * R.inverse()).log();
-        },
-        w);
+        [&](const VectorXd& x) -> VectorXd { return (SO3d::exp(x) * R.inverse()).log(); }, w);
     const Matrix3d Jr = numericJacobian(
-        [&](const VectorXd& x) -> VectorXd {
-          return (R.inverse() * SO3d::exp(x)).log();
-        },
-        w);
+        [&](const VectorXd& x) -> VectorXd { return (R.inverse() * SO3d::exp(x)).log(); }, w);
     const Matrix3d Jl_inv = numericJacobian(
-        [&](const VectorXd& d) -> VectorXd { return (SO3d::exp(d) * R).log(); },
-        Vector3d::Zero());
+        [&](const VectorXd& d) -> VectorXd { return (SO3d::exp(d) * R).log(); }, Vector3d::Zero());
     const Matrix3d Jr_inv = numericJacobian(
-        [&](const VectorXd& d) -> VectorXd { return (R * SO3d::exp(d)).log(); },
-        Vector3d::Zero());
+        [&](const VectorXd& d) -> VectorXd { return (R * SO3d::exp(d)).log(); }, Vector3d::Zero());
     EXPECT_LT(maxAbsDiff(SO3d::leftJacobian(w), Jl), kJacobianTolerance);
     EXPECT_LT(maxAbsDiff(SO3d::rightJacobian(w), Jr), kJacobianTolerance);
     EXPECT_LT(maxAbsDiff(SO3d::leftJacobianInverse(w), Jl_inv), kJacobianTolerance);
     EXPECT_LT(maxAbsDiff(SO3d::rightJacobianInverse(w), Jr_inv), kJacobianTolerance);
-    EXPECT_LT(maxAbsDiff(SO3d::leftJacobian(w) * SO3d::leftJacobianInverse(w),
-                         Matrix3d::Identity()),
-              1e-14);
-    EXPECT_LT(maxAbsDiff(SO3d::rightJacobian(w) * SO3d::rightJacobianInverse(w),
-                         Matrix3d::Identity()),
-              1e-14);
+    EXPECT_LT(
+        maxAbsDiff(SO3d::leftJacobian(w) * SO3d::leftJacobianInverse(w), Matrix3d::Identity()),
+        1e-14);
+    EXPECT_LT(
+        maxAbsDiff(SO3d::rightJacobian(w) * SO3d::rightJacobianInverse(w), Matrix3d::Identity()),
+        1e-14);
 
     const Vector3d p = rnd.vector<3>(3.0);
     const Eigen::MatrixXd Jal = numericJacobian(
-        [&](const VectorXd& d) -> VectorXd { return (SO3d::exp(d) * R) * p; },
-        Vector3d::Zero());
+        [&](const VectorXd& d) -> VectorXd { return (SO3d::exp(d) * R) * p; }, Vector3d::Zero());
     const Eigen::MatrixXd Jar = numericJacobian(
-        [&](const VectorXd& d) -> VectorXd { return (R * SO3d::exp(d)) * p; },
-        Vector3d::Zero());
-    const Eigen::MatrixXd Jp = numericJacobian(
-        [&](const VectorXd& q) -> VectorXd { return R * Vector3d(q); }, p);
+        [&](const VectorXd& d) -> VectorXd { return (R * SO3d::exp(d)) * p; }, Vector3d::Zero());
+    const Eigen::MatrixXd Jp =
+        numericJacobian([&](const VectorXd& q) -> VectorXd { return R * Vector3d(q); }, p);
     EXPECT_LT(maxAbsDiff(R.actionJacobianLeft(p), Jal), kJacobianTolerance);
     EXPECT_LT(maxAbsDiff(SO3d::actionJacobianAtIdentity(R * p), Jal), kJacobianTolerance);
     EXPECT_LT(maxAbsDiff(R.actionJacobianRight(p), Jar), kJacobianTolerance);
@@ -168,8 +158,7 @@ TEST(SO3, FloatAgreesWithDouble) {
     const SO3f Rf = SO3f::exp(w.cast<float>());
     EXPECT_LT(maxAbsDiff(Rf.matrix(), Rd.matrix()), 1e-6) << angle;
     EXPECT_LT(maxAbsDiff(Rf.log(), Rd.log()), 2e-6) << angle;
-    EXPECT_LT(maxAbsDiff(SO3f::leftJacobianInverse(w.cast<float>()),
-                         SO3d::leftJacobianInverse(w)),
+    EXPECT_LT(maxAbsDiff(SO3f::leftJacobianInverse(w.cast<float>()), SO3d::leftJacobianInverse(w)),
               2e-6)
         << angle;
     EXPECT_LT(maxAbsDiff(SO3f::rightJacobian(w.cast<float>()), SO3d::rightJacobian(w)), 2e-6)

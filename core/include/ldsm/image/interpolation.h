@@ -50,8 +50,7 @@ inline GradientPixel interpolateBilinear(ImageView<const GradientPixel> image, f
   const float w11 = fx * fy;
   const GradientPixel* p = image.data + iy * image.stride + ix;
   const GradientPixel* q = p + image.stride;
-  return {w00 * p[0].intensity + w10 * p[1].intensity + w01 * q[0].intensity +
-              w11 * q[1].intensity,
+  return {w00 * p[0].intensity + w10 * p[1].intensity + w01 * q[0].intensity + w11 * q[1].intensity,
           w00 * p[0].dx + w10 * p[1].dx + w01 * q[0].dx + w11 * q[1].dx,
           w00 * p[0].dy + w10 * p[1].dy + w01 * q[0].dy + w11 * q[1].dy};
 }

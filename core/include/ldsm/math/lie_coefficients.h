@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cmath>
+#include <type_traits>
 
 namespace ldsm::lie {
 
@@ -39,7 +40,7 @@ inline S polynomial(const S& x, const double (&c)[N]) {
 // Taylor coefficients (in theta^2) of the functions below; the first left-out term is < 1e-17
 // relative at the switching angle.
 inline constexpr double kThetaMinusSinSeries[] = {
-    1 / factorial(3),  -1 / factorial(5),  1 / factorial(7),  -1 / factorial(9), 1 / factorial(11),
+    1 / factorial(3),   -1 / factorial(5), 1 / factorial(7),   -1 / factorial(9), 1 / factorial(11),
     -1 / factorial(13), 1 / factorial(15), -1 / factorial(17), 1 / factorial(19)};
 inline constexpr double kInverseJacobianSeries[] = {  // (-1)^(n+1) B_2n / (2n)!, n = 1..11
     1.0 / 12.0,
@@ -54,12 +55,13 @@ inline constexpr double kInverseJacobianSeries[] = {  // (-1)^(n+1) B_2n / (2n)!
     174611.0 / 802857662698291200000.0,
     77683.0 / 14101100039391805440000.0};
 inline constexpr double kQ2Series[] = {  // (-1)^m / (2m)!, m = 2..10
-    1 / factorial(4),  -1 / factorial(6),  1 / factorial(8),  -1 / factorial(10), 1 / factorial(12),
-    -1 / factorial(14), 1 / factorial(16), -1 / factorial(18), 1 / factorial(20)};
+    1 / factorial(4),   -1 / factorial(6),  1 / factorial(8),
+    -1 / factorial(10), 1 / factorial(12),  -1 / factorial(14),
+    1 / factorial(16),  -1 / factorial(18), 1 / factorial(20)};
 inline constexpr double kQ3Series[] = {  // (-1)^m (m - 1) / (2m + 1)!, m = 2..13
-    1 / factorial(5),   -2 / factorial(7),  3 / factorial(9),   -4 / factorial(11),
-    5 / factorial(13),  -6 / factorial(15), 7 / factorial(17),  -8 / factorial(19),
-    9 / factorial(21),  -10 / factorial(23), 11 / factorial(25), -12 / factorial(27)};
+    1 / factorial(5),  -2 / factorial(7),   3 / factorial(9),   -4 / factorial(11),
+    5 / factorial(13), -6 / factorial(15),  7 / factorial(17),  -8 / factorial(19),
+    9 / factorial(21), -10 / factorial(23), 11 / factorial(25), -12 / factorial(27)};
 
 /// True when theta2 is in the range where the series are used.
 template <typename S>
@@ -143,8 +145,7 @@ inline S se3QCoefficient3(const S& theta2) {
   using std::sqrt;
   if (theta2 < S(kWideSeriesAngleSq)) return polynomial(theta2, kQ3Series);
   const S theta = sqrt(theta2);
-  return (S(2) * theta - S(3) * sin(theta) + theta * cos(theta)) /
-         (S(2) * theta2 * theta2 * theta);
+  return (S(2) * theta - S(3) * sin(theta) + theta * cos(theta)) / (S(2) * theta2 * theta2 * theta);
 }
 
 /// 2 atan2(n, w) / n for a unit quaternion (w, v) with w >= 0 and n = |v|, given n2 = n^2: the
@@ -177,8 +178,13 @@ struct ExpMoments {
       for (int k = 0; k < N; ++k) I[k] = S(0);
       S term(1);  // sigma^j / j!; 20 terms leave < 1e-19
       for (int j = 0; j < 20; ++j) {
-        for (int k = 0; k < N; ++k) I[k] += term / S(k + j + 1);
+        for (int k = 0; k < N; ++k) I[k] += term * S(1.0 / (k + j + 1));
         term = term * sigma / S(j + 1);
+        // Plain scalars stop once the terms vanish; autodiff scalars keep every term because a
+        // zero value can still carry a derivative.
+        if constexpr (std::is_floating_point_v<S>) {
+          if (abs(term) < S(1e-18)) break;
+        }
       }
     } else {
       const S es = exp(sigma);
@@ -209,8 +215,8 @@ struct Sim3WCoefficients {
       b = S(0);
       c = S(0);
       for (int k = 6; k >= 0; --k) {
-        b = b * (-theta2) + m.I[2 * k + 1] / S(factorial(2 * k + 1));
-        c = c * (-theta2) + m.I[2 * k + 2] / S(factorial(2 * k + 2));
+        b = b * (-theta2) + m.I[2 * k + 1] * S(1 / factorial(2 * k + 1));
+        c = c * (-theta2) + m.I[2 * k + 2] * S(1 / factorial(2 * k + 2));
       }
       return;
     }

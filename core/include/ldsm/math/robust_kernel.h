@@ -4,7 +4,7 @@
 //   derivative(r) rho'(r)
 //   weight(r)     rho'(r) / r, the IRLS weight (1 at r = 0), so that
 //                 sum w_i r_i dr_i/dx = 0 is the normal equation of sum rho(r_i).
-// All functions are inline and branch only on |r| versus the threshold k.
+// S is float or double. All functions are inline and branch only on |r| versus the threshold k.
 #pragma once
 
 #include <cmath>

@@ -166,9 +166,7 @@ class SE3 {
     return A;
   }
   static Adjoint rightJacobian(const Tangent& x) { return leftJacobian(Tangent(-x)); }
-  static Adjoint rightJacobianInverse(const Tangent& x) {
-    return leftJacobianInverse(Tangent(-x));
-  }
+  static Adjoint rightJacobianInverse(const Tangent& x) { return leftJacobianInverse(Tangent(-x)); }
   /// d log(T * exp(d)) / dd at d = 0 = Jr(log T)^-1 (pose-graph residuals).
   Adjoint logJacobianRight() const { return rightJacobianInverse(log()); }
   /// d log(exp(d) * T) / dd at d = 0 = Jl(log T)^-1.

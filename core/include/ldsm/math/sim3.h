@@ -198,8 +198,7 @@ class Sim3 {
     const Adjoint A2 = A * A;
     const Adjoint I = Adjoint::Identity();
     const Adjoint even =
-        A2 * (I / S(12) +
-              A2 * (-I / S(720) + A2 * (I / S(30240) - A2 / S(1209600))));
+        A2 * (I / S(12) + A2 * (-I / S(720) + A2 * (I / S(30240) - A2 / S(1209600))));
     return I + S(0.5 * sign) * A + even;
   }
 

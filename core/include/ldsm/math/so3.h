@@ -106,9 +106,7 @@ class SO3 {
            lie::inverseJacobianCoefficient(S(w.squaredNorm())) * (W * W);
   }
   /// Jr(w)^-1 = Jl(-w)^-1.
-  static Matrix3 rightJacobianInverse(const Tangent& w) {
-    return leftJacobianInverse(Tangent(-w));
-  }
+  static Matrix3 rightJacobianInverse(const Tangent& w) { return leftJacobianInverse(Tangent(-w)); }
 
   /// d (exp(d) * q) / dd at d = 0 for a point q (already rotated): -hat(q). For (exp(d) * R) * p
   /// pass q = R * p.

@@ -73,15 +73,18 @@ class SimRenderer {
     double x[8], y[8];  // pixel coordinates of the near-clipped outline
   };
   struct Level {
-    const float* data;
+    const float* data;  // padded: (width + 1) x (height + 1)
+    std::ptrdiff_t stride;
     int width, height;
-    float scale;  // 2^-level
+    float scale_u, scale_v;  // level texels per level-0 texel
   };
   struct TextureRef {
     bool wrap;
     float texels_per_m;
+    float size_u, size_v;          // level-0 texels per row / column
+    float inv_size_u, inv_size_v;  // their inverses (repeating textures)
     int count;
-    Level levels[20];
+    Level levels[24];
   };
 
   void renderAt(const RigidPose& T_wc, const PinholeIntrinsics& cam, ImageF& out,

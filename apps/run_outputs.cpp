@@ -1,0 +1,81 @@
+#include "run_outputs.h"
+
+#include <sys/resource.h>
+
+#include <filesystem>
+
+#include "ldsm/drivers/atomic_file.h"
+#include "ldsm/drivers/json_writer.h"
+#include "ldsm/drivers/ply_writer.h"
+#include "ldsm/drivers/trajectory_io.h"
+
+namespace ldsm::app {
+
+double peakRssMb() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<double>(usage.ru_maxrss) / 1024.0;  // KB on Linux
+}
+
+void writeRunOutputs(const std::string& dir, const System& system, const RunSummary& summary) {
+  std::filesystem::create_directories(dir);
+  const std::string base = (std::filesystem::path(dir) / "").string();
+  drivers::writeTumTrajectory(base + "trajectory.txt", system.trajectory());
+  drivers::writeTumTrajectory(base + "keyframes.txt", system.keyframeTrajectory());
+
+  const std::vector<MapPoint> points = system.mapPoints();
+  std::vector<Eigen::Vector3f> xyz;
+  std::vector<std::array<std::uint8_t, 3>> colours;
+  xyz.reserve(points.size());
+  for (const MapPoint& p : points) {
+    const Eigen::Vector3f pf = p.position.cast<float>();
+    if (!pf.allFinite()) continue;
+    xyz.push_back(pf);
+    const auto g = static_cast<std::uint8_t>(std::clamp(p.intensity, 0.f, 255.f));
+    colours.push_back(p.is_corner ? std::array<std::uint8_t, 3>{255, 64, 0}
+                                  : std::array<std::uint8_t, 3>{g, g, g});
+  }
+  drivers::writePly(base + "points.ply", xyz, colours);
+
+  const SystemStats s = system.stats();
+  drivers::JsonWriter j;
+  j.beginObject();
+  j.key("dataset").value(summary.dataset);
+  j.key("status").value(summary.status);
+  j.key("tracking_status").value(toString(system.status()));
+  j.key("frames").value(s.frames);
+  j.key("tracked_frames").value(s.tracked_frames);
+  j.key("rejected_frames").value(s.rejected_frames);
+  j.key("keyframes").value(s.keyframes);
+  j.key("initializations").value(s.initializations);
+  j.key("tracking_losses").value(s.tracking_losses);
+  j.key("map_points").value(static_cast<std::int64_t>(xyz.size()));
+  j.key("wall_seconds").value(summary.wall_seconds);
+  j.key("ms_per_frame").value(summary.ms_per_frame);
+  j.key("peak_rss_mb").value(summary.peak_rss_mb);
+  j.key("stages").beginObject();
+  for (const StageTiming& t : s.stages) {
+    j.key(t.stage).beginObject();
+    j.key("count").value(t.count);
+    j.key("mean_ms").value(t.mean_ms);
+    j.key("p50_ms").value(t.p50_ms);
+    j.key("p99_ms").value(t.p99_ms);
+    j.key("max_ms").value(t.max_ms);
+    j.endObject();
+  }
+  j.endObject();
+  if (summary.ate) {
+    j.key("ate").beginObject();
+    j.key("rmse_m").value(summary.ate->rmse);
+    j.key("matched_poses").value(static_cast<std::int64_t>(summary.ate->matched));
+    j.key("gt_path_length_m").value(summary.ate->gt_path_length);
+    j.key("scale").value(summary.ate->sim3_scale);
+    j.endObject();
+  } else {
+    j.key("ate").null();
+  }
+  j.endObject();
+  drivers::writeFileAtomically(base + "stats.json", j.str() + "\n");
+}
+
+}  // namespace ldsm::app
