@@ -226,12 +226,14 @@ void Mapper::marginalizeFrame(int window_index) {
   const auto view = windowView();
   WindowKeyframe& f = *window_[window_index];
   std::vector<MapPoint> finished;
+  std::vector<const ActivePoint*> to_prior;
   for (auto& p : f.points) {
     if (p->inlier_residuals >= 1 && p->hessian_idepth > 0.f) {
-      optimizer_.marginalizePoint(view, *p, prior_);
+      to_prior.push_back(p.get());
       finished.push_back(worldPoint(*p));
     }
   }
+  optimizer_.marginalizePoints(view, to_prior, prior_);
   f.points.clear();
   f.immature.clear();
   for (auto& kf : window_) {

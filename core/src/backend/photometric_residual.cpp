@@ -97,31 +97,48 @@ float evaluateResidual(const ActivePoint& point, PointResidual& res, const Frame
   res.state = ResidualState::Inlier;
   if (acc == nullptr) return energy;
 
-  // Jacobian rows [eps (6), a_h, b_h, a_t, b_t, idepth] of the pattern pixels, then one small
-  // weighted outer product per residual.
-  Eigen::Matrix<float, kRelParams + 1, kPatternSize> J;
-  Eigen::Matrix<float, kPatternSize, 1> wv, wr;
+  if (acc->depth_only) {
+    for (int k = 0; k < kPatternSize; ++k) {
+      const PixelTerm& t = terms[k];
+      const float Jd = t.gx * dpx_dd.x() + t.gy * dpx_dd.y();
+      acc->H_dd += static_cast<double>(t.weight * Jd * Jd);
+      acc->b_d += static_cast<double>(t.weight * Jd * t.r);
+    }
+    return energy;
+  }
+  // Jacobian rows [eps (6), a_h, b_h, a_t, b_t, idepth] per pattern pixel, summed into the
+  // upper triangle of an 11x11 float block (small fixed loops the compiler unrolls).
+  constexpr int kN = kRelParams + 1;
+  float Hu[kN][kN] = {};
+  float bv[kN] = {};
   for (int k = 0; k < kPatternSize; ++k) {
     const PixelTerm& t = terms[k];
-    const Eigen::RowVector2f grad(t.gx, t.gy);
-    J.block<6, 1>(0, k) = (grad * dpx_deps).transpose();
+    float J[kN];
+    for (int j = 0; j < 6; ++j) J[j] = t.gx * dpx_deps(0, j) + t.gy * dpx_deps(1, j);
     const float dc = pair.scale * (t.color - pair.host_b);
-    J(6, k) = dc;          // a_h
-    J(7, k) = pair.scale;  // b_h
-    J(8, k) = -dc;         // a_t
-    J(9, k) = -1.f;        // b_t
-    J(10, k) = grad.dot(dpx_dd);
-    wv[k] = t.weight;
-    wr[k] = t.weight * t.r;
+    J[6] = dc;          // a_h
+    J[7] = pair.scale;  // b_h
+    J[8] = -dc;         // a_t
+    J[9] = -1.f;        // b_t
+    J[10] = t.gx * dpx_dd.x() + t.gy * dpx_dd.y();
+    for (int i = 0; i < kN; ++i) {
+      const float wi = t.weight * J[i];
+      bv[i] += wi * t.r;
+      for (int j = i; j < kN; ++j) Hu[i][j] += wi * J[j];
+    }
   }
-  const Eigen::Matrix<float, kRelParams + 1, kRelParams + 1> Hf =
-      (J * wv.asDiagonal()) * J.transpose();
-  const Eigen::Matrix<float, kRelParams + 1, 1> bf = J * wr;
-  *acc->H_pair += Hf.topLeftCorner<kRelParams, kRelParams>().cast<double>();
-  *acc->b_pair += bf.head<kRelParams>().cast<double>();
-  acc->H_dd += Hf(kRelParams, kRelParams);
-  acc->b_d += bf[kRelParams];
-  acc->coupling += Hf.block<kRelParams, 1>(0, kRelParams).cast<double>();
+  RelMatrix& H = *acc->H_pair;
+  RelVector& b = *acc->b_pair;
+  for (int i = 0; i < kRelParams; ++i) {
+    b[i] += bv[i];
+    acc->coupling[i] += Hu[i][kRelParams];
+    for (int j = i; j < kRelParams; ++j) {
+      H(i, j) += Hu[i][j];
+      if (j != i) H(j, i) += Hu[i][j];
+    }
+  }
+  acc->H_dd += Hu[kRelParams][kRelParams];
+  acc->b_d += bv[kRelParams];
   return energy;
 }
 

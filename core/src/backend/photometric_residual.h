@@ -46,6 +46,7 @@ struct ResidualAccumulator {
   double H_dd = 0.0;            ///< this residual's sum w J_d^2
   double b_d = 0.0;             ///< sum w J_d r
   RelVector coupling = RelVector::Zero();  ///< sum w J_rel^T J_d
+  bool depth_only = false;  ///< accumulate H_dd and b_d only (H_pair, b_pair may be null)
 };
 
 /// Evaluates the residual of `point` in the pair's target. Updates `res.state`, `res.energy`,

@@ -56,15 +56,12 @@ bool Mapper::optimizeNewPointDepth(ActivePoint& point, const std::vector<FramePa
   const int n = static_cast<int>(window_.size());
   const int h = point.host->window_index;
   const ResidualSettings& rs = optimizer_.settings().residual;
-  RelMatrix dummy_H;
-  RelVector dummy_b;
   auto evaluate = [&](bool linearize, double* H, double* b) {
     double energy = 0.0;
     *H = *b = 0.0;
     for (auto& r : point.residuals) {
       ResidualAccumulator acc;
-      acc.H_pair = &dummy_H;
-      acc.b_pair = &dummy_b;
+      acc.depth_only = true;
       const float e = evaluateResidual(point, r, pairs[static_cast<size_t>(h) * n +
                                                        r.target->window_index],
                                        rs, linearize ? &acc : nullptr);
@@ -140,6 +137,9 @@ int Mapper::activatePoints() {
     for (int t = 0; t < n; ++t)
       if (h != t) pairs[static_cast<size_t>(h) * n + t].set(*window_[h], *window_[t], cam);
 
+  // Never grow far beyond the target: the window's cost is linear in the points.
+  const int budget = static_cast<int>(1.2 * config_.window.active_points) - active;
+  if (budget <= 0) return 0;
   const float c = optimizer_.settings().residual.gradient_weight_c;
   const float min_quality = static_cast<float>(config_.window.min_trace_quality);
   const float max_interval = static_cast<float>(config_.window.max_trace_interval);
@@ -158,7 +158,7 @@ int Mapper::activatePoints() {
                              ip.lastPixelInterval() < max_interval && ip.quality() >= min_quality &&
                              ip.idepthMin() + ip.idepthMax() > 0.f &&
                              std::isfinite(ip.idepthMax());
-      if (converged) {
+      if (converged && activated < budget) {
         const float d = ip.idepthEstimate();
         const Eigen::Vector3f q = T_nh * (cam.unproject(ip.u(), ip.v()) / d);
         const Eigen::Vector2f px = cam.project(q);

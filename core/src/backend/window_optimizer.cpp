@@ -23,6 +23,16 @@ Map10x16 relativeToAbsolute(const Eigen::Matrix<double, 6, 6>& Ad) {
   return P;
 }
 
+/// The coupling of a depth to (host, target) parameters from its relative-parameter coupling,
+/// the transpose of relativeToAbsolute() applied without the dense product.
+void addCoupling(const Eigen::Matrix<double, 6, 6>& Ad, const RelVector& c_rel, int h, int t,
+                 Eigen::Ref<Eigen::VectorXd> c) {
+  c.segment<6>(kFrameParams * h).noalias() -= Ad.transpose() * c_rel.head<6>();
+  c.segment<2>(kFrameParams * h + 6) += c_rel.segment<2>(6);
+  c.segment<6>(kFrameParams * t) += c_rel.head<6>();
+  c.segment<2>(kFrameParams * t + 6) += c_rel.segment<2>(8);
+}
+
 void addPairBlocks(int h, int t, const Mat16& H16, const Vec16& b16, Eigen::MatrixXd& H,
                    Eigen::VectorXd& b) {
   const int k = kFrameParams;
@@ -157,9 +167,7 @@ void WindowOptimizer::linearize(const std::vector<WindowKeyframe*>& window,
           ++inl;
           H_dd += acc.H_dd;
           b_d += acc.b_d;
-          const Vec16 c16 = P[pi].transpose() * acc.coupling;
-          sys.coupling.block<kFrameParams, 1>(kFrameParams * h, col) += c16.head<kFrameParams>();
-          sys.coupling.block<kFrameParams, 1>(kFrameParams * t, col) += c16.tail<kFrameParams>();
+          addCoupling(adjoints_[pi], acc.coupling, h, t, sys.coupling.col(col));
         } else {
           residual_energy += thr;
           if (res.state == ResidualState::Outlier) ++sys.outliers;
@@ -292,38 +300,50 @@ Eigen::VectorXd WindowOptimizer::frameGradient(const std::vector<WindowKeyframe*
   return sys.b;
 }
 
-void WindowOptimizer::marginalizePoint(const std::vector<WindowKeyframe*>& window,
-                                       const ActivePoint& point, MarginalizationPrior& prior) {
+void WindowOptimizer::marginalizePoints(const std::vector<WindowKeyframe*>& window,
+                                        const std::vector<const ActivePoint*>& points,
+                                        MarginalizationPrior& prior) {
+  if (points.empty()) return;
   precalcPairs(window);
   const int n = static_cast<int>(window.size());
   const int dim = kFrameParams * n;
-  const int h = point.host->window_index;
+  std::vector<Map10x16> P(static_cast<size_t>(n) * n);
+  for (int h = 0; h < n; ++h)
+    for (int t = 0; t < n; ++t)
+      if (h != t) P[h * n + t] = relativeToAbsolute(adjoints_[h * n + t]);
+  pair_H_.assign(static_cast<size_t>(n) * n, RelMatrix::Zero());
+  pair_b_.assign(static_cast<size_t>(n) * n, RelVector::Zero());
   Eigen::MatrixXd H = Eigen::MatrixXd::Zero(dim, dim);
   Eigen::VectorXd b = Eigen::VectorXd::Zero(dim);
-  Eigen::VectorXd c = Eigen::VectorXd::Zero(dim);
-  double H_dd = 0.0, b_d = 0.0;
-  ActivePoint copy = point;  // residual states are updated by the evaluation
-  for (auto& res : copy.residuals) {
-    const int t = res.target->window_index;
-    const size_t pi = static_cast<size_t>(h) * n + t;
-    RelMatrix Hr = RelMatrix::Zero();
-    RelVector br = RelVector::Zero();
-    ResidualAccumulator acc;
-    acc.H_pair = &Hr;
-    acc.b_pair = &br;
-    evaluateResidual(copy, res, pairs_[pi], settings_.residual, &acc);
-    if (res.state != ResidualState::Inlier) continue;
-    const Map10x16 P = relativeToAbsolute(adjoints_[pi]);
-    addPairBlocks(h, t, P.transpose() * Hr * P, P.transpose() * br, H, b);
-    const Vec16 c16 = P.transpose() * acc.coupling;
-    c.segment<kFrameParams>(kFrameParams * h) += c16.head<kFrameParams>();
-    c.segment<kFrameParams>(kFrameParams * t) += c16.tail<kFrameParams>();
-    H_dd += acc.H_dd;
-    b_d += acc.b_d;
+  Eigen::VectorXd c(dim);
+  for (const ActivePoint* point : points) {
+    const int h = point->host->window_index;
+    c.setZero();
+    double H_dd = 0.0, b_d = 0.0;
+    ActivePoint copy = *point;  // residual states are updated by the evaluation
+    for (auto& res : copy.residuals) {
+      const int t = res.target->window_index;
+      const size_t pi = static_cast<size_t>(h) * n + t;
+      ResidualAccumulator acc;
+      acc.H_pair = &pair_H_[pi];
+      acc.b_pair = &pair_b_[pi];
+      evaluateResidual(copy, res, pairs_[pi], settings_.residual, &acc);
+      if (res.state != ResidualState::Inlier) continue;
+      addCoupling(adjoints_[pi], acc.coupling, h, t, c);
+      H_dd += acc.H_dd;
+      b_d += acc.b_d;
+    }
+    if (H_dd < 1e-10) continue;
+    H.noalias() -= c * c.transpose() / H_dd;
+    b -= c * (b_d / H_dd);
   }
-  if (H_dd < 1e-10) return;
-  H -= c * c.transpose() / H_dd;
-  b -= c * (b_d / H_dd);
+  for (int h = 0; h < n; ++h)
+    for (int t = 0; t < n; ++t) {
+      if (h == t) continue;
+      const size_t pi = static_cast<size_t>(h) * n + t;
+      addPairBlocks(h, t, P[pi].transpose() * pair_H_[pi] * P[pi],
+                    P[pi].transpose() * pair_b_[pi], H, b);
+    }
   prior.add(windowIds(window), H, b, stackedDeltas(window));
 }
 

@@ -46,9 +46,11 @@ class WindowOptimizer {
   /// Evaluates every residual at the current state (states and energies), no linearisation.
   double evaluate(const std::vector<WindowKeyframe*>& window, const MarginalizationPrior& prior);
 
-  /// Moves the information of `point` (its inlier residuals) into the prior.
-  void marginalizePoint(const std::vector<WindowKeyframe*>& window, const ActivePoint& point,
-                        MarginalizationPrior& prior);
+  /// Moves the information of `points` (their inlier residuals, depths eliminated) into the
+  /// prior.
+  void marginalizePoints(const std::vector<WindowKeyframe*>& window,
+                         const std::vector<const ActivePoint*>& points,
+                         MarginalizationPrior& prior);
 
   /// Adds a keyframe's own priors (affine, gauge) to the prior, then marginalises it out.
   void marginalizeFrame(const std::vector<WindowKeyframe*>& window, const WindowKeyframe& frame,

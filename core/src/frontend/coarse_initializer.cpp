@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
-#include <cstdlib>
 
 #include "ldsm/error.h"
 
@@ -144,8 +143,6 @@ void CoarseInitializer::setReference(const ImagePyramid& pyramid, double exposur
   reset();
   exposure_ref_ = exposure;
   T_ = SE3d();
-  T_prev_ = SE3d();
-  has_prev_ = false;
   affine_ = AffineLight{};
 
   int levels = std::min({settings_.max_levels, camera_.levels(), pyramid.levels()});
@@ -226,12 +223,8 @@ void CoarseInitializer::trackFrame(const ImagePyramid& pyramid, double exposure)
   exposure_ratio_ = static_cast<float>(exposure / exposure_ref_);
   smoothness_weight_ = status_ == InitStatus::kConfirming ? settings_.smoothness_weight_parallax
                                                           : settings_.smoothness_weight;
-  // Constant-velocity guess: the motion of the last frame repeated.
-  const SE3d guess = (has_prev_ && std::getenv("CV")) ? (T_ * T_prev_.inverse()) * T_ : T_;
-  T_prev_ = T_;
-  has_prev_ = true;
-  T_ = guess;
-
+  // The previous frame's estimate is the initial guess (no constant-velocity extrapolation:
+  // before the parallax is real, the estimated motion is mostly noise and would be amplified).
   stats_.iterations = 0;
   for (int lvl = levels_ - 1; lvl >= 0; --lvl) {
     if (lvl + 1 < levels_) propagateDown(lvl);

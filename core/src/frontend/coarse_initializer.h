@@ -53,7 +53,7 @@ struct CoarseInitializerSettings {
   int neighbours = 10;       ///< k of the smoothness neighbourhood (<= kMaxNeighbours)
   /// Levenberg-Marquardt iterations per level (level 0 first).
   std::array<int, kMaxPyramidLevels> max_iterations{{4, 6, 10, 20, 30, 30, 30, 30}};
-  double initial_lambda = 0.1;  ///< LM damping (Marquardt: relative to the Hessian's diagonal)
+  double initial_lambda = 1e-3;  ///< LM damping (Marquardt: relative to the Hessian's diagonal)
   /// A level stops when an accepted step lowers the energy by less than this fraction.
   double convergence_energy_fraction = 1e-4;
 
@@ -239,12 +239,9 @@ class CoarseInitializer {
   float exposure_ratio_ = 1.f;
   float smoothness_weight_ = 0.f;
 
-  SE3d T_;       ///< reference -> current frame
-  SE3d T_prev_;  ///< reference -> previous frame (for the constant-velocity guess)
-  bool has_prev_ = false;
+  SE3d T_;  ///< reference -> current frame
   AffineLight affine_;
   Evaluation eval_, eval_trial_;
-  Evaluation last_level0_;
   InitFrameStats stats_;
   InitializationResult result_;
   PointBucketGrid grid_;

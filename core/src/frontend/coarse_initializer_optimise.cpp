@@ -298,7 +298,6 @@ void CoarseInitializer::normaliseScale(int lvl) {
     }
   }
   T_.translation() *= mean;
-  T_prev_.translation() *= mean;
 }
 
 void CoarseInitializer::computeSmoothnessTargets(int lvl, const float* idepth, float* ir) const {

@@ -59,12 +59,12 @@ PixelSelector::PixelSelector(int width, int height, const PointSelectionConfig& 
       static_cast<int>(std::lround(config.corner_fraction * config.points_per_keyframe));
   corners_.reserve(static_cast<std::size_t>(max_corners));
   // Enough for every cell of the finest grid the adaptation can reach at density 1.
-  const double area =
-      std::max(width - 2 * kBorder, 0) * static_cast<double>(std::max(height - 2 * kBorder, 0));
+  const double region_w = std::max(width - 2 * kBorder, 0);
+  const double region_h = std::max(height - 2 * kBorder, 0);
   const double min_cell =
-      std::max(1.0, std::sqrt(area / config.points_per_keyframe) / kMaxCellShrink);
-  const auto cells = static_cast<std::size_t>((std::ceil((width - 2 * kBorder) / min_cell) + 1) *
-                                              (std::ceil((height - 2 * kBorder) / min_cell) + 1));
+      std::max(1.0, std::sqrt(region_w * region_h / config.points_per_keyframe) / kMaxCellShrink);
+  const auto cells = static_cast<std::size_t>((std::ceil(region_w / min_cell) + 1) *
+                                              (std::ceil(region_h / min_cell) + 1));
   pass_picks_.reserve(cells);
   best_picks_.reserve(cells);
 }

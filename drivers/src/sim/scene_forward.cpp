@@ -34,8 +34,8 @@ SimScene makeForwardScene() {
 
   CameraPath& p = scene.path;
   p.closed = false;
-  // Uniform points on a straight line: the spline runs at 1 m per span, at x = -2.5 + 2.5 + s.
-  for (int k = 0; k < 52; ++k) p.control_points.push_back({-2.5 + k, 0.0, 1.3});
+  // Uniform points on a straight line: the spline runs at 1 m per span, at x = -2 + (s + 2) = t.
+  for (int k = 0; k < 52; ++k) p.control_points.push_back({-2.0 + k, 0.0, 1.3});
   p.span_duration_s = 1.0;
   p.start_span = 0.0;
   p.heading_from_tangent = true;

@@ -167,7 +167,9 @@ TEST(WindowOptimizer, MarginalisedFrameKeepsItsInformation) {
   opt.optimize(window, prior);
   std::vector<SE3d> reference;
   for (auto* kf : window) reference.push_back(kf->T_c_w);
-  for (auto& p : window[0]->points) opt.marginalizePoint(window, *p, prior);
+  std::vector<const ActivePoint*> hosted;
+  for (auto& p : window[0]->points) hosted.push_back(p.get());
+  opt.marginalizePoints(window, hosted, prior);
   window[0]->points.clear();
   for (auto* kf : window)
     for (auto& p : kf->points)

@@ -14,7 +14,7 @@ TEST(Experiment, DISABLED_Sweep) {
   std::vector<C> cases = {{"side", {0.012,0,0}, 0}, {"sideturn", {-0.012,0.002,0}, 0.05}, {"fwd", {0,0,0.03},0}, {"diag", {0.008,-0.004,0.015}, -0.03}};
   for (auto& c : cases) {
     CoarseInitializerSettings s;
-    s.smoothness_weight = envd("SW", s.smoothness_weight);
+    s.smoothness_weight = envd("SW", s.smoothness_weight); s.initial_lambda = envd("LAM", s.initial_lambda);
     s.smoothness_weight_parallax = envd("SWP", s.smoothness_weight_parallax);
     s.idepth_prior_weight = envd("WP", s.idepth_prior_weight);
     s.min_parallax_flow = envd("FLOW", s.min_parallax_flow);
@@ -75,7 +75,7 @@ TEST(Experiment, DISABLED_EnergyAtTruth) {
   Eigen::Vector3d v(envd("VX", 0.012), envd("VY", 0), envd("VZ", 0));
   double yaw = envd("YAW", 0) * kDeg;
   CoarseInitializerSettings s;
-  s.smoothness_weight = envd("SW", s.smoothness_weight);
+  s.smoothness_weight = envd("SW", s.smoothness_weight); s.initial_lambda = envd("LAM", s.initial_lambda);
   s.confirm_frames = 100;
   CoarseInitializer init(PyramidCamera(K, 5), s);
   std::mt19937 rng(7);

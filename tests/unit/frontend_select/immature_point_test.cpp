@@ -216,6 +216,34 @@ TEST_F(PlaneTrace, MatchOutsideTheImageIsOob) {
   }
 }
 
+TEST_F(PlaneTrace, RotatedPatternMatchesBetterUnderRoll) {
+  // Frame rolled by 0.3 rad about the optical axis: the pattern mapped through the rotation
+  // matches with a lower energy than the unrotated one, and the depths stay right.
+  const SE3d T_w_r = pose({0.0, 0.0, 0.3}, {0.2, 0.02, 0.0});
+  const ImagePyramid rolled = makePyramid(scene.render(T_w_r), 1);
+  const SE3f T_t_h = (T_w_r.inverse() * T_w_c[0]).cast<float>();
+  double energy[2] = {0, 0};
+  int good[2] = {0, 0}, accurate = 0;
+  for (const auto& s : selected) {
+    ImmaturePoint with(gradients(0), s.u, s.v), without(gradients(0), s.u, s.v);
+    TraceSettings plain = settings;
+    plain.rotate_pattern = false;
+    const bool ok_with = with.trace(rolled.gradients(0), scene.camera(), T_t_h, {1.f, 0.f},
+                                    settings) == TraceStatus::kGood;
+    const bool ok_without = without.trace(rolled.gradients(0), scene.camera(), T_t_h, {1.f, 0.f},
+                                          plain) == TraceStatus::kGood;
+    good[0] += ok_with;
+    good[1] += ok_without;
+    if (!ok_with || !ok_without) continue;
+    energy[0] += with.lastEnergy();
+    energy[1] += without.lastEnergy();
+    accurate += relativeError(with, trueIdepth(s.u, s.v)) < 0.05;
+  }
+  EXPECT_GE(good[0], 0.98 * good[1]);
+  EXPECT_LT(energy[0], 0.7 * energy[1]) << energy[0] / energy[1];
+  EXPECT_GE(accurate, 0.85 * good[1]);
+}
+
 /// Host image varying along x only; the target is the view of a fronto-parallel plane at depth
 /// kDepth after the camera moved by t: target(x, y) = host(x + f tx / Z, y + f ty / Z).
 constexpr double kDepth = 2.0;

@@ -224,6 +224,14 @@ TEST(PixelSelector, RejectsBadInput) {
   EXPECT_THROW(PixelSelector(0, kH, config), InputError);
 }
 
+TEST(PixelSelector, ImagesSmallerThanTheBorderGiveNothing) {
+  PixelSelector selector(6, 5, PointSelectionConfig{});
+  std::vector<SelectedPixel> pts;
+  const ImagePyramid pyr = makePyramid(
+      renderImage(6, 5, [](double x, double y) { return 100.0 * ((int(x) + int(y)) % 2); }), 1);
+  EXPECT_EQ(selector.select(pyr, 1.f, pts), 0);
+}
+
 TEST(PixelSelector, WorksWithASingleLevelAndTinyImages) {
   const ImageF img =
       renderImage(40, 30, [](double x, double y) { return test::texture(x, y, 6.0); });

@@ -13,30 +13,28 @@ TrackScene::TrackScene(Layout layout) {
   k_.width = kWidth;
   k_.height = kHeight;
   const double big = 1e3;
-  // Back wall at z = 6.
-  planes_.push_back({{0, 0, 6}, {1, 0, 0}, {0, 1, 0}, big, big, 0.0});
   if (layout == Layout::kRoomCorner) {
-    planes_.push_back({{0, 1.2, 4}, {1, 0, 0}, {0, 0, 1}, big, big, 1.3});    // floor, y = 1.2
-    planes_.push_back({{-2.0, 0, 4}, {0, 0, 1}, {0, 1, 0}, big, big, 2.9});  // left wall
+    // Back wall at z = 5; a left wall (x = z - 6) and a floor (y = 0.8 + 0.7 (5 - z)) turned 45
+    // and 35 degrees towards the camera, which sees them from inside.
+    planes_.push_back({{0, 0, 5}, {1, 0, 0}, {0, 1, 0}, big, big, 0.0});
+    planes_.push_back(
+        {{-1, 0, 5}, Eigen::Vector3d(1, 0, 1).normalized(), {0, 1, 0}, big, big, 2.9});
+    planes_.push_back(
+        {{0, 0.8, 5}, {1, 0, 0}, Eigen::Vector3d(0, -0.7, 1).normalized(), big, big, 1.3});
     return;
   }
+  // Back wall at z = 6.
+  planes_.push_back({{0, 0, 6}, {1, 0, 0}, {0, 1, 0}, big, big, 0.0});
   // A plane on the left, turned about the vertical axis, about 3 m away.
-  planes_.push_back({{-1.0, -0.1, 3.0},
-                     Eigen::Vector3d(1, 0, 0.6).normalized(),
-                     {0, 1, 0},
-                     0.9,
-                     1.1,
-                     1.3});
+  planes_.push_back(
+      {{-1.0, -0.1, 3.0}, Eigen::Vector3d(1, 0, 0.6).normalized(), {0, 1, 0}, 0.9, 1.1, 1.3});
   // A plane at the lower right, tilted back like a ramp, about 3.5 m away.
-  planes_.push_back({{0.9, 0.6, 3.5},
-                     {1, 0, 0},
-                     Eigen::Vector3d(0, 0.7, 1).normalized(),
-                     0.8,
-                     1.0,
-                     2.9});
+  planes_.push_back(
+      {{0.9, 0.6, 3.5}, {1, 0, 0}, Eigen::Vector3d(0, 0.7, 1).normalized(), 0.8, 1.0, 2.9});
 }
 
-double TrackScene::texture(double s, double t, double phase) {
+double TrackScene::texture(double s_metres, double t_metres, double phase) {
+  const double s = s_metres, t = t_metres;
   double v = 0.0;
   v += 0.30 * std::sin(2.9 * s + phase) * std::cos(2.1 * t - 0.5 * phase);
   v += 0.22 * std::sin(6.7 * s + 3.9 * t + 2.0 * phase);
@@ -51,28 +49,41 @@ void TrackScene::render(const SE3d& T_world_cam, ImageF& image, ImageF* idepth) 
   if (idepth != nullptr) idepth->resize(kWidth, kHeight);
   const Eigen::Matrix3d R = T_world_cam.rotationMatrix();
   const Eigen::Vector3d o = T_world_cam.translation();
+  // Nearest hit along the ray through (x, y): the texture value and the camera z of the hit.
+  const auto castRay = [&](double x, double y, double& z_hit) {
+    const Eigen::Vector3d dir = R * Eigen::Vector3d((x - k_.cx) / k_.fx, (y - k_.cy) / k_.fy, 1.0);
+    z_hit = std::numeric_limits<double>::infinity();
+    double value = 0.0;
+    for (const ScenePlane& p : planes_) {
+      const Eigen::Vector3d n = p.e1.cross(p.e2);
+      const double den = n.dot(dir);
+      if (std::abs(den) < 1e-12) continue;
+      const double z = n.dot(p.centre - o) / den;  // the camera z of the hit (ray has z = 1)
+      if (z <= 0.05 || z >= z_hit) continue;
+      const Eigen::Vector3d d = o + z * dir - p.centre;
+      const double s = d.dot(p.e1);
+      const double t = d.dot(p.e2);
+      if (std::abs(s) > p.half1 || std::abs(t) > p.half2) continue;
+      z_hit = z;
+      value = texture(s, t, p.phase);
+    }
+    return value;
+  };
+  // Each pixel integrates its area (3 x 3 samples), as a camera pixel does; inverse depth is
+  // taken at the pixel centre.
+  constexpr int kSub = 3;
   for (int y = 0; y < kHeight; ++y) {
     for (int x = 0; x < kWidth; ++x) {
-      const Eigen::Vector3d ray((x - k_.cx) / k_.fx, (y - k_.cy) / k_.fy, 1.0);
-      const Eigen::Vector3d dir = R * ray;
-      double best = std::numeric_limits<double>::infinity();
-      double value = 0.0;
-      for (const ScenePlane& p : planes_) {
-        const Eigen::Vector3d n = p.e1.cross(p.e2);
-        const double den = n.dot(dir);
-        if (std::abs(den) < 1e-12) continue;
-        const double z = n.dot(p.centre - o) / den;  // the camera z of the hit (ray has z = 1)
-        if (z <= 0.05 || z >= best) continue;
-        const Eigen::Vector3d d = o + z * dir - p.centre;
-        const double s = d.dot(p.e1);
-        const double t = d.dot(p.e2);
-        if (std::abs(s) > p.half1 || std::abs(t) > p.half2) continue;
-        best = z;
-        value = texture(s, t, p.phase);
+      double sum = 0.0, z = 0.0;
+      for (int sy = 0; sy < kSub; ++sy) {
+        for (int sx = 0; sx < kSub; ++sx) {
+          sum += castRay(x + (sx + 0.5) / kSub - 0.5, y + (sy + 0.5) / kSub - 0.5, z);
+        }
       }
-      image(x, y) = static_cast<float>(value);
+      image(x, y) = static_cast<float>(sum / (kSub * kSub));
       if (idepth != nullptr) {
-        (*idepth)(x, y) = std::isfinite(best) ? static_cast<float>(1.0 / best) : 0.f;
+        castRay(x, y, z);
+        (*idepth)(x, y) = std::isfinite(z) ? static_cast<float>(1.0 / z) : 0.f;
       }
     }
   }
@@ -115,7 +126,9 @@ ImagePyramid makePyramid(const ImageF& image) {
   return pyramid;
 }
 
-double rotationError(const SE3d& a, const SE3d& b) { return (a.so3().inverse() * b.so3()).angle(); }
+double rotationError(const SE3d& a, const SE3d& b) {
+  return (a.so3().inverse() * b.so3()).angle();
+}
 
 double translationError(const SE3d& a, const SE3d& b) {
   return (a.translation() - b.translation()).norm();

@@ -69,6 +69,15 @@ TEST(Sim3, ScaleNearOneRoundTrips) {
   }
 }
 
+TEST(Sim3, LogAtExactlyPi) {
+  for (double scale : {1.0, 1.0 + 1e-10, 0.25}) {
+    const Sim3d T(Eigen::Quaterniond(0.0, 0.6, 0.0, 0.8), Vector3d(1.0, -2.0, 0.5), scale);
+    const Vector7d x = T.log();
+    EXPECT_NEAR(x.segment<3>(3).norm(), M_PI, 1e-15);
+    EXPECT_LT(maxAbsDiff(Sim3d::exp(x).matrix(), T.matrix()), 1e-14) << scale;
+  }
+}
+
 TEST(Sim3, LogScaleIsConsistent) {
   TestRandom rnd(33);
   for (int i = 0; i < 50; ++i) {

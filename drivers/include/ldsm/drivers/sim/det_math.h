@@ -6,9 +6,9 @@
 // fixed order, so every conforming platform computes the same bits (build with
 // -ffp-contract=off so that no multiply-add is fused).
 //
-// Accuracy (measured against long double in tests/unit/sim): detSin/detCos absolute error
-// < 4e-16 for |x| <= 1e5; detExp relative error < 4e-16; detLog absolute error < 4e-16 for
-// x in [1e-300, 1e300]; detPow relative error < 1e-15 * (1 + |y log x|).
+// Accuracy (checked against long double in tests/unit/sim/det_math_test.cpp): detSin/detCos
+// absolute error < 3e-16 for |x| <= 1e5; detExp relative error < 3e-16; detLog error
+// < 3e-16 * max(1, |log x|); detPow relative error about 3e-16 * (1 + |y log x|).
 #pragma once
 
 #include <cstdint>
