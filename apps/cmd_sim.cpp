@@ -83,7 +83,8 @@ int runSim(SimCommandOptions& o) {
 
   const auto& cam = source.intrinsics();
   const double duration = static_cast<double>(summary.frames) / o.render.fps;
-  std::printf("scene:        %s (%s)\n", o.scene.c_str(), sim::simSceneDescription(o.scene).c_str());
+  std::printf("scene:        %s (%s)\n", o.scene.c_str(),
+              sim::simSceneDescription(o.scene).c_str());
   std::printf("frames:       %lld (%dx%d at %g fps, %.2f s)\n",
               static_cast<long long>(summary.frames), cam.width, cam.height, o.render.fps,
               duration);

@@ -106,39 +106,31 @@ float evaluateResidual(const ActivePoint& point, PointResidual& res, const Frame
     }
     return energy;
   }
-  // Jacobian rows [eps (6), a_h, b_h, a_t, b_t, idepth] per pattern pixel, summed into the
-  // upper triangle of an 11x11 float block (small fixed loops the compiler unrolls).
-  constexpr int kN = kRelParams + 1;
-  float Hu[kN][kN] = {};
-  float bv[kN] = {};
+  // Jacobian rows [eps (6), a_h, b_h, a_t, b_t, idepth, 0] per pattern pixel, summed as outer
+  // products in a 12x12 float block (padded so that the columns vectorise).
+  using Vec12 = Eigen::Matrix<float, 12, 1>;
+  Eigen::Matrix<float, 12, 12> Hf = Eigen::Matrix<float, 12, 12>::Zero();
+  Vec12 bf = Vec12::Zero();
+  Vec12 J;
+  J[11] = 0.f;
+  J[9] = -1.f;  // b_t
   for (int k = 0; k < kPatternSize; ++k) {
     const PixelTerm& t = terms[k];
-    float J[kN];
-    for (int j = 0; j < 6; ++j) J[j] = t.gx * dpx_deps(0, j) + t.gy * dpx_deps(1, j);
+    J.head<6>() = dpx_deps.row(0).transpose() * t.gx + dpx_deps.row(1).transpose() * t.gy;
     const float dc = pair.scale * (t.color - pair.host_b);
     J[6] = dc;          // a_h
     J[7] = pair.scale;  // b_h
     J[8] = -dc;         // a_t
-    J[9] = -1.f;        // b_t
     J[10] = t.gx * dpx_dd.x() + t.gy * dpx_dd.y();
-    for (int i = 0; i < kN; ++i) {
-      const float wi = t.weight * J[i];
-      bv[i] += wi * t.r;
-      for (int j = i; j < kN; ++j) Hu[i][j] += wi * J[j];
-    }
+    const Vec12 wJ = t.weight * J;
+    Hf.noalias() += wJ.lazyProduct(J.transpose());
+    bf += wJ * t.r;
   }
-  RelMatrix& H = *acc->H_pair;
-  RelVector& b = *acc->b_pair;
-  for (int i = 0; i < kRelParams; ++i) {
-    b[i] += bv[i];
-    acc->coupling[i] += Hu[i][kRelParams];
-    for (int j = i; j < kRelParams; ++j) {
-      H(i, j) += Hu[i][j];
-      if (j != i) H(j, i) += Hu[i][j];
-    }
-  }
-  acc->H_dd += Hu[kRelParams][kRelParams];
-  acc->b_d += bv[kRelParams];
+  *acc->H_pair += Hf.topLeftCorner<kRelParams, kRelParams>().cast<double>();
+  *acc->b_pair += bf.head<kRelParams>().cast<double>();
+  acc->coupling += Hf.block<kRelParams, 1>(0, kRelParams).cast<double>();
+  acc->H_dd += Hf(kRelParams, kRelParams);
+  acc->b_d += bf[kRelParams];
   return energy;
 }
 

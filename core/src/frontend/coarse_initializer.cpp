@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <cstdio>
+#include <ctime>
+#include <cstdlib>
 
 #include "ldsm/error.h"
 
@@ -228,7 +231,7 @@ void CoarseInitializer::trackFrame(const ImagePyramid& pyramid, double exposure)
   stats_.iterations = 0;
   for (int lvl = levels_ - 1; lvl >= 0; --lvl) {
     if (lvl + 1 < levels_) propagateDown(lvl);
-    stats_.iterations += optimiseLevel(lvl);
+    { timespec a{}, b{}; clock_gettime(CLOCK_THREAD_CPUTIME_ID, &a); const int its = optimiseLevel(lvl); clock_gettime(CLOCK_THREAD_CPUTIME_ID, &b); stats_.iterations += its; if (std::getenv("LVLIT")) std::printf("L%d:%d %.1fms ", lvl, its, (b.tv_sec-a.tv_sec)*1e3+(b.tv_nsec-a.tv_nsec)*1e-6); }
     normaliseScale(lvl);
   }
   propagateUp();
@@ -243,6 +246,7 @@ void CoarseInitializer::decide() {
       e.good > 0 ? std::sqrt(2.0 * e.photo_good / (static_cast<double>(e.good) * kPatternSize))
                  : 0.0;
   stats_.flow_translation = e.good > 0 ? std::sqrt(e.flow_sq_sum / e.good) : 0.0;
+  stats_.parallax = rotationFreeParallax();
 
   if (!e.finite || !finitePose(T_) || !std::isfinite(affine_.a) || !std::isfinite(affine_.b)) {
     fail(InitFailure::kNotFinite);
@@ -277,6 +281,35 @@ void CoarseInitializer::decide() {
   }
   publishResult();
   status_ = InitStatus::kComplete;
+}
+
+double CoarseInitializer::rotationFreeParallax() const {
+  const Level& L = levels_data_[0];
+  const LevelCamera& cam = camera_[0];
+  const Eigen::Matrix3d R = T_.rotationMatrix();
+  const Eigen::Vector3d t = T_.translation();
+  Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d b = Eigen::Vector3d::Zero();
+  double flow_sq = 0;
+  int n = 0;
+  for (std::size_t i = 0; i < L.u.size(); ++i) {
+    if (!L.good[i]) continue;
+    const Eigen::Vector3d a = R * cam.unproject(L.u[i].x(), L.u[i].y()).cast<double>();
+    const Eigen::Vector3d q = a + t * static_cast<double>(L.idepth[i]);
+    if (!(a.z() > 1e-6) || !(q.z() > 1e-6)) continue;
+    const double x = a.x() / a.z(), y = a.y() / a.z();
+    const Eigen::Vector2d f(cam.fx * (q.x() / q.z() - x), cam.fy * (q.y() / q.z() - y));
+    Eigen::Matrix<double, 2, 3> J;
+    J << -cam.fx * x * y, cam.fx * (1 + x * x), -cam.fx * y,  //
+        -cam.fy * (1 + y * y), cam.fy * x * y, cam.fy * x;
+    A.noalias() += J.transpose() * J;
+    b.noalias() += J.transpose() * f;
+    flow_sq += f.squaredNorm();
+    ++n;
+  }
+  if (n < 3) return 0.0;
+  const double explained = b.dot(A.ldlt().solve(b));
+  return std::sqrt(std::max(0.0, flow_sq - explained) / n);
 }
 
 bool CoarseInitializer::depthsDegenerate() {

@@ -48,14 +48,14 @@ struct CoarseInitializerSettings {
   int max_levels = 5;          ///< pyramid levels used (fewer when the image is small)
   int min_coarsest_size = 16;  ///< the coarsest used level keeps at least this width and height
   /// Point selection: best-gradient pixel per cell x cell block, per level (level 0 first).
-  std::array<int, kMaxPyramidLevels> cell_size{{7, 4, 3, 2, 1, 1, 1, 1}};
+  std::array<int, kMaxPyramidLevels> cell_size{{8, 6, 4, 2, 2, 2, 2, 2}};
   float min_gradient = 3.f;  ///< |grad I| (grey levels / pixel) a selected pixel must reach
   int neighbours = 10;       ///< k of the smoothness neighbourhood (<= kMaxNeighbours)
   /// Levenberg-Marquardt iterations per level (level 0 first).
-  std::array<int, kMaxPyramidLevels> max_iterations{{4, 6, 10, 20, 30, 30, 30, 30}};
+  std::array<int, kMaxPyramidLevels> max_iterations{{4, 6, 10, 15, 20, 20, 20, 20}};
   double initial_lambda = 1e-3;  ///< LM damping (Marquardt: relative to the Hessian's diagonal)
   /// A level stops when an accepted step lowers the energy by less than this fraction.
-  double convergence_energy_fraction = 1e-4;
+  double convergence_energy_fraction = 1e-3;
 
   float huber_threshold = 9.f;     ///< Huber threshold of residuals, grey levels
   float gradient_weight_c = 50.f;  ///< c of the weight c^2 / (c^2 + |grad I|^2); 0 disables
@@ -65,7 +65,7 @@ struct CoarseInitializerSettings {
 
   /// Weight of (d - median of neighbours)^2 per point (grey levels^2 per unit inverse depth^2)
   /// before and after the parallax is real.
-  float smoothness_weight = 1000.f;
+  float smoothness_weight = 300.f;
   float smoothness_weight_parallax = 0.f;
   float idepth_prior_weight = 1.f;  ///< weight of (d - 1)^2 per point
   /// Weights of a^2 and b^2 per point of the level (keep affine brightness from eating geometry).
@@ -131,6 +131,8 @@ struct InitializationResult {
 /// Diagnostics of the last addFrame().
 struct InitFrameStats {
   double flow_translation = 0;  ///< RMS level-0 flow due to translation alone (pixels)
+  /// RMS of that flow after removing the part a rotation can explain (pixels): the parallax.
+  double parallax = 0;
   double rms_residual = 0;      ///< level-0 Huber RMS residual of inlier points (grey levels)
   double good_fraction = 0;     ///< share of level-0 points that are inliers
   int iterations = 0;           ///< LM iterations over all levels
@@ -218,6 +220,9 @@ class CoarseInitializer {
   void propagateDown(int lvl);
   void propagateUp();
   void decide();
+  /// RMS (level-0 pixels) over the inliers of the translation-induced flow minus its best
+  /// least-squares fit by a small rotation.
+  double rotationFreeParallax() const;
   bool depthsDegenerate();
   void publishResult();
 

@@ -91,6 +91,8 @@ const char* toString(TrackingFailure failure) {
       return "residual not finite";
     case TrackingFailure::kResidualTooLarge:
       return "residual above abort threshold";
+    case TrackingFailure::kAffineOutOfRange:
+      return "affine brightness out of range";
     case TrackingFailure::kTooFewInliers:
       return "too few inlier residuals";
   }
@@ -207,7 +209,8 @@ CoarseTracker::Evaluation CoarseTracker::evaluate(const ImagePyramid& frame, dou
   ev.huber_sq_sum += huber_sq;
   ev.in_image = in_image;
   ev.base_inliers = in_image - base_outliers;
-  ev.finite = std::isfinite(ev.energy) && n > 0;
+  ev.inliers = n;
+  ev.finite = std::isfinite(ev.energy);
   warped_.count = n;
   return ev;
 }
@@ -231,7 +234,7 @@ CoarseTracker::Evaluation CoarseTracker::optimiseLevel(const ImagePyramid& frame
                                                        float& cutoff, int& iterations) {
   const int count = depth_maps_.points(level).count;
   const auto usable = [&](const Evaluation& e) {
-    return e.finite && e.in_image > 0 &&
+    return e.finite && e.inliers > 0 &&
            static_cast<float>(e.in_image) >= settings_.min_in_image_fraction * count;
   };
   Evaluation ev = evaluate(frame, exposure, level, T, affine, cutoff);
@@ -310,10 +313,15 @@ bool CoarseTracker::track(const ImagePyramid& frame, double exposure, SE3d& T_fr
     float cutoff = settings_.outlier_threshold;
     ev = optimiseLevel(frame, exposure, level, T_frame_ref, affine, cutoff, result.iterations);
     result.rmse(level) = ev.rmse();
-    if (!ev.finite) return fail(TrackingFailure::kNotFinite, level);
     if (ev.in_image == 0 || static_cast<float>(ev.in_image) <
                                 settings_.min_in_image_fraction * depth_maps_.points(level).count) {
       return fail(TrackingFailure::kTooFewInImage, level);
+    }
+    if (!ev.finite) return fail(TrackingFailure::kNotFinite, level);
+    if (ev.inliers == 0) return fail(TrackingFailure::kTooFewInliers, level);
+    if (!(std::abs(affine.a - ref_affine_.a) <= settings_.max_affine_a_change &&
+          std::abs(affine.b - ref_affine_.b) <= settings_.max_affine_b_change)) {
+      return fail(TrackingFailure::kAffineOutOfRange, level);
     }
     if (!(result.rmse(level) <= max_rmse(level))) {
       return fail(TrackingFailure::kResidualTooLarge, level);

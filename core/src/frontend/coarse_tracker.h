@@ -43,6 +43,11 @@ struct CoarseTrackerSettings {
   /// (at most max_threshold_doublings times) and the level is run once more afterwards.
   float outlier_fraction_for_doubling = 0.6f;
   int max_threshold_doublings = 6;
+  /// Tracking fails when the frame's affine brightness leaves |a - a_ref| <= max_affine_a_change,
+  /// |b - b_ref| <= max_affine_b_change: the degenerate "solution" of a wrong pose is contrast
+  /// 0 (a -> -inf) and b = the mean intensity.
+  double max_affine_a_change = 1.2;
+  double max_affine_b_change = 200.0;
   /// c of the gradient-dependent weight c^2 / (c^2 + |grad I_ref|^2); 0 disables it.
   float gradient_weight_c = 0.f;
   /// Weights of the prior (a - a_ref)^2 and (b - b_ref)^2 on the frame's affine brightness.
@@ -65,7 +70,8 @@ enum class TrackingFailure {
   kTooFewInImage,     ///< too few points project into the frame
   kNotFinite,         ///< the residual became NaN or infinite
   kResidualTooLarge,  ///< a level's RMSE exceeded its abort threshold
-  kTooFewInliers,     ///< most residuals on level 0 are outliers (not the same image content)
+  kTooFewInliers,     ///< most residuals are outliers (not the same image content)
+  kAffineOutOfRange,  ///< the affine brightness change is implausibly large
 };
 
 /// Human-readable name of a TrackingFailure.
@@ -131,6 +137,7 @@ class CoarseTracker {
     double energy = 0;        // sum of weighted Huber costs (2 rho(r)), outliers included
     double huber_sq_sum = 0;  // the same without gradient-dependent weights, for the RMSE
     int in_image = 0;         // points projecting into the frame
+    int inliers = 0;          // residuals in the normal equations
     int outliers = 0;         // residuals above the (possibly doubled) outlier threshold
     int base_inliers = 0;     // residuals below the configured outlier threshold
     bool finite = true;

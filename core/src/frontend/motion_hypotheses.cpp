@@ -26,6 +26,10 @@ Eigen::Vector3d cubeDirection(int index) {
   return Eigen::Vector3d::UnitX();
 }
 
+bool isSameMotion(const SE3d& a, const SE3d& b) {
+  return (a.inverse() * b).log().norm() < 1e-9;
+}
+
 }  // namespace
 
 const char* toString(MotionHypothesisKind kind) {
@@ -95,7 +99,8 @@ HypothesisTrackingResult trackWithHypotheses(CoarseTracker& tracker, const Image
                                              double exposure, const MotionHistory& history,
                                              const HypothesisSettings& settings) {
   HypothesisTrackingResult best;
-  best.T_frame_ref = motionHypothesis(0, history, settings, nullptr);
+  const SE3d constant_velocity = motionHypothesis(0, history, settings, nullptr);
+  best.T_frame_ref = constant_velocity;
   best.affine = history.last_affine;
   LevelValues abort_rmse = noAbortThresholds();
   const int coarsest = tracker.levels() - 1;
@@ -103,8 +108,9 @@ HypothesisTrackingResult trackWithHypotheses(CoarseTracker& tracker, const Image
   for (int i = 0; i < count; ++i) {
     MotionHypothesisKind kind;
     SE3d T = motionHypothesis(i, history, settings, &kind);
-    // Without a velocity, double / half / zero motion all equal the constant-velocity guess.
-    if (!history.has_velocity && i >= 1 && i <= 3) continue;
+    // Skip basic hypotheses equal to the constant-velocity guess (e.g. without a velocity,
+    // double / half / zero motion are all the same).
+    if (i >= 1 && i < kBasicHypotheses && isSameMotion(T, constant_velocity)) continue;
     AffineLight affine = history.last_affine;
     CoarseTrackingResult tracking;
     ++best.tried;

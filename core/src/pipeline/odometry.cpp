@@ -58,6 +58,10 @@ OdometryStep Odometry::initializeStep(std::unique_ptr<ImagePyramid> pyr, std::in
   OdometryStep step;
   StageTimer::Scope t(timer_, kInitialize);
   const bool done = initializer_.addFrame(*pyr, exposure);
+  const InitFrameStats& is = initializer_.lastFrameStats();
+  spdlog::debug("frame {}: initialiser {} (flow {:.1f} px, rms {:.1f}, good {:.0f} %)", index,
+                toString(initializer_.status()), is.flow_translation, is.rms_residual,
+                100.0 * is.good_fraction);
   if (initializer_.framesTracked() == 0 && !done) {
     // This frame became the initializer's reference: keep its pyramid for the first keyframe.
     mapper_.releasePyramid(std::move(init_reference_));

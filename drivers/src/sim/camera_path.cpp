@@ -30,7 +30,8 @@ Vec3 deBoor(const std::vector<Vec3>& pts, int degree, bool closed, long long spa
   }
   for (int r = 1; r <= degree; ++r) {
     for (int j = degree; j >= r; --j) {
-      const double alpha = (u + static_cast<double>(degree - j)) / static_cast<double>(degree + 1 - r);
+      const double alpha =
+          (u + static_cast<double>(degree - j)) / static_cast<double>(degree + 1 - r);
       d[j] = (1.0 - alpha) * d[j - 1] + alpha * d[j];
     }
   }
@@ -56,8 +57,8 @@ void splitParameter(const std::vector<Vec3>& pts, int degree, bool closed, doubl
   } else {
     const double last = static_cast<double>(n - degree);  // s in [0, last]
     if (s < 0.0 || s > last)
-      throw InputError("sim path: parameter " + std::to_string(s) + " outside the open spline [0, " +
-                       std::to_string(last) + "]");
+      throw InputError("sim path: parameter " + std::to_string(s) +
+                       " outside the open spline [0, " + std::to_string(last) + "]");
     if (fs >= last) fs = last - 1.0;
   }
   span = static_cast<long long>(fs);
@@ -108,14 +109,12 @@ double CameraPath::period() const {
 }
 
 RigidPose evaluatePath(const CameraPath& path, double t) {
-  if (!(path.span_duration_s > 0.0))
-    throw InputError("sim path: span duration must be positive");
+  if (!(path.span_duration_s > 0.0)) throw InputError("sim path: span duration must be positive");
   if (!std::isfinite(t) || t < 0.0 || t > path.duration() * (1.0 + 1e-12))
     throw InputError("sim path: time " + std::to_string(t) + " s outside the path [0, " +
                      std::to_string(path.duration()) + "] s");
   const double s = path.start_span + t / path.span_duration_s;
-  const Vec3 spline_pos =
-      evaluateUniformBSpline(path.control_points, kDegree, path.closed, s);
+  const Vec3 spline_pos = evaluateUniformBSpline(path.control_points, kDegree, path.closed, s);
 
   Vec3 forward = path.fixed_heading;
   if (path.heading_from_tangent)

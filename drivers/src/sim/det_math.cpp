@@ -29,12 +29,12 @@ double roundToInt(double x) {
 double sinPoly(double r) {
   const double r2 = r * r;
   double p = -1.0 / 1307674368000.0;  // -1/15!
-  p = p * r2 + 1.0 / 6227020800.0;     // 1/13!
-  p = p * r2 - 1.0 / 39916800.0;       // -1/11!
-  p = p * r2 + 1.0 / 362880.0;         // 1/9!
-  p = p * r2 - 1.0 / 5040.0;           // -1/7!
-  p = p * r2 + 1.0 / 120.0;            // 1/5!
-  p = p * r2 - 1.0 / 6.0;              // -1/3!
+  p = p * r2 + 1.0 / 6227020800.0;    // 1/13!
+  p = p * r2 - 1.0 / 39916800.0;      // -1/11!
+  p = p * r2 + 1.0 / 362880.0;        // 1/9!
+  p = p * r2 - 1.0 / 5040.0;          // -1/7!
+  p = p * r2 + 1.0 / 120.0;           // 1/5!
+  p = p * r2 - 1.0 / 6.0;             // -1/3!
   return r + r * (r2 * p);
 }
 
@@ -42,13 +42,13 @@ double sinPoly(double r) {
 double cosPoly(double r) {
   const double r2 = r * r;
   double p = 1.0 / 20922789888000.0;  // 1/16!
-  p = p * r2 - 1.0 / 87178291200.0;    // -1/14!
-  p = p * r2 + 1.0 / 479001600.0;      // 1/12!
-  p = p * r2 - 1.0 / 3628800.0;        // -1/10!
-  p = p * r2 + 1.0 / 40320.0;          // 1/8!
-  p = p * r2 - 1.0 / 720.0;            // -1/6!
-  p = p * r2 + 1.0 / 24.0;             // 1/4!
-  p = p * r2 - 0.5;                    // -1/2!
+  p = p * r2 - 1.0 / 87178291200.0;   // -1/14!
+  p = p * r2 + 1.0 / 479001600.0;     // 1/12!
+  p = p * r2 - 1.0 / 3628800.0;       // -1/10!
+  p = p * r2 + 1.0 / 40320.0;         // 1/8!
+  p = p * r2 - 1.0 / 720.0;           // -1/6!
+  p = p * r2 + 1.0 / 24.0;            // 1/4!
+  p = p * r2 - 0.5;                   // -1/2!
   return 1.0 + r2 * p;
 }
 
@@ -66,10 +66,22 @@ void detSinCos(double x, double& s, double& c) {
   // Quadrant k mod 4 (k may be negative).
   const long long q = static_cast<long long>(k) & 3;
   switch (q) {
-    case 0: s = sr; c = cr; break;
-    case 1: s = cr; c = -sr; break;
-    case 2: s = -sr; c = -cr; break;
-    default: s = -cr; c = sr; break;
+    case 0:
+      s = sr;
+      c = cr;
+      break;
+    case 1:
+      s = cr;
+      c = -sr;
+      break;
+    case 2:
+      s = -sr;
+      c = -cr;
+      break;
+    default:
+      s = -cr;
+      c = sr;
+      break;
   }
 }
 
@@ -147,7 +159,9 @@ double detLog(double x) {
   return (de * kLn2Hi + log_m) + de * kLn2Lo;
 }
 
-double detLog2(double x) { return detLog(x) * kInvLn2; }
+double detLog2(double x) {
+  return detLog(x) * kInvLn2;
+}
 
 double detPow(double x, double y) {
   if (std::isnan(x) || std::isnan(y) || x < 0.0) return std::numeric_limits<double>::quiet_NaN();

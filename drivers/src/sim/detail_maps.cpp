@@ -53,8 +53,10 @@ double posterDesign(int design, std::uint32_t seed, double a, double b, double w
     }
     case 1: {  // grid of random tones
       const int nx = 2 + rng.integer(3), ny = 2 + rng.integer(3);
-      const int i = std::min(nx - 1, static_cast<int>(a * nx)), j = std::min(ny - 1, static_cast<int>(b * ny));
-      return 0.25 + 1.35 * hashUnit(seed, static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j));
+      const int i = std::min(nx - 1, static_cast<int>(a * nx)),
+                j = std::min(ny - 1, static_cast<int>(b * ny));
+      return 0.25 +
+             1.35 * hashUnit(seed, static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j));
     }
     case 2: {  // disk and ring
       const double dx = (a - 0.5) * w, dy = (b - 0.5) * h, r = 0.42 * std::min(w, h);
@@ -166,23 +168,33 @@ std::vector<Decal> makeDecals(const SimScene& scene, int qi, std::uint32_t seed)
       }
       const int posters = su > 2.5 ? 1 + rng.integer(2) : (su > 1.0 ? rng.integer(2) : 0);
       for (int k = 0; k < posters; ++k) {
-        Decal p{0, 0, rng.uniform(0.4, 1.1), rng.uniform(0.4, 0.9), DecalType::Poster,
-                rng.integer(6), rng.next()};
+        Decal p{0,
+                0,
+                rng.uniform(0.4, 1.1),
+                rng.uniform(0.4, 0.9),
+                DecalType::Poster,
+                rng.integer(6),
+                rng.next()};
         place(decals, rng, p, 0.1, su - p.u1 - 0.1, floor_v + 1.0, floor_v + 1.5);
       }
       break;
     }
     case SurfaceKind::Box: {
       if (su > 0.35 && sv > 0.3 && rng.uniform() < 0.6) {
-        Decal l{0, 0, std::min(0.3, su - 0.1), std::min(0.2, sv - 0.1), DecalType::Label, 0,
-                rng.next()};
+        Decal l{0, 0,         std::min(0.3, su - 0.1), std::min(0.2, sv - 0.1), DecalType::Label,
+                0, rng.next()};
         place(decals, rng, l, 0.05, su - l.u1 - 0.05, 0.05, sv - l.v1 - 0.05);
       }
       break;
     }
     case SurfaceKind::Floor: {
       if (rng.uniform() < 0.5) {
-        Decal m{0, 0, rng.uniform(0.6, 1.2), rng.uniform(0.4, 0.8), DecalType::Mat, rng.integer(2),
+        Decal m{0,
+                0,
+                rng.uniform(0.6, 1.2),
+                rng.uniform(0.4, 0.8),
+                DecalType::Mat,
+                rng.integer(2),
                 rng.next()};
         place(decals, rng, m, 0.2, su - m.u1 - 0.2, 0.2, sv - m.v1 - 0.2);
       }
@@ -205,7 +217,8 @@ std::vector<Decal> makeDecals(const SimScene& scene, int qi, std::uint32_t seed)
 double landmarkFactor(const std::vector<Decal>& decals, double u, double v) {
   double f = 1.0;
   for (const Decal& d : decals)
-    if (d.contains(u, v)) f = d.type == DecalType::Band ? f * decalFactor(d, u, v) : decalFactor(d, u, v);
+    if (d.contains(u, v))
+      f = d.type == DecalType::Band ? f * decalFactor(d, u, v) : decalFactor(d, u, v);
   return f;
 }
 
@@ -248,7 +261,8 @@ MipTexture bakeDetailMap(const SimScene& scene, int quad, std::uint32_t seed) {
       const int li = i / kStep;
       const double fi = static_cast<double>(i - li * kStep) / kStep;
       const std::size_t k = static_cast<std::size_t>(lj) * lu + li;
-      const double l = lerp(lerp(light[k], light[k + 1], fi), lerp(light[k + lu], light[k + lu + 1], fi), fj);
+      const double l =
+          lerp(lerp(light[k], light[k + 1], fi), lerp(light[k + lu], light[k + lu + 1], fi), fj);
       double f = 1.0;
       if (!decals.empty()) {
         double sum = 0.0;  // 2x2 samples: box-filtered decal edges

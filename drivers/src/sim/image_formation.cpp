@@ -19,8 +19,10 @@ constexpr double kByteSumSigma = 147.80138520322697;
 double responseCurve(SimResponse response, double e) {
   e = std::clamp(e, 0.0, 1.0);
   switch (response) {
-    case SimResponse::Linear: return e;
-    case SimResponse::Gamma: return detPow(e, 1.0 / 2.2);
+    case SimResponse::Linear:
+      return e;
+    case SimResponse::Gamma:
+      return detPow(e, 1.0 / 2.2);
     case SimResponse::SCurve: {
       const double g = detPow(e, 0.6);
       return 0.5 * g + 0.5 * (g * g * (3.0 - 2.0 * g));
@@ -54,7 +56,8 @@ ImageFormation::ImageFormation(const SimOptions& options, const PinholeIntrinsic
   double r2max = 0.0;
   for (int cy = 0; cy < 2; ++cy)
     for (int cx = 0; cx < 2; ++cx) {
-      const double dx = cx * (camera.width - 1) - camera.cx, dy = cy * (camera.height - 1) - camera.cy;
+      const double dx = cx * (camera.width - 1) - camera.cx,
+                   dy = cy * (camera.height - 1) - camera.cy;
       r2max = std::max(r2max, dx * dx + dy * dy);
     }
   const double s = options.vignette;
@@ -106,20 +109,27 @@ void ImageFormation::apply(const ImageF& irradiance, double exposure_ms, std::ui
       const std::uint32_t base = static_cast<std::uint32_t>(y) * static_cast<std::uint32_t>(W);
       for (int x = 0; x < W; ++x) {
         const std::uint32_t h = hash32(base + static_cast<std::uint32_t>(x), noise_key);
-        const std::uint32_t sum = (h & 0xffu) + ((h >> 8) & 0xffu) + ((h >> 16) & 0xffu) + (h >> 24);
+        const std::uint32_t sum =
+            (h & 0xffu) + ((h >> 8) & 0xffu) + ((h >> 16) & 0xffu) + (h >> 24);
         noise[static_cast<std::size_t>(x)] =
             static_cast<float>(static_cast<int>(sum) - 510) * noise_scale;
       }
     }
+    // Table lookups (gathers, scalar), then noise, clamping and rounding (vectorisable).
+    float* grey = pos.data();
     for (int x = 0; x < W; ++x) {
-      const float p = pos[static_cast<std::size_t>(x)];
+      const float p = grey[x];
       const int i = static_cast<int>(p);
       const float f = p - static_cast<float>(i);
-      float g = table[i] + f * (table[i + 1] - table[i]);
-      g += noise[static_cast<std::size_t>(x)];
-      const float g0 = g > 0.0f ? g : 0.0f;
-      const float g1 = g0 < 255.0f ? g0 : 255.0f;
-      o[x] = static_cast<std::uint8_t>(static_cast<int>(g1 + 0.5f));
+      grey[x] = table[i] + f * (table[i + 1] - table[i]);
+    }
+    const float* n = noise.data();
+    for (int x = 0; x < W; ++x) {
+      // Round half up, then clamp as integers (same result as clamping first; |g| stays small).
+      int q = static_cast<int>((grey[x] + n[x]) + 0.5f);
+      q = q < 0 ? 0 : q;
+      q = q > 255 ? 255 : q;
+      o[x] = static_cast<std::uint8_t>(q);
     }
   }
 }

@@ -11,7 +11,9 @@
 namespace ldsm::drivers::sim {
 namespace {
 
-bool isPowerOfTwo(int n) { return n > 0 && (n & (n - 1)) == 0; }
+bool isPowerOfTwo(int n) {
+  return n > 0 && (n & (n - 1)) == 0;
+}
 
 // Index i of a row/column of n texels, wrapped or clamped.
 int fixIndex(int i, int n, bool wrap) {

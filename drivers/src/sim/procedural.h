@@ -12,19 +12,27 @@
 namespace ldsm::drivers::sim {
 
 /// Quintic fade 6t^5 - 15t^4 + 10t^3 (C2 interpolation weight).
-inline double fade(double t) { return t * t * t * (t * (t * 6.0 - 15.0) + 10.0); }
+inline double fade(double t) {
+  return t * t * t * (t * (t * 6.0 - 15.0) + 10.0);
+}
 
-inline double clamp01(double x) { return x < 0.0 ? 0.0 : (x > 1.0 ? 1.0 : x); }
+inline double clamp01(double x) {
+  return x < 0.0 ? 0.0 : (x > 1.0 ? 1.0 : x);
+}
 
 inline double smoothstep(double a, double b, double x) {
   const double t = clamp01((x - a) / (b - a));
   return t * t * (3.0 - 2.0 * t);
 }
 
-inline double lerp(double a, double b, double t) { return a + (b - a) * t; }
+inline double lerp(double a, double b, double t) {
+  return a + (b - a) * t;
+}
 
 /// Positive remainder of x modulo m (m > 0).
-inline double wrapCoord(double x, double m) { return x - std::floor(x / m) * m; }
+inline double wrapCoord(double x, double m) {
+  return x - std::floor(x / m) * m;
+}
 
 /// Value noise in [0, 1) on a lattice of period_x x period_y cells, repeating with that period.
 class PeriodicNoise {

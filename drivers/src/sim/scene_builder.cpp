@@ -16,11 +16,12 @@ int segmentCount(double length, double max_segment) {
 
 }  // namespace
 
-std::uint32_t SceneBuilder::hash(std::uint32_t k) const { return hash32(seed_, k, 0xb01du); }
+std::uint32_t SceneBuilder::hash(std::uint32_t k) const {
+  return hash32(seed_, k, 0xb01du);
+}
 
-int SceneBuilder::addQuad(const Vec3& origin, const Vec3& axis_u, const Vec3& axis_v,
-                          double size_u, double size_v, SurfaceKind kind, int texture,
-                          const Margins& m) {
+int SceneBuilder::addQuad(const Vec3& origin, const Vec3& axis_u, const Vec3& axis_v, double size_u,
+                          double size_v, SurfaceKind kind, int texture, const Margins& m) {
   SimQuad q;
   q.origin = (origin - m.u_begin * axis_u) - m.v_begin * axis_v;
   q.axis_u = axis_u;
@@ -38,7 +39,8 @@ int SceneBuilder::addQuad(const Vec3& origin, const Vec3& axis_u, const Vec3& ax
 }
 
 void SceneBuilder::addWall(double ax, double ay, double bx, double by, double z0, double z1,
-                           const std::vector<int>& textures, double max_segment, double margin_ends) {
+                           const std::vector<int>& textures, double max_segment,
+                           double margin_ends) {
   const double dx = bx - ax, dy = by - ay;
   const double length = std::sqrt(dx * dx + dy * dy);
   const Vec3 u{dx / length, dy / length, 0.0};

@@ -42,8 +42,8 @@ SimScene makeLoopScene() {
   for (int i = 0; i < 4; ++i) {
     const double* s = strips[i];
     b.addHorizontal(s[0], s[1], s[2], s[3], 0.0, SurfaceKind::Floor, floors[i], kSegment, {});
-    b.addHorizontal(s[0], s[1], s[2], s[3], kHeight, SurfaceKind::Ceiling, kCeilingPanels,
-                    kSegment, {});
+    b.addHorizontal(s[0], s[1], s[2], s[3], kHeight, SurfaceKind::Ceiling, kCeilingPanels, kSegment,
+                    {});
   }
 
   // Pillars against the outer walls and cabinets against the inner block.

@@ -22,9 +22,12 @@ void requireRange(const char* key, T value, T lo, T hi) {
 
 std::string toString(SimResponse response) {
   switch (response) {
-    case SimResponse::Linear: return "linear";
-    case SimResponse::Gamma: return "gamma";
-    case SimResponse::SCurve: return "scurve";
+    case SimResponse::Linear:
+      return "linear";
+    case SimResponse::Gamma:
+      return "gamma";
+    case SimResponse::SCurve:
+      return "scurve";
   }
   return "?";
 }

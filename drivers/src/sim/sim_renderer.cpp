@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <limits>
 #include <string>
 #include <utility>
 
@@ -18,17 +17,16 @@ constexpr double kNear = 0.02;  // metres
 constexpr float kMaxInverseDepth = static_cast<float>(1.0 / kNear);
 constexpr float kInsideTolerance = 1e-3f;  // metres, for edge sub-samples
 
-inline int floorToInt(float s) {
-  const int i = static_cast<int>(s);
-  return i - (s < static_cast<float>(i) ? 1 : 0);
-}
-
+// Clamps to [lo, hi]; NaN becomes lo (so no NaN ever reaches a float-to-int conversion, whose
+// result would differ between architectures). Two plain selects vectorise; a nested one does not.
 inline float clampTo(float s, float lo, float hi) {
-  const float a = s < lo ? lo : s;  // two plain selects vectorise; a nested one does not
-  return a > hi ? hi : a;
+  const float a = s > lo ? s : lo;
+  return a < hi ? a : hi;
 }
 
-inline float clampCoord(float s) { return clampTo(s, -1e7f, 1e7f); }
+inline float clampCoord(float s) {
+  return clampTo(s, -1e7f, 1e7f);
+}
 
 // log2 of a positive normal float, piecewise linear between powers of two (error < 0.09);
 // exact at powers of two and continuous, so mip blending stays smooth.
@@ -93,8 +91,8 @@ struct SimRendererKernels {
     return q.wx * xc + (q.wy * yc + q.w0);
   }
 
-  // Texture coordinates (level-0 texels) and levels of detail of the albedo pattern (b) and the
-  // detail map (d) where the ray through (xc, yc) meets quad q. kb, kd: texels per metre.
+  // Canonical texture coordinates (level-0 texels) and levels of detail of the albedo pattern B
+  // (sb, tb, lb) and the detail map D (sd, td, ld) where the ray through (xc, yc) meets quad q.
   template <bool kWrapB, bool kWrapD>
   static inline void lookupCoords(const FrameQuad& q, const TextureRef& B, const TextureRef& D,
                                   float xc, float yc, float& sb, float& tb, float& lb, float& sd,
@@ -160,7 +158,8 @@ struct SimRendererKernels {
     else
       coordsLoop<false, false>(q, tex, D, xc, n, yc, sb, tb, lb, sd, td, ld);
     if (det != nullptr) {
-      for (int i = 0; i < n; ++i) out[i] = sample(tex, sb[i], tb[i], lb[i]) * sample(*det, sd[i], td[i], ld[i]);
+      for (int i = 0; i < n; ++i)
+        out[i] = sample(tex, sb[i], tb[i], lb[i]) * sample(*det, sd[i], td[i], ld[i]);
     } else {
       for (int i = 0; i < n; ++i) out[i] = sample(tex, sb[i], tb[i], lb[i]);
     }
@@ -174,8 +173,8 @@ struct SimRendererKernels {
     const float inv = 1.0f / w;
     const float u = (q.ux * xc + (q.uy * yc + q.u0)) * inv + q.bu;
     const float v = (q.vx * xc + (q.vy * yc + q.v0)) * inv + q.bv;
-    return u >= -kInsideTolerance && u <= q.size_u + kInsideTolerance &&
-           v >= -kInsideTolerance && v <= q.size_v + kInsideTolerance;
+    return u >= -kInsideTolerance && u <= q.size_u + kInsideTolerance && v >= -kInsideTolerance &&
+           v <= q.size_v + kInsideTolerance;
   }
 };
 
@@ -195,8 +194,12 @@ SimRenderer::TextureRef SimRendererKernels::makeRef(const MipTexture& t, const s
     const MipLevel& level = t.levels[static_cast<std::size_t>(l)];
     if (level.texels.width() != level.width + 1 || level.texels.height() != level.height + 1)
       throw InputError("sim renderer: " + what + " level " + std::to_string(l) + " is not padded");
-    r.levels[l] = {level.texels.data(), level.texels.width(), level.width, level.height,
-                   static_cast<float>(level.scale_u), static_cast<float>(level.scale_v)};
+    r.levels[l] = {level.texels.data(),
+                   level.texels.width(),
+                   level.width,
+                   level.height,
+                   static_cast<float>(level.scale_u),
+                   static_cast<float>(level.scale_v)};
   }
   return r;
 }
@@ -233,8 +236,10 @@ SimRenderer::SimRenderer(std::shared_ptr<const SimScene> scene, const PinholeInt
                       " is outside [1, 4]");
   if (scene_->quads.size() >= kNone)
     throw InputError("sim renderer: scene '" + scene_->name + "' has too many quads");
-  for (const MipTexture& t : scene_->textures) textures_.push_back(SimRendererKernels::makeRef(t, "a texture"));
-  for (const MipTexture& t : scene_->details) details_.push_back(SimRendererKernels::makeRef(t, "a detail map"));
+  for (const MipTexture& t : scene_->textures)
+    textures_.push_back(SimRendererKernels::makeRef(t, "a texture"));
+  for (const MipTexture& t : scene_->details)
+    details_.push_back(SimRendererKernels::makeRef(t, "a detail map"));
   for (std::size_t i = 0; i < scene_->quads.size(); ++i) {
     const SimQuad& q = scene_->quads[i];
     if (q.texture < 0 || q.texture >= static_cast<int>(textures_.size()) || q.detail < -1 ||
@@ -290,7 +295,8 @@ void SimRenderer::renderAt(const RigidPose& T_wc, const PinholeIntrinsics& cam, 
   wbuf_.resize(cam.width, cam.height);
   ids_.resize(cam.width, cam.height);
   xc_.resize(static_cast<std::size_t>(cam.width));
-  for (int x = 0; x < cam.width; ++x) xc_[static_cast<std::size_t>(x)] = static_cast<float>(x - cam.cx);
+  for (int x = 0; x < cam.width; ++x)
+    xc_[static_cast<std::size_t>(x)] = static_cast<float>(x - cam.cx);
   setupQuads(T_wc, cam);
   rasterize(cam);
   shade(cam, out);
@@ -444,7 +450,8 @@ void SimRenderer::shade(const PinholeIntrinsics& cam, ImageF& out) {
       }
       const FrameQuad f = frame_quads_[id];
       const TextureRef& tex = textures_[static_cast<std::size_t>(f.texture)];
-      const TextureRef* det = f.detail >= 0 ? &details_[static_cast<std::size_t>(f.detail)] : nullptr;
+      const TextureRef* det =
+          f.detail >= 0 ? &details_[static_cast<std::size_t>(f.detail)] : nullptr;
       while (x < end) {
         const int n = std::min(end - x, SimRendererKernels::kChunk);
         SimRendererKernels::shadeRun(f, tex, det, xc + x, n, yc, o + x);
@@ -471,7 +478,8 @@ void SimRenderer::antialiasEdges(const PinholeIntrinsics& cam, ImageF& out) {
     for (int x = 1; x + 1 < W; ++x)
       mask[x] = static_cast<std::uint8_t>((ir[x] != up[x]) | (ir[x] != down[x]) |
                                           (ir[x] != ir[x - 1]) | (ir[x] != ir[x + 1]));
-    if (W > 1) mask[W - 1] = ir[W - 1] != up[W - 1] || ir[W - 1] != down[W - 1] || ir[W - 1] != ir[W - 2];
+    if (W > 1)
+      mask[W - 1] = ir[W - 1] != up[W - 1] || ir[W - 1] != down[W - 1] || ir[W - 1] != ir[W - 2];
     for (int x = 0; x < W; ++x) {
       if (mask[x] == 0) continue;
       const std::uint16_t id = ir[x];
@@ -491,6 +499,8 @@ void SimRenderer::antialiasEdges(const PinholeIntrinsics& cam, ImageF& out) {
         }
       }
       const float xc = xc_[static_cast<std::size_t>(x)];
+      // Sub-samples that see the centre's quad reuse the centre's value (already shaded, with
+      // the same texture footprint); the others are shaded from the quad they see.
       float sum = 0.0f;
       for (const auto& o : kOffsets) {
         const float sx = xc + o[0], sy = yc + o[1];
@@ -503,11 +513,15 @@ void SimRenderer::antialiasEdges(const PinholeIntrinsics& cam, ImageF& out) {
             best = cand[k];
           }
         }
-        if (best < 0) best = id == kNone ? -1 : id;
-        if (best < 0) continue;
+        if (best < 0 || best == id) {
+          sum += id == kNone ? 0.0f : out(x, y);
+          continue;
+        }
         const FrameQuad& f = frame_quads_[static_cast<std::size_t>(best)];
-        const TextureRef* det = f.detail >= 0 ? &details_[static_cast<std::size_t>(f.detail)] : nullptr;
-        sum += SimRendererKernels::shade(f, textures_[static_cast<std::size_t>(f.texture)], det, sx, sy);
+        const TextureRef* det =
+            f.detail >= 0 ? &details_[static_cast<std::size_t>(f.detail)] : nullptr;
+        sum += SimRendererKernels::shade(f, textures_[static_cast<std::size_t>(f.texture)], det, sx,
+                                         sy);
       }
       out(x, y) = sum * 0.25f;
     }

@@ -53,8 +53,7 @@ std::vector<std::string> simSceneNames() {
 
 std::string simSceneDescription(const std::string& name) {
   const std::string n = findScene(name).name;
-  if (n == "loop")
-    return "closed rectangular corridor loop (52 m), revisits the start after 54 s";
+  if (n == "loop") return "closed rectangular corridor loop (52 m), revisits the start after 54 s";
   if (n == "forward") return "forward motion down a 54 m corridor";
   if (n == "rotation") return "strong panning in a room while moving slowly";
   return "small room, gentle motion, 2 s (for tests)";
@@ -69,7 +68,8 @@ SimScene makeSimScene(const std::string& name, const SimOptions& options) {
 
 std::int64_t simFrameCount(const SimScene& scene, const SimOptions& options) {
   std::int64_t frames = options.frames;
-  if (frames == 0) frames = static_cast<std::int64_t>(std::floor(scene.default_duration_s * options.fps + 0.5));
+  if (frames == 0)
+    frames = static_cast<std::int64_t>(std::floor(scene.default_duration_s * options.fps + 0.5));
   // Frame i is at time i / fps; the last one must lie on the path.
   const double last_t = static_cast<double>(frames - 1) / options.fps;
   if (last_t > scene.path.duration()) {

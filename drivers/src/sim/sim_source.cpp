@@ -112,7 +112,9 @@ bool SimSource::next(Frame& frame) {
   return true;
 }
 
-void SimSource::seek(std::int64_t index) { position_ = std::clamp<std::int64_t>(index, 0, frame_count_); }
+void SimSource::seek(std::int64_t index) {
+  position_ = std::clamp<std::int64_t>(index, 0, frame_count_);
+}
 
 void SimSource::renderFrame(std::int64_t index, Frame& frame) {
   if (index < 0 || index >= frame_count_)
@@ -128,7 +130,8 @@ void SimSource::renderFrame(std::int64_t index, Frame& frame) {
     const double limit = scene_->path.duration();
     for (int j = 0; j < m; ++j) {
       const double tj = std::clamp(t + dt * ((j + 0.5) / m - 0.5), 0.0, limit);
-      renderer_.renderIrradiance(evaluatePath(scene_->path, tj), j == 0 ? irradiance_ : blur_sample_);
+      renderer_.renderIrradiance(evaluatePath(scene_->path, tj),
+                                 j == 0 ? irradiance_ : blur_sample_);
       if (j > 0) {
         float* a = irradiance_.data();
         const float* b = blur_sample_.data();

@@ -4,7 +4,6 @@
 #include "texture_library.h"
 
 #include <cmath>
-#include <functional>
 #include <utility>
 
 #include "procedural.h"
@@ -16,14 +15,18 @@ constexpr int N = kLibraryTextureSize;
 constexpr double kN = static_cast<double>(N);
 
 // Integer cell index of coordinate x in cells of `cell` texels.
-int cellOf(double x, double cell) { return static_cast<int>(std::floor(x / cell)); }
+int cellOf(double x, double cell) {
+  return static_cast<int>(std::floor(x / cell));
+}
 
-std::uint32_t u32(int v) { return static_cast<std::uint32_t>(v); }
+std::uint32_t u32(int v) {
+  return static_cast<std::uint32_t>(v);
+}
 
 // Bakes f(x, y) (texel coordinates, repeating every N) at 2x2 samples per texel.
 // `smooth` is evaluated once per texel at its centre and passed to f as its third argument.
-ImageF bake(const std::function<double(double, double)>& smooth,
-            const std::function<double(double, double, double)>& f) {
+template <typename Smooth, typename Pattern>
+ImageF bake(const Smooth& smooth, const Pattern& f) {
   ImageF img(N, N);
   for (int y = 0; y < N; ++y) {
     for (int x = 0; x < N; ++x) {
@@ -70,7 +73,8 @@ ImageF floorTiles(std::uint32_t seed) {
   FractalNoise fbm(N, 8, 8, 5, 0.6, hash32(seed, 4));
   PeriodicNoise speckle(256, 256, hash32(seed, 5));
   constexpr double kTile = 64.0, kGrout = 3.0;
-  return bake([&](double x, double y) { return fbm.at(x, y) + 0.35 * (speckle.at(x * 0.5, y * 0.5) - 0.5); },
+  return bake([&](double x,
+                  double y) { return fbm.at(x, y) + 0.35 * (speckle.at(x * 0.5, y * 0.5) - 0.5); },
               [&](double x, double y, double s) {
                 if (wrapCoord(x, kTile) < kGrout || wrapCoord(y, kTile) < kGrout)
                   return 0.18 + 0.05 * s;
@@ -93,8 +97,7 @@ ImageF wood(std::uint32_t seed) {
                 const double shift = std::floor(hashUnit(u32(plank), 12, seed) * 8.0) * 64.0;
                 const double xs = wrapCoord(x + shift, kN);
                 if (wrapCoord(y, kPlank) < kSeam || wrapCoord(xs, len) < kSeam) return 0.12;
-                const double tone =
-                    0.35 + 0.25 * hashUnit(u32(plank), u32(cellOf(xs, len)), seed);
+                const double tone = 0.35 + 0.25 * hashUnit(u32(plank), u32(cellOf(xs, len)), seed);
                 return tone + 0.45 * (s - 0.5);
               });
 }
@@ -129,8 +132,7 @@ ImageF blobs(std::uint32_t seed) {
   FractalNoise fbm(N, 4, 4, 5, 0.55, hash32(seed, 10));
   ImageF img(N, N);
   for (int y = 0; y < N; ++y)
-    for (int x = 0; x < N; ++x)
-      img(x, y) = static_cast<float>(0.5 + 0.3 * (fbm.at(x, y) - 0.5));
+    for (int x = 0; x < N; ++x) img(x, y) = static_cast<float>(0.5 + 0.3 * (fbm.at(x, y) - 0.5));
   // Disks drawn over their bounding boxes (wrapping), later ones covering earlier ones; coverage
   // from 4x4 samples per texel.
   for (std::uint32_t i = 0; i < 90; ++i) {

@@ -41,7 +41,8 @@ std::string shortest(double v) {
 
 std::string frameName(std::int64_t index, int digits) {
   std::string s = std::to_string(index);
-  if (static_cast<int>(s.size()) < digits) s.insert(0, static_cast<std::size_t>(digits) - s.size(), '0');
+  if (static_cast<int>(s.size()) < digits)
+    s.insert(0, static_cast<std::size_t>(digits) - s.size(), '0');
   return s;
 }
 

@@ -4,6 +4,8 @@
 
 #include <opencv2/imgcodecs.hpp>
 #include <algorithm>
+#include <chrono>
+#include <cstdlib>
 #include <cmath>
 #include <filesystem>
 #include <string>
@@ -33,9 +35,11 @@ test::InitRun runUnsampled(CoarseInitializer& init, const std::vector<SE3d>& pos
     if (init.failed()) ++run.failures;
     if (init.status() == InitStatus::kConfirming) ++run.snaps;
     run.max_flow = std::max(run.max_flow, init.lastFrameStats().flow_translation);
+    run.max_parallax = std::max(run.max_parallax, init.lastFrameStats().parallax);
     if (verbose) {
-      std::printf("frame %3zu: %-22s flow %6.2f rms %6.2f good %.2f\n", i,
+      std::printf("frame %3zu: %-22s flow %6.2f par %5.2f rms %6.2f good %.2f\n", i,
                   toString(init.status()), init.lastFrameStats().flow_translation,
+                  init.lastFrameStats().parallax,
                   init.lastFrameStats().rms_residual, init.lastFrameStats().good_fraction);
     }
   }
@@ -54,7 +58,8 @@ TEST(InitializerRefusal, StaticCameraWithNoiseAndVibrationNeverInitialises) {
     poses.emplace_back(SO3d::exp(w * 0.05 * kDeg), t * 0.001);
   }
   CoarseInitializer init(PyramidCamera(K, 5));
-  const test::InitRun run = runUnsampled(init, poses, K, 2.f);
+  const test::InitRun run = runUnsampled(init, poses, K, 2.f, std::getenv("VERB") != nullptr);
+  std::printf("static: max flow %.2f parallax %.2f\n", run.max_flow, run.max_parallax);
   EXPECT_EQ(run.completed_at, -1);
   EXPECT_EQ(run.snaps, 0);
   EXPECT_EQ(run.failures, 0) << "a static camera is trackable";
@@ -71,7 +76,8 @@ TEST(InitializerRefusal, PanningCameraNeverInitialises) {
                        Eigen::Vector3d::Zero());
   }
   CoarseInitializer init(PyramidCamera(K, 5));
-  const test::InitRun run = runUnsampled(init, poses, K, 1.5f);
+  const test::InitRun run = runUnsampled(init, poses, K, 1.5f, std::getenv("VERB") != nullptr);
+  std::printf("panning: max flow %.2f parallax %.2f, failures %d\n", run.max_flow, run.max_parallax, run.failures);
   EXPECT_EQ(run.completed_at, -1);
   EXPECT_EQ(run.snaps, 0);
 }
@@ -89,6 +95,7 @@ TEST(InitializerRefusal, OscillatingRotationNeverInitialises) {
   }
   CoarseInitializer init(PyramidCamera(K, 5));
   const test::InitRun run = runUnsampled(init, poses, K, 1.5f);
+  std::printf("oscillating: max flow %.2f parallax %.2f, failures %d\n", run.max_flow, run.max_parallax, run.failures);
   EXPECT_EQ(run.completed_at, -1);
   EXPECT_EQ(run.snaps, 0);
   EXPECT_LT(run.max_flow, init.settings().min_parallax_flow);
@@ -117,6 +124,7 @@ TEST(InitializerRefusal, EurocDroneStandingStillNeverInitialises) {
   ImagePyramid pyramid(K.width, K.height, 5);
   ImageF image(K.width, K.height);
   double max_flow = 0;
+  double max_parallax = 0;
   int snaps = 0;
   for (const std::string& f : files) {
     const cv::Mat grey = cv::imread(f, cv::IMREAD_GRAYSCALE);
@@ -126,12 +134,21 @@ TEST(InitializerRefusal, EurocDroneStandingStillNeverInitialises) {
       for (int x = 0; x < K.width; ++x) image(x, y) = grey.at<std::uint8_t>(y, x);
     }
     pyramid.build(image.view());
+    const auto t0 = std::chrono::steady_clock::now();
     EXPECT_FALSE(init.addFrame(pyramid, 1.0)) << f;
+    const double ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    if (std::getenv("VERB")) {
+      std::printf("%-22s flow %5.2f rms %5.2f good %.2f it %3d  %.1f ms\n", toString(init.status()),
+                  init.lastFrameStats().flow_translation, init.lastFrameStats().rms_residual,
+                  init.lastFrameStats().good_fraction, init.lastFrameStats().iterations, ms);
+    }
     if (init.status() == InitStatus::kConfirming) ++snaps;
     max_flow = std::max(max_flow, init.lastFrameStats().flow_translation);
+    max_parallax = std::max(max_parallax, init.lastFrameStats().parallax);
   }
-  std::printf("EuRoC static: max translation flow %.2f px, %d snapped frames, status %s\n",
-              max_flow, snaps, toString(init.status()));
+  std::printf("EuRoC static: max translation flow %.2f px, parallax %.2f px, %d snapped frames, "
+              "status %s\n", max_flow, max_parallax, snaps, toString(init.status()));
   EXPECT_EQ(snaps, 0);
   EXPECT_FALSE(init.complete());
 }

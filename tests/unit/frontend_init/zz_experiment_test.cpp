@@ -7,6 +7,18 @@ namespace ldsm {
 namespace {
 constexpr double kDeg = 3.14159265358979323846 / 180.0;
 double envd(const char* n, double def) { const char* v = std::getenv(n); return v ? std::atof(v) : def; }
+void applyEnv(CoarseInitializerSettings& s) {
+  s.smoothness_weight = envd("SW", s.smoothness_weight); s.initial_lambda = envd("LAM", s.initial_lambda);
+  s.smoothness_weight_parallax = envd("SWP", s.smoothness_weight_parallax);
+  s.idepth_prior_weight = envd("WP", s.idepth_prior_weight);
+  s.min_parallax_flow = envd("FLOW", s.min_parallax_flow);
+  s.confirm_frames = (int)envd("CONF", s.confirm_frames);
+  s.convergence_energy_fraction = envd("CONV", s.convergence_energy_fraction);
+  s.gradient_weight_c = (float)envd("GWC", s.gradient_weight_c);
+  char n[8];
+  for (int l = 0; l < 5; ++l) { snprintf(n, 8, "IT%d", l); s.max_iterations[l] = (int)envd(n, s.max_iterations[l]);
+    snprintf(n, 8, "C%d", l); s.cell_size[l] = (int)envd(n, s.cell_size[l]); }
+}
 TEST(Experiment, DISABLED_Sweep) {
   const test::PlaneScene scene = test::wallAndFloorScene();
   const PinholeIntrinsics K = test::makeIntrinsics(320, 240, 250);
@@ -14,14 +26,7 @@ TEST(Experiment, DISABLED_Sweep) {
   std::vector<C> cases = {{"side", {0.012,0,0}, 0}, {"sideturn", {-0.012,0.002,0}, 0.05}, {"fwd", {0,0,0.03},0}, {"diag", {0.008,-0.004,0.015}, -0.03}};
   for (auto& c : cases) {
     CoarseInitializerSettings s;
-    s.smoothness_weight = envd("SW", s.smoothness_weight); s.initial_lambda = envd("LAM", s.initial_lambda);
-    s.smoothness_weight_parallax = envd("SWP", s.smoothness_weight_parallax);
-    s.idepth_prior_weight = envd("WP", s.idepth_prior_weight);
-    s.min_parallax_flow = envd("FLOW", s.min_parallax_flow);
-    s.confirm_frames = (int)envd("CONF", s.confirm_frames);
-    int it0 = (int)envd("IT0", s.max_iterations[0]);
-    int it1 = (int)envd("IT1", s.max_iterations[1]);
-    s.max_iterations[0] = it0; s.max_iterations[1] = it1;
+    applyEnv(s);
     std::vector<SE3d> poses;
     for (int i = 0; i < 40; ++i) poses.emplace_back(SO3d::exp(Eigen::Vector3d(0, c.yaw * kDeg * i, 0)), c.v * i);
     CoarseInitializer init(PyramidCamera(K, 5), s);
@@ -101,3 +106,18 @@ TEST(Experiment, DISABLED_EnergyAtTruth) {
 }
 }  // namespace
 }  // namespace ldsm
+namespace ldsm { namespace {
+TEST(Experiment, DISABLED_Timing640) {
+  const test::PlaneScene scene = test::wallAndFloorScene();
+  const PinholeIntrinsics K = test::makeIntrinsics(640, 480, 500);
+  CoarseInitializerSettings s;
+  applyEnv(s);
+  s.confirm_frames = 100;
+  std::vector<SE3d> poses;
+  for (int i = 0; i < 12; ++i) poses.emplace_back(SO3d(), Eigen::Vector3d(0.01 * i, 0, 0));
+  CoarseInitializer init(PyramidCamera(K, 5), s);
+  auto run = test::runSequence(init, scene, poses, K, 1.5f, 7, true, envd("VERB", 0) > 0);
+  for (int l = 0; l < init.levels(); ++l) printf("level %d: %d points\n", l, init.pointCount(l));
+  printf("cpu %.2f ms per frame\n", run.ms_per_frame);
+}
+}}

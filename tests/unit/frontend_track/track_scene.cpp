@@ -69,9 +69,9 @@ void TrackScene::render(const SE3d& T_world_cam, ImageF& image, ImageF* idepth) 
     }
     return value;
   };
-  // Each pixel integrates its area (3 x 3 samples), as a camera pixel does; inverse depth is
+  // Each pixel integrates its area (2 x 2 samples), as a camera pixel does; inverse depth is
   // taken at the pixel centre.
-  constexpr int kSub = 3;
+  constexpr int kSub = 2;
   for (int y = 0; y < kHeight; ++y) {
     for (int x = 0; x < kWidth; ++x) {
       double sum = 0.0, z = 0.0;

@@ -70,8 +70,8 @@ TEST(CameraPath, SecondAndThirdDerivativesAreContinuousAcrossKnots) {
 TEST(CameraPath, ClosedPathIsPeriodic) {
   CameraPath p;
   for (int i = 0; i < 10; ++i)
-    p.control_points.push_back({3.0 * std::cos(0.6283185307179586 * i),
-                                2.0 * std::sin(0.6283185307179586 * i), 1.0});
+    p.control_points.push_back(
+        {3.0 * std::cos(0.6283185307179586 * i), 2.0 * std::sin(0.6283185307179586 * i), 1.0});
   p.closed = true;
   p.span_duration_s = 0.7;
   p.yaw = {{0.1, p.period() / 3, 0.2}};

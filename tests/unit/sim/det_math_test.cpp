@@ -55,8 +55,8 @@ TEST(DetMath, ExpLogPowMatchReference) {
   for (int i = 1; i < 20000; ++i) {
     const double x = std::ldexp(1.0 + (i % 997) / 997.0, i / 20 - 500);
     const long double ref = std::log(static_cast<long double>(x));
-    log_abs = std::max(log_abs, static_cast<double>(std::fabs(detLog(x) - ref) /
-                                                    std::max(1.0L, std::fabs(ref))));
+    log_abs = std::max(
+        log_abs, static_cast<double>(std::fabs(detLog(x) - ref) / std::max(1.0L, std::fabs(ref))));
   }
   for (double b = 0.01; b < 10.0; b *= 1.37)
     for (double e = -3.0; e < 3.0; e += 0.29) {

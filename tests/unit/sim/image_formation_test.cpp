@@ -32,7 +32,8 @@ TEST(ImageFormation, ResponseTablesFollowTheCurves) {
     o.response = r;
     const ImageFormation f(o, smallCamera());
     for (double e = 0.0; e <= 1.0; e += 0.01)
-      EXPECT_NEAR(f.responseGrey(e), 255.0 * responseCurve(r, e), r == SimResponse::Linear ? 1e-3 : 0.05)
+      EXPECT_NEAR(f.responseGrey(e), 255.0 * responseCurve(r, e),
+                  r == SimResponse::Linear ? 1e-3 : 0.05)
           << toString(r) << " e " << e;
     // The exported inverse response inverts the table, rises, and spans [0, 255].
     const auto& inv = f.inverseResponse();

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "ldsm/drivers/sim/sim_scene.h"
 #include "ldsm/drivers/sim/det_math.h"
+#include "ldsm/drivers/sim/sim_scene.h"
 #include "ldsm/drivers/sim/sim_source.h"
 #include "ldsm/error.h"
 #include "sim_test_support.h"
@@ -94,7 +94,8 @@ MotionStats motionStats(const SimScene& scene, double fps, std::int64_t frames) 
     s.max_step_m = std::max(s.max_step_m, (p - poses[i - 1].translation).norm());
     const double ang = test::rotationAngle(poses[i - 1], poses[i]);
     s.max_step_rad = std::max(s.max_step_rad, ang);
-    if (prev_angvel >= 0) s.max_angvel_jump = std::max(s.max_angvel_jump, std::fabs(ang - prev_angvel) * fps * fps);
+    if (prev_angvel >= 0)
+      s.max_angvel_jump = std::max(s.max_angvel_jump, std::fabs(ang - prev_angvel) * fps * fps);
     prev_angvel = ang;
     if (i + 1 < poses.size()) {
       const Eigen::Vector3d a =
@@ -113,12 +114,12 @@ TEST(SimScene, MotionIsSmoothSlowEnoughAndKeepsAwayFromSurfaces) {
     const double fps = 30.0;
     const MotionStats s = motionStats(*scene, fps, simFrameCount(*scene, SimOptions{}));
     SCOPED_TRACE(name);
-    EXPECT_LT(s.max_step_m, 0.05);                      // < 1.5 m/s
-    EXPECT_LT(s.max_step_rad, 3.0 * kPi / 180.0);      // < 3 degrees per frame
-    EXPECT_LT(s.max_accel, 3.0);                        // m/s^2
-    EXPECT_LT(s.max_accel_jump, 20.0);                  // m/s^3: acceleration is continuous
-    EXPECT_LT(s.max_angvel_jump, 20.0);                 // rad/s^2: angular velocity too
-    EXPECT_GT(s.min_wall_distance, 0.5);                // no surface closer than 0.5 m
+    EXPECT_LT(s.max_step_m, 0.05);                 // < 1.5 m/s
+    EXPECT_LT(s.max_step_rad, 3.0 * kPi / 180.0);  // < 3 degrees per frame
+    EXPECT_LT(s.max_accel, 3.0);                   // m/s^2
+    EXPECT_LT(s.max_accel_jump, 20.0);             // m/s^3: acceleration is continuous
+    EXPECT_LT(s.max_angvel_jump, 20.0);            // rad/s^2: angular velocity too
+    EXPECT_GT(s.min_wall_distance, 0.5);           // no surface closer than 0.5 m
   }
 }
 
@@ -169,7 +170,8 @@ TEST(SimScene, OpticalFlowPerFrameIsSmall) {
     const auto& K = src.intrinsics();
     std::vector<double> flows;
     ImageF irr, invd;
-    for (std::int64_t i = 0; i + 1 < src.frameCount(); i += std::max<std::int64_t>(1, src.frameCount() / 12)) {
+    for (std::int64_t i = 0; i + 1 < src.frameCount();
+         i += std::max<std::int64_t>(1, src.frameCount() / 12)) {
       src.renderer().renderIrradiance(gt[i].pose, irr, &invd);
       const Eigen::Isometry3d T_next_this =
           gt[i + 1].pose.isometry().inverse() * gt[i].pose.isometry();

@@ -80,7 +80,8 @@ TEST(SimSource, ImagesHaveSaneStatistics) {
           sum += v;
           black += v == 0;
           saturated += v == 255;
-          const double g = std::hypot(f.image(x + 1, y) - f.image(x - 1, y), f.image(x, y + 1) - f.image(x, y - 1));
+          const double g = std::hypot(f.image(x + 1, y) - f.image(x - 1, y),
+                                      f.image(x, y + 1) - f.image(x, y - 1));
           grad += g;
           textured += g > 16;
           ++n;
@@ -90,8 +91,8 @@ TEST(SimSource, ImagesHaveSaneStatistics) {
       EXPECT_LT(sum / n, 200.0);
       EXPECT_LT(black, n / 100);
       EXPECT_LT(saturated, n / 20);
-      EXPECT_GT(grad / n, 4.0);          // enough gradient for direct alignment
-      EXPECT_GT(textured, n / 20);       // and strong edges/corners for features
+      EXPECT_GT(grad / n, 4.0);     // enough gradient for direct alignment
+      EXPECT_GT(textured, n / 20);  // and strong edges/corners for features
     }
   }
 }
@@ -136,11 +137,12 @@ TEST(SimOptions, ValidationNamesTheOption) {
   EXPECT_EQ(parseSimResponse("scurve"), SimResponse::SCurve);
   EXPECT_EQ(toString(parseSimResponse("gamma")), "gamma");
   EXPECT_THROW(parseSimResponse("log"), ConfigError);
-  EXPECT_THROW(SimSource("short", [] {
-                 SimOptions o;
-                 o.fps = -1;
-                 return o;
-               }()),
+  EXPECT_THROW(SimSource("short",
+                         [] {
+                           SimOptions o;
+                           o.fps = -1;
+                           return o;
+                         }()),
                ConfigError);
 }
 
@@ -162,7 +164,7 @@ TEST(SimSource, MotionBlurAveragesAcrossTheExposure) {
       gb += std::abs(fb.image(x + 1, y) - fb.image(x - 1, y));
       diff += std::abs(fa.image(x, y) - fb.image(x, y));
     }
-  EXPECT_LT(gb, 0.95 * ga);  // panning blurs horizontal gradients
+  EXPECT_LT(gb, 0.95 * ga);             // panning blurs horizontal gradients
   EXPECT_LT(diff / (120 * 158), 10.0);  // but the image is the same view
 }
 

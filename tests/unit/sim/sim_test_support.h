@@ -29,7 +29,8 @@ inline std::shared_ptr<const SimScene> sharedScene(const std::string& name) {
 }
 
 /// 64-bit FNV-1a over raw bytes.
-inline std::uint64_t fnv1a(const void* data, std::size_t n, std::uint64_t h = 1469598103934665603ull) {
+inline std::uint64_t fnv1a(const void* data, std::size_t n,
+                           std::uint64_t h = 1469598103934665603ull) {
   const auto* p = static_cast<const unsigned char*>(data);
   for (std::size_t i = 0; i < n; ++i) {
     h ^= p[i];
@@ -45,7 +46,9 @@ std::uint64_t fnv1a(const Image<T>& img, std::uint64_t h = 1469598103934665603ul
   return h;
 }
 
-inline Eigen::Vector3d toEigen(const Vec3& v) { return {v.x, v.y, v.z}; }
+inline Eigen::Vector3d toEigen(const Vec3& v) {
+  return {v.x, v.y, v.z};
+}
 
 /// Nearest intersection of the world ray o + s d (s > 0) with the scene's quads, computed
 /// independently of the renderer. Returns false when nothing is hit.

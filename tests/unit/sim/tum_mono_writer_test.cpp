@@ -45,10 +45,11 @@ TEST(TumMonoWriter, RoundTripThroughTheReaders) {
   TumMonoWriteOptions w;
   w.focal_error = 0.03;
   int calls = 0;
-  const TumMonoWriteSummary s = writeTumMonoSequence(src, dir.string(), w, [&](std::int64_t done, std::int64_t total) {
-    EXPECT_EQ(done, ++calls);
-    EXPECT_EQ(total, 8);
-  });
+  const TumMonoWriteSummary s =
+      writeTumMonoSequence(src, dir.string(), w, [&](std::int64_t done, std::int64_t total) {
+        EXPECT_EQ(done, ++calls);
+        EXPECT_EQ(total, 8);
+      });
   EXPECT_EQ(calls, 8);
   EXPECT_EQ(s.frames, 8);
   EXPECT_NEAR(s.path_length_m, pathLength(src.groundTruth()), 1e-12);
@@ -95,7 +96,8 @@ TEST(TumMonoWriter, RoundTripThroughTheReaders) {
   const ImageF V = calib::readVignette((dir / "vignette.png").string());
   ASSERT_EQ(V.width(), 96);
   for (int y = 0; y < 72; y += 7)
-    for (int x = 0; x < 96; x += 7) EXPECT_NEAR(V(x, y), src.photometricCalibration().vignette(x, y), 1e-4);
+    for (int x = 0; x < 96; x += 7)
+      EXPECT_NEAR(V(x, y), src.photometricCalibration().vignette(x, y), 1e-4);
 
   // Ground truth reads back pose for pose.
   const Trajectory gt = readTrajectory((dir / "groundtruth.txt").string());
@@ -137,7 +139,8 @@ TEST(TumMonoWriter, RejectsBadFocalErrorAndUnwritableFolders) {
 #ifdef LDSM_EXE
 int run(const std::string& args, std::string* output = nullptr) {
   const fs::path log = scratch("cli.log");
-  const std::string cmd = std::string("\"") + LDSM_EXE + "\" " + args + " > \"" + log.string() + "\" 2>&1";
+  const std::string cmd =
+      std::string("\"") + LDSM_EXE + "\" " + args + " > \"" + log.string() + "\" 2>&1";
   const int status = std::system(cmd.c_str());
   if (output != nullptr) {
     output->clear();
@@ -151,10 +154,12 @@ TEST(SimCommand, RendersAFolderAndReportsErrors) {
   if (!fs::exists(LDSM_EXE)) GTEST_SKIP() << "build the ldsm target first: " << LDSM_EXE;
   const fs::path dir = scratch("cli_out");
   std::string out;
-  ASSERT_EQ(run("sim --scene short --frames 4 --width 64 --height 48 --noise 0.5 --exposure-changes "
-                "--response scurve --vignette 0.2 --focal-error 0.01 --seed 3 --out \"" + dir.string() + "\"",
-                &out),
-            0)
+  ASSERT_EQ(
+      run("sim --scene short --frames 4 --width 64 --height 48 --noise 0.5 --exposure-changes "
+          "--response scurve --vignette 0.2 --focal-error 0.01 --seed 3 --out \"" +
+              dir.string() + "\"",
+          &out),
+      0)
       << out;
   EXPECT_NE(out.find("path length"), std::string::npos) << out;
   EXPECT_NE(out.find("frames:       4"), std::string::npos) << out;

@@ -35,7 +35,9 @@ double detLog2(double x);
 double detPow(double x, double y);
 
 /// Degrees to radians.
-inline double degToRad(double deg) { return deg * (kPi / 180.0); }
+inline double degToRad(double deg) {
+  return deg * (kPi / 180.0);
+}
 
 /// A 32-bit integer hash with good avalanche (two multiply-xorshift rounds).
 inline std::uint32_t hash32(std::uint32_t x) {
@@ -58,7 +60,9 @@ inline std::uint32_t hash32(std::uint32_t a, std::uint32_t b, std::uint32_t c) {
 }
 
 /// A hash mapped to [0, 1) with 24 bits of resolution (exactly representable in float and double).
-inline double hashToUnit(std::uint32_t h) { return static_cast<double>(h >> 8) * (1.0 / 16777216.0); }
+inline double hashToUnit(std::uint32_t h) {
+  return static_cast<double>(h >> 8) * (1.0 / 16777216.0);
+}
 
 /// Uniform value in [0, 1) from three integer keys.
 inline double hashUnit(std::uint32_t a, std::uint32_t b, std::uint32_t c) {

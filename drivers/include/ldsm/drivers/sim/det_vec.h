@@ -10,15 +10,27 @@ struct Vec3 {
   double x = 0, y = 0, z = 0;
 };
 
-inline Vec3 operator+(const Vec3& a, const Vec3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-inline Vec3 operator-(const Vec3& a, const Vec3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-inline Vec3 operator-(const Vec3& a) { return {-a.x, -a.y, -a.z}; }
-inline Vec3 operator*(double s, const Vec3& a) { return {s * a.x, s * a.y, s * a.z}; }
-inline double dot(const Vec3& a, const Vec3& b) { return (a.x * b.x + a.y * b.y) + a.z * b.z; }
+inline Vec3 operator+(const Vec3& a, const Vec3& b) {
+  return {a.x + b.x, a.y + b.y, a.z + b.z};
+}
+inline Vec3 operator-(const Vec3& a, const Vec3& b) {
+  return {a.x - b.x, a.y - b.y, a.z - b.z};
+}
+inline Vec3 operator-(const Vec3& a) {
+  return {-a.x, -a.y, -a.z};
+}
+inline Vec3 operator*(double s, const Vec3& a) {
+  return {s * a.x, s * a.y, s * a.z};
+}
+inline double dot(const Vec3& a, const Vec3& b) {
+  return (a.x * b.x + a.y * b.y) + a.z * b.z;
+}
 inline Vec3 cross(const Vec3& a, const Vec3& b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
-inline double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
+inline double norm(const Vec3& a) {
+  return std::sqrt(dot(a, a));
+}
 inline Vec3 normalized(const Vec3& a) {
   const double n = norm(a);
   return {a.x / n, a.y / n, a.z / n};
@@ -45,7 +57,9 @@ struct Mat3 {
   }
 };
 
-inline Vec3 operator*(const Mat3& a, const Vec3& v) { return {dot(a.row(0), v), dot(a.row(1), v), dot(a.row(2), v)}; }
+inline Vec3 operator*(const Mat3& a, const Vec3& v) {
+  return {dot(a.row(0), v), dot(a.row(1), v), dot(a.row(2), v)};
+}
 
 inline Mat3 operator*(const Mat3& a, const Mat3& b) {
   Mat3 r;

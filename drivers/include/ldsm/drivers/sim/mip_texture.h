@@ -25,8 +25,8 @@ struct MipLevel {
 };
 
 struct MipTexture {
-  bool wrap = false;           ///< repeat (power-of-two sizes) or clamp to the border texel
-  double texel_size_m = 0.01;  ///< metres per level-0 texel on the surface
+  bool wrap = false;             ///< repeat (power-of-two sizes) or clamp to the border texel
+  double texel_size_m = 0.01;    ///< metres per level-0 texel on the surface
   std::vector<MipLevel> levels;  ///< levels[0] is the full resolution
 
   int levelCount() const { return static_cast<int>(levels.size()); }

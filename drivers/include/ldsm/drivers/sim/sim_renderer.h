@@ -99,13 +99,13 @@ class SimRenderer {
   RenderSettings settings_;
 
   std::vector<TextureRef> textures_, details_;
-  std::vector<FrameQuad> frame_quads_;  // indexed by quad id
-  std::vector<Polygon> polygons_;       // projected, near-clipped outlines of visible quads
-  std::vector<float> xc_;               // x - cx per column
+  std::vector<FrameQuad> frame_quads_;   // indexed by quad id
+  std::vector<Polygon> polygons_;        // projected, near-clipped outlines of visible quads
+  std::vector<float> xc_;                // x - cx per column
   std::vector<std::uint8_t> edge_mask_;  // edge pixels of one row
-  ImageF wbuf_;                         // inverse depth of the nearest quad
-  Image<std::uint16_t> ids_;            // nearest quad
-  ImageF hires_, hires_depth_;          // supersampled buffers
+  ImageF wbuf_;                          // inverse depth of the nearest quad
+  Image<std::uint16_t> ids_;             // nearest quad
+  ImageF hires_, hires_depth_;           // supersampled buffers
 };
 
 }  // namespace ldsm::drivers::sim

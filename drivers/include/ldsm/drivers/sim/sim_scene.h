@@ -25,7 +25,7 @@ struct SimQuad {
   double size_u = 1.0;   ///< metres
   double size_v = 1.0;   ///< metres
   SurfaceKind kind = SurfaceKind::Wall;
-  int texture = 0;  ///< index into SimScene::textures (repeating albedo pattern)
+  int texture = 0;                ///< index into SimScene::textures (repeating albedo pattern)
   double texture_offset_u = 0.0;  ///< metres the pattern is shifted by
   double texture_offset_v = 0.0;
   int detail = -1;  ///< index into SimScene::details (landmarks x lighting), -1: none

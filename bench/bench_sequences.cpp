@@ -1,0 +1,188 @@
+// Runs the odometry on the real sequences of ../shared/data and on synthetic scenes, each in its
+// own process (so that peak memory is per sequence), and prints one table: frames, ATE after
+// Sim(3) alignment, time per frame (mean and p99 of the whole per-frame processing), peak RSS,
+// and the targets of the odometry issue.
+//
+//   bench_sequences [--data DIR] [--only NAME[,NAME...]] [--check]
+//
+// Deterministic mode, one thread. --check exits non-zero when a target is missed.
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "ldsm/drivers/dataset_calibration.h"
+#include "ldsm/drivers/dataset_description.h"
+#include "ldsm/drivers/dataset_source.h"
+#include "ldsm/drivers/sim/sim_source.h"
+#include "ldsm/drivers/trajectory_io.h"
+#include "ldsm/error.h"
+#include "ldsm/eval/ate.h"
+#include "ldsm/system.h"
+
+namespace {
+
+struct Target {
+  double ate_m = NAN;
+  double ms_per_frame = NAN;
+  double rss_mb = NAN;
+};
+
+struct Sequence {
+  std::string name;
+  std::string folder;  ///< below --data; empty for synthetic scenes
+  std::string scene;   ///< synthetic scene name
+  std::int64_t frames = 0;
+  Target target;
+};
+
+struct Result {
+  long long frames = 0, tracked = 0, keyframes = 0;
+  double ate = NAN, path = NAN, ms_mean = NAN, ms_p99 = NAN;
+  char error[200] = {};
+};
+
+Result runSequence(const Sequence& s, const std::string& data) {
+  Result r;
+  ldsm::Config config;
+  config.system.deterministic = true;
+  std::unique_ptr<ldsm::drivers::FrameSource> source;
+  std::unique_ptr<ldsm::System> system;
+  ldsm::Trajectory gt;
+  if (!s.scene.empty()) {
+    ldsm::drivers::sim::SimOptions opt;
+    opt.frames = s.frames;
+    auto sim = std::make_unique<ldsm::drivers::sim::SimSource>(s.scene, opt);
+    gt = sim->groundTruth();
+    system = std::make_unique<ldsm::System>(config, sim->geometricCalibration(),
+                                            sim->photometricCalibration());
+    source = std::move(sim);
+  } else {
+    const auto desc = ldsm::drivers::describeDataset(data + "/" + s.folder);
+    const auto calib = ldsm::drivers::loadDatasetCalibration(desc);
+    system = std::make_unique<ldsm::System>(config, calib.geometric, calib.photometric);
+    if (!desc.groundtruth_file.empty())
+      gt = ldsm::drivers::readTrajectory(desc.groundtruth_file, desc.groundtruth_format,
+                                         &desc.timestamps);
+    source = ldsm::drivers::openDataset(desc);
+  }
+  ldsm::drivers::Frame f;
+  while (source->next(f)) system->submit({f.image.view(), f.timestamp, f.exposure_ms});
+  system->finish();
+  const ldsm::SystemStats st = system->stats();
+  r.frames = st.frames;
+  r.tracked = st.tracked_frames;
+  r.keyframes = st.keyframes;
+  for (const auto& t : st.stages)
+    if (t.stage == "total") {
+      r.ms_mean = t.mean_ms;
+      r.ms_p99 = t.p99_ms;
+    }
+  const ldsm::Trajectory est = system->trajectory();
+  if (!gt.empty() && est.size() >= 3) {
+    const auto ate = ldsm::eval::computeAte(gt, est);
+    r.ate = ate.rmse;
+    r.path = ate.gt_path_length;
+  }
+  return r;
+}
+
+std::string fmt(double v, const char* f) {
+  if (std::isnan(v)) return "-";
+  char b[32];
+  std::snprintf(b, sizeof(b), f, v);
+  return b;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string data = LDSM_BENCH_DATA;
+  std::string only;
+  bool check = false;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--data" && i + 1 < argc) data = argv[++i];
+    else if (a == "--only" && i + 1 < argc) only = argv[++i];
+    else if (a == "--check") check = true;
+    else {
+      std::fprintf(stderr, "usage: %s [--data DIR] [--only NAME,...] [--check]\n", argv[0]);
+      return 2;
+    }
+  }
+  const std::vector<Sequence> all = {
+      {"kitti00_200", "kitti00_200", "", 0, {0.90, 75.0, 150.0}},
+      {"vamr_desk_loop", "vamr_desk_loop", "", 0, {0.0010, 25.0, 150.0}},
+      {"euroc_v101_static95", "euroc_v101_static95", "", 0, {}},
+      {"sim:forward", "", "forward", 600, {}},
+      {"sim:rotation", "", "rotation", 600, {}},
+      {"sim:loop", "", "loop", 0, {}},
+  };
+  std::printf("%-20s %6s %6s %5s %10s %7s %8s %8s %8s  %s\n", "sequence", "frames", "track",
+              "KFs", "ATE [m]", "ATE %", "ms/frame", "p99 ms", "RSS MB", "targets");
+  bool all_ok = true;
+  for (const Sequence& s : all) {
+    if (!only.empty() && ("," + only + ",").find("," + s.name + ",") == std::string::npos)
+      continue;
+    if (!s.folder.empty() && !std::filesystem::is_directory(data + "/" + s.folder)) {
+      std::printf("%-20s skipped: %s/%s not found\n", s.name.c_str(), data.c_str(),
+                  s.folder.c_str());
+      continue;
+    }
+    std::fflush(stdout);
+    int fd[2];
+    if (pipe(fd) != 0) return 2;
+    const pid_t pid = fork();
+    if (pid == 0) {
+      close(fd[0]);
+      Result r;
+      try {
+        r = runSequence(s, data);
+      } catch (const std::exception& e) {
+        std::snprintf(r.error, sizeof(r.error), "%s", e.what());
+      }
+      if (write(fd[1], &r, sizeof(r)) != static_cast<ssize_t>(sizeof(r))) _exit(3);
+      _exit(0);
+    }
+    close(fd[1]);
+    Result r;
+    const bool got = read(fd[0], &r, sizeof(r)) == static_cast<ssize_t>(sizeof(r));
+    close(fd[0]);
+    int status = 0;
+    rusage usage{};
+    wait4(pid, &status, 0, &usage);
+    const double rss = static_cast<double>(usage.ru_maxrss) / 1024.0;
+    if (!got) {
+      std::printf("%-20s crashed (status %d)\n", s.name.c_str(), status);
+      all_ok = false;
+      continue;
+    }
+    if (r.error[0]) {
+      std::printf("%-20s error: %s\n", s.name.c_str(), r.error);
+      all_ok = false;
+      continue;
+    }
+    std::string verdict;
+    auto judge = [&](const char* what, double value, double limit) {
+      if (std::isnan(limit)) return;
+      const bool ok = !std::isnan(value) && value <= limit;
+      all_ok = all_ok && ok;
+      verdict += std::string(what) + (ok ? " ok " : " MISS ");
+    };
+    judge("ATE", r.ate, s.target.ate_m);
+    judge("ms", r.ms_mean, s.target.ms_per_frame);
+    judge("RSS", rss, s.target.rss_mb);
+    std::printf("%-20s %6lld %6lld %5lld %10s %7s %8s %8s %8.0f  %s\n", s.name.c_str(), r.frames,
+                r.tracked, r.keyframes, fmt(r.ate, "%.4f").c_str(),
+                fmt(100.0 * r.ate / r.path, "%.2f").c_str(), fmt(r.ms_mean, "%.1f").c_str(),
+                fmt(r.ms_p99, "%.1f").c_str(), rss, verdict.c_str());
+    std::fflush(stdout);
+  }
+  return check && !all_ok ? 1 : 0;
+}

@@ -1,0 +1,155 @@
+// Sparse inverse-depth maps over the pyramid: splatting, weighted 2x2 averaging, dilation, the
+// extracted point lists and bad input.
+#include "frontend/depth_map_pyramid.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "ldsm/error.h"
+
+namespace ldsm {
+namespace {
+
+constexpr int kW = 64;
+constexpr int kH = 48;
+constexpr int kLevels = 4;
+
+// A reference pyramid whose intensity encodes the pixel position, so extracted intensities can be
+// checked.
+ImagePyramid makeReference() {
+  ImageF image(kW, kH);
+  for (int y = 0; y < kH; ++y) {
+    for (int x = 0; x < kW; ++x) image(x, y) = static_cast<float>(x + 100 * y);
+  }
+  ImagePyramid pyramid(kW, kH, kLevels);
+  pyramid.build(image.view());
+  return pyramid;
+}
+
+// Inverse depth of a plane, affine in the level-0 pixel coordinates.
+float planeIdepth(float u, float v) {
+  return 0.2f + 0.001f * u - 0.0005f * v;
+}
+
+TEST(DepthMapPyramidTest, SplatsToNearestPixelWithWeightedAverage) {
+  const ImagePyramid ref = makeReference();
+  DepthMapPyramid maps(kW, kH, kLevels);
+  const std::vector<DepthPoint> points = {{10.3f, 20.6f, 0.5f, 1.f},
+                                          {9.6f, 21.4f, 0.2f, 3.f},   // same pixel (10, 21)
+                                          {30.f, 30.f, 0.25f, 1.f}};  // a second pixel
+  EXPECT_EQ(maps.build(points.data(), points.size(), ref), 3);
+  EXPECT_EQ(maps.rejectedPoints(), 0);
+  EXPECT_NEAR(maps.idepthAt(0, 10, 21), (0.5f * 1 + 0.2f * 3) / 4, 1e-6);
+  EXPECT_NEAR(maps.idepthAt(0, 30, 30), 0.25f, 1e-6);
+  EXPECT_EQ(maps.idepthAt(0, 10, 20), 0.f);
+}
+
+TEST(DepthMapPyramidTest, CoarseLevelsAverageChildrenExactlyForAPlane) {
+  const ImagePyramid ref = makeReference();
+  std::vector<DepthPoint> dense;
+  for (int y = 0; y < kH; ++y) {
+    for (int x = 0; x < kW; ++x) {
+      dense.push_back({static_cast<float>(x), static_cast<float>(y),
+                       planeIdepth(static_cast<float>(x), static_cast<float>(y)), 1.f});
+    }
+  }
+  DepthMapPyramid maps(kW, kH, kLevels);
+  maps.build(dense.data(), dense.size(), ref);
+  for (int l = 0; l < kLevels; ++l) {
+    const LevelPoints& pts = maps.points(l);
+    ASSERT_EQ(pts.count, maps.width(l) * maps.height(l)) << "level " << l;
+    const float s = static_cast<float>(1 << l);
+    for (int i = 0; i < pts.count; ++i) {
+      // Pixel centre of a level-l pixel in level-0 coordinates.
+      const float u0 = (pts.x[i] + 0.5f) * s - 0.5f;
+      const float v0 = (pts.y[i] + 0.5f) * s - 0.5f;
+      ASSERT_NEAR(pts.idepth[i], planeIdepth(u0, v0), 1e-5) << "level " << l;
+      ASSERT_FLOAT_EQ(pts.intensity[i],
+                      ref.intensity(l)(static_cast<int>(pts.x[i]), static_cast<int>(pts.y[i])));
+    }
+  }
+}
+
+TEST(DepthMapPyramidTest, DilatesDiagonallyOnFineLevelsAndCrosswiseOnCoarse) {
+  const ImagePyramid ref = makeReference();
+  DepthMapPyramid maps(kW, kH, kLevels);
+  // One point at level-0 pixel (20, 20): level 2 pixel (5, 5) holds it.
+  const std::vector<DepthPoint> points = {{20.f, 20.f, 0.4f, 2.f}};
+  maps.build(points.data(), points.size(), ref);
+  EXPECT_EQ(maps.points(0).count, 5);  // itself + 4 diagonal neighbours
+  for (const auto& d : {std::pair{1, 1}, {-1, 1}, {1, -1}, {-1, -1}}) {
+    EXPECT_NEAR(maps.idepthAt(0, 20 + d.first, 20 + d.second), 0.4f, 1e-6);
+  }
+  EXPECT_EQ(maps.idepthAt(0, 21, 20), 0.f);
+  EXPECT_EQ(maps.idepthAt(0, 22, 22), 0.f);  // one dilation step only
+  EXPECT_EQ(maps.points(2).count, 5);        // itself + 4 cross neighbours
+  EXPECT_NEAR(maps.idepthAt(2, 6, 5), 0.4f, 1e-6);
+  EXPECT_NEAR(maps.idepthAt(2, 5, 4), 0.4f, 1e-6);
+  EXPECT_EQ(maps.idepthAt(2, 6, 6), 0.f);
+}
+
+TEST(DepthMapPyramidTest, DilationAveragesNeighboursButNotAcrossDiscontinuities) {
+  const ImagePyramid ref = makeReference();
+  DepthMapPyramid maps(kW, kH, kLevels);
+  // Pixel (11, 11) has diagonal neighbours (10, 10) and (12, 12) with similar depth: averaged
+  // with their weights. Pixel (31, 11) has neighbours at 0.2 and 0.5: left empty.
+  const std::vector<DepthPoint> points = {{10.f, 10.f, 0.30f, 1.f},
+                                          {12.f, 12.f, 0.33f, 2.f},
+                                          {30.f, 10.f, 0.2f, 1.f},
+                                          {32.f, 12.f, 0.5f, 1.f}};
+  maps.build(points.data(), points.size(), ref);
+  EXPECT_NEAR(maps.idepthAt(0, 11, 11), (0.30f + 2 * 0.33f) / 3, 1e-6);
+  EXPECT_EQ(maps.idepthAt(0, 31, 11), 0.f);
+  EXPECT_NEAR(maps.idepthAt(0, 29, 9), 0.2f, 1e-6);  // single-neighbour fill still happens
+}
+
+TEST(DepthMapPyramidTest, RebuildForgetsThePreviousPoints) {
+  const ImagePyramid ref = makeReference();
+  DepthMapPyramid maps(kW, kH, kLevels);
+  const std::vector<DepthPoint> a = {{20.f, 20.f, 0.4f, 1.f}};
+  const std::vector<DepthPoint> b = {{40.f, 30.f, 0.3f, 1.f}};
+  maps.build(a.data(), a.size(), ref);
+  maps.build(b.data(), b.size(), ref);
+  EXPECT_EQ(maps.idepthAt(0, 20, 20), 0.f);
+  EXPECT_NEAR(maps.idepthAt(0, 40, 30), 0.3f, 1e-6);
+  EXPECT_EQ(maps.points(0).count, 5);
+}
+
+TEST(DepthMapPyramidTest, SkipsInvalidPoints) {
+  const ImagePyramid ref = makeReference();
+  DepthMapPyramid maps(kW, kH, kLevels);
+  const float nan = std::nanf("");
+  const std::vector<DepthPoint> points = {
+      {-0.6f, 5.f, 0.3f, 1.f},             // left of the image
+      {5.f, kH - 0.4f, 0.3f, 1.f},         // below
+      {nan, 5.f, 0.3f, 1.f},               // NaN position
+      {5.f, 5.f, nan, 1.f},                // NaN inverse depth
+      {5.f, 5.f, 0.f, 1.f},                // zero inverse depth
+      {5.f, 5.f, -1.f, 1.f},               // negative inverse depth
+      {5.f, 5.f, 0.3f, 0.f},               // zero weight
+      {5.f, 5.f, 0.3f, INFINITY},          // infinite weight
+      {kW - 0.6f, kH - 0.6f, 0.3f, 1.f}};  // valid, rounds to the last pixel
+  EXPECT_EQ(maps.build(points.data(), points.size(), ref), 1);
+  EXPECT_EQ(maps.rejectedPoints(), 8);
+  EXPECT_NEAR(maps.idepthAt(0, kW - 1, kH - 1), 0.3f, 1e-6);
+}
+
+TEST(DepthMapPyramidTest, RejectsBadSizes) {
+  EXPECT_THROW(DepthMapPyramid(0, 10, 1), InputError);
+  EXPECT_THROW(DepthMapPyramid(64, 48, 0), ConfigError);
+  EXPECT_THROW(DepthMapPyramid(64, 48, 8), ConfigError);
+  DepthMapPyramid maps(kW, kH, kLevels);
+  ImageF other(kW * 2, kH, 0.f);
+  ImagePyramid wrong_size(kW * 2, kH, kLevels);
+  wrong_size.build(other.view());
+  EXPECT_THROW(maps.build(nullptr, 0, wrong_size), InputError);
+  ImageF same(kW, kH, 0.f);
+  ImagePyramid too_few_levels(kW, kH, 2);
+  too_few_levels.build(same.view());
+  EXPECT_THROW(maps.build(nullptr, 0, too_few_levels), InputError);
+}
+
+}  // namespace
+}  // namespace ldsm

@@ -1,0 +1,195 @@
+// Motion hypotheses: their construction, and tracking that recovers from a bad constant-velocity
+// guess, stops early when a guess is good, and reports failure on an unrelated image.
+#include "frontend/motion_hypotheses.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <random>
+#include <set>
+#include <tuple>
+
+#include "track_scene.h"
+
+namespace ldsm {
+namespace {
+
+using test::TrackScene;
+
+SE3d rotationAboutY(double angle, const Eigen::Vector3d& t = Eigen::Vector3d::Zero()) {
+  return SE3d(SO3d::exp(Eigen::Vector3d(0, angle, 0)), t);
+}
+
+TEST(MotionHypothesesTest, BuildsTheExpectedPoses) {
+  MotionHistory h;
+  h.T_last_ref = SE3d(SO3d::exp(Eigen::Vector3d(0.01, 0.02, -0.01)), Eigen::Vector3d(0.1, 0, 0));
+  h.T_last_prelast = SE3d(SO3d::exp(Eigen::Vector3d(0, 0.05, 0.01)), Eigen::Vector3d(0, 0.02, 0));
+  h.has_velocity = true;
+  const HypothesisSettings settings;
+  ASSERT_EQ(motionHypothesisCount(settings), 5 + 26 * settings.rotation_angle_count);
+  const auto near = [](const SE3d& a, const SE3d& b) {
+    return (a.inverse() * b).log().norm() < 1e-12;
+  };
+  MotionHypothesisKind kind;
+  const SE3d& V = h.T_last_prelast;
+  EXPECT_TRUE(near(motionHypothesis(0, h, settings, &kind), V * h.T_last_ref));
+  EXPECT_EQ(kind, MotionHypothesisKind::kConstantVelocity);
+  EXPECT_TRUE(near(motionHypothesis(1, h, settings, &kind), V * V * h.T_last_ref));
+  EXPECT_EQ(kind, MotionHypothesisKind::kDoubleMotion);
+  const SE3d half = motionHypothesis(2, h, settings, &kind) * h.T_last_ref.inverse();
+  EXPECT_TRUE(near(half * half, V));
+  EXPECT_EQ(kind, MotionHypothesisKind::kHalfMotion);
+  EXPECT_TRUE(near(motionHypothesis(3, h, settings, &kind), h.T_last_ref));
+  EXPECT_EQ(kind, MotionHypothesisKind::kZeroMotion);
+  EXPECT_TRUE(near(motionHypothesis(4, h, settings, &kind), SE3d()));
+  EXPECT_EQ(kind, MotionHypothesisKind::kReferencePose);
+
+  // Rotated hypotheses: the constant-velocity guess turned about the camera centre by each
+  // configured angle in 26 distinct directions.
+  const SE3d constant = V * h.T_last_ref;
+  std::set<std::tuple<long, long, long>> directions;
+  for (int i = 5; i < motionHypothesisCount(settings); ++i) {
+    const SE3d delta = motionHypothesis(i, h, settings, &kind) * constant.inverse();
+    EXPECT_EQ(kind, MotionHypothesisKind::kRotated);
+    EXPECT_LT(delta.translation().norm(), 1e-12);  // a pure rotation about the camera centre
+    const int angle_index = (i - 5) / 26;
+    const Eigen::Vector3d w = delta.so3().log();
+    EXPECT_NEAR(w.norm(), settings.rotation_angles[angle_index], 1e-12);
+    const Eigen::Vector3d d = w.normalized() * 1000.0;
+    directions.insert(
+        {std::lround(d.x()), std::lround(d.y()), std::lround(d.z()) + 10000L * angle_index});
+  }
+  EXPECT_EQ(directions.size(), 26u * settings.rotation_angle_count);
+}
+
+TEST(MotionHypothesesTest, WithoutVelocityTheConstantGuessIsTheLastPose) {
+  MotionHistory h;
+  h.T_last_ref = SE3d(SO3d(), Eigen::Vector3d(0.1, 0.2, 0.3));
+  h.T_last_prelast = SE3d(SO3d(), Eigen::Vector3d(5, 5, 5));  // ignored
+  EXPECT_LT(
+      (motionHypothesis(0, h, HypothesisSettings(), nullptr).inverse() * h.T_last_ref).log().norm(),
+      1e-12);
+}
+
+class HypothesisTrackingTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    ImageF image, idepth;
+    scene_.render(SE3d(), image, &idepth);
+    const ImagePyramid ref = test::makePyramid(image);
+    tracker_ = std::make_unique<CoarseTracker>(TrackScene::kWidth, TrackScene::kHeight,
+                                               TrackScene::kLevels, CoarseTrackerSettings());
+    tracker_->setReference(ref, scene_.camera(), test::selectPoints(image, idepth), 1.0,
+                           AffineLight());
+  }
+  ImagePyramid renderFrame(const SE3d& T_frame_ref) {
+    ImageF image;
+    scene_.render(T_frame_ref.inverse(), image, nullptr);
+    return test::makePyramid(image);
+  }
+  bool plainTrack(const ImagePyramid& frame, SE3d T) {
+    AffineLight affine;
+    CoarseTrackingResult result;
+    return tracker_->track(frame, 1.0, T, affine, TrackScene::kLevels - 1, noAbortThresholds(),
+                           result);
+  }
+  static bool close(const SE3d& a, const SE3d& b) {
+    return test::rotationError(a, b) < 1e-3 && test::translationError(a, b) < 2e-3;
+  }
+
+  TrackScene scene_;
+  std::unique_ptr<CoarseTracker> tracker_;
+};
+
+TEST_F(HypothesisTrackingTest, GoodConstantVelocityGuessStopsAtOnce) {
+  MotionHistory h;
+  h.T_last_ref = rotationAboutY(0.01, {0.02, 0, 0.01});
+  h.T_last_prelast = rotationAboutY(0.01, {0.02, 0, 0.01});
+  h.has_velocity = true;
+  h.last_rmse = 1.0;
+  const SE3d truth = h.T_last_prelast * h.T_last_ref;
+  const HypothesisTrackingResult r =
+      trackWithHypotheses(*tracker_, renderFrame(truth), 1.0, h, HypothesisSettings());
+  ASSERT_TRUE(r.success);
+  EXPECT_EQ(r.hypothesis, 0);
+  EXPECT_EQ(r.kind, MotionHypothesisKind::kConstantVelocity);
+  EXPECT_EQ(r.tried, 1);
+  EXPECT_TRUE(close(r.T_frame_ref, truth));
+  EXPECT_DOUBLE_EQ(r.rmse, r.tracking.rmse(0));
+  EXPECT_TRUE(r.tracking.success);
+}
+
+TEST_F(HypothesisTrackingTest, CameraThatStoppedIsFoundByZeroMotion) {
+  MotionHistory h;
+  h.T_last_ref = rotationAboutY(0.02, {0.03, 0, 0});
+  h.T_last_prelast = rotationAboutY(0.15, {0.1, 0, 0});  // fast pan ... then the camera stops
+  h.has_velocity = true;
+  h.last_rmse = 1.0;
+  const SE3d truth = h.T_last_ref;
+  const ImagePyramid frame = renderFrame(truth);
+  // The premise: the constant-velocity guess alone does not track.
+  EXPECT_FALSE(plainTrack(frame, h.T_last_prelast * h.T_last_ref));
+  const HypothesisTrackingResult r =
+      trackWithHypotheses(*tracker_, frame, 1.0, h, HypothesisSettings());
+  ASSERT_TRUE(r.success);
+  EXPECT_GT(r.hypothesis, 0);
+  EXPECT_TRUE(close(r.T_frame_ref, truth));
+  EXPECT_LT(r.rmse, 1.5);
+}
+
+TEST_F(HypothesisTrackingTest, SkippedFrameIsFoundByDoubleMotion) {
+  MotionHistory h;
+  h.T_last_ref = rotationAboutY(0.12, {0.05, 0, 0});
+  h.T_last_prelast = h.T_last_ref;
+  h.has_velocity = true;
+  h.last_rmse = 1.0;
+  const SE3d truth = h.T_last_prelast * h.T_last_prelast * h.T_last_ref;  // a frame was dropped
+  const ImagePyramid frame = renderFrame(truth);
+  EXPECT_FALSE(plainTrack(frame, h.T_last_prelast * h.T_last_ref));
+  const HypothesisTrackingResult r =
+      trackWithHypotheses(*tracker_, frame, 1.0, h, HypothesisSettings());
+  ASSERT_TRUE(r.success);
+  EXPECT_EQ(r.kind, MotionHypothesisKind::kDoubleMotion);
+  EXPECT_TRUE(close(r.T_frame_ref, truth));
+}
+
+TEST_F(HypothesisTrackingTest, UnexpectedRotationIsFoundByRotatedHypotheses) {
+  MotionHistory h;  // second frame: no velocity, last pose = reference
+  h.last_rmse = 1.0;
+  const SE3d truth = rotationAboutY(-0.12);
+  const ImagePyramid frame = renderFrame(truth);
+  EXPECT_FALSE(plainTrack(frame, SE3d()));
+  const HypothesisTrackingResult r =
+      trackWithHypotheses(*tracker_, frame, 1.0, h, HypothesisSettings());
+  ASSERT_TRUE(r.success);
+  EXPECT_EQ(r.kind, MotionHypothesisKind::kRotated);
+  EXPECT_EQ(r.tried, r.hypothesis + 1 - 4);  // 1..4 equal the identity guess and are skipped
+  EXPECT_TRUE(close(r.T_frame_ref, truth));
+}
+
+TEST_F(HypothesisTrackingTest, UnrelatedImageFailsAfterTryingEverything) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> noise(0.f, 255.f);
+  ImageF image(TrackScene::kWidth, TrackScene::kHeight);
+  for (int y = 0; y < image.height(); ++y) {
+    for (int x = 0; x < image.width(); ++x) image(x, y) = noise(rng);
+  }
+  MotionHistory h;
+  h.T_last_ref = rotationAboutY(0.01, {0.02, 0, 0});
+  h.T_last_prelast = h.T_last_ref;
+  h.has_velocity = true;
+  h.last_rmse = 1.0;
+  HypothesisSettings settings;
+  settings.rotation_angle_count = 1;
+  const HypothesisTrackingResult r =
+      trackWithHypotheses(*tracker_, test::makePyramid(image), 1.0, h, settings);
+  EXPECT_FALSE(r.success);
+  EXPECT_EQ(r.hypothesis, -1);
+  EXPECT_EQ(r.tried, motionHypothesisCount(settings));
+  EXPECT_TRUE(std::isinf(r.rmse));
+  EXPECT_TRUE(close(r.T_frame_ref, h.T_last_prelast * h.T_last_ref));  // the prediction
+}
+
+}  // namespace
+}  // namespace ldsm
