@@ -133,6 +133,8 @@ void addSimCommand(CLI::App& app, CommandResult& result) {
   sub->add_option("--supersampling", o->render.supersampling,
                   "Full-frame supersampling factor per axis (1-4)")
       ->capture_default_str();
+  sub->add_flag("--no-edge-aa{false}", o->render.antialias_edges,
+                "Do not anti-alias geometric edges (faster, aliased)");
   sub->add_option("--motion-blur", o->render.motion_blur_samples,
                   "Sub-frame poses averaged over the exposure (1: no blur)")
       ->capture_default_str();

@@ -1,5 +1,6 @@
 #include "backend/photometric_residual.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "ldsm/image/interpolation.h"
@@ -24,13 +25,74 @@ void FramePairPrecalc::set(const WindowKeyframe& host, const WindowKeyframe& tar
   offset = static_cast<float>(st[1]);
   host_b = static_cast<float>(host.aff.b);
   target_image = target.pyramid().gradients(0);
+
+  std::copy(KRKi.data(), KRKi.data() + 9, sampling.KRKi);
+  std::copy(Kt.data(), Kt.data() + 3, sampling.Kt);
+  sampling.scale = scale;
+  sampling.offset = offset;
+  sampling.image = target_image;
 }
+
+void PairAccumulator::reduce(const FramePairPrecalc& pair, RelMatrix& H, RelVector& b) const {
+  double t[simd::kPatternPairSums];
+  sums_.totals(t);
+  // Relative parameter a is factor[a] times basis row basis[a] (u = [eps (6), a_h, 1]):
+  // b_h = scale * 1, a_t = -a_h, b_t = -1.
+  constexpr int basis[kRelParams] = {0, 1, 2, 3, 4, 5, 6, 7, 6, 7};
+  const double s = pair.scale;
+  const double factor[kRelParams] = {1, 1, 1, 1, 1, 1, 1, s, -1, -1};
+  for (int a = 0; a < kRelParams; ++a) {
+    b[a] = factor[a] * t[simd::patternGradientIndex(basis[a])];
+    for (int c = a; c < kRelParams; ++c) {
+      const int i = std::min(basis[a], basis[c]), j = std::max(basis[a], basis[c]);
+      H(a, c) = H(c, a) = factor[a] * factor[c] * t[simd::patternUpperIndex(i, j)];
+    }
+  }
+}
+
+namespace {
+
+/// d(pixel) / d(eps) and d(pixel) / d(inverse depth) of the point's centre at the linearisation
+/// point (first estimates).
+void centreJacobian(const ActivePoint& point, const FramePairPrecalc& pair,
+                    simd::PatternJacobian& jac) {
+  const LevelCamera& cam = pair.cam;
+  const float d = point.idepth;
+  const Eigen::Vector3f ray = cam.unproject(point.u, point.v);
+  const Eigen::Vector3f R_ray = pair.R0 * ray;
+  const Eigen::Vector3f p = R_ray / d + pair.t0;  // point in the target, metric
+  const float zi = 1.f / p.z();
+  // dpx/dp = [[a, 0, -b], [0, c, -e]]; dp/deps = [I | -[p]x].
+  const float a = cam.fx * zi, b = cam.fx * p.x() * zi * zi;
+  const float c = cam.fy * zi, e = cam.fy * p.y() * zi * zi;
+  float* r0 = jac.dpx_deps[0];
+  float* r1 = jac.dpx_deps[1];
+  r0[0] = a;
+  r0[1] = 0.f;
+  r0[2] = -b;
+  r0[3] = -b * p.y();
+  r0[4] = a * p.z() + b * p.x();
+  r0[5] = -a * p.y();
+  r1[0] = 0.f;
+  r1[1] = c;
+  r1[2] = -e;
+  r1[3] = -c * p.z() - e * p.y();
+  r1[4] = e * p.x();
+  r1[5] = c * p.x();
+  // dpx/dp * dp/dd with dp/dd = -(p - t0) / d, in the form without cancellation: with
+  // q = d p = R0 ray + d t0, dpx/dd = (f / q_z) (t0 - (q / q_z) t0_z).
+  const Eigen::Vector3f q = R_ray + pair.t0 * d;
+  const float qzi = 1.f / q.z();
+  jac.dpx_didepth[0] = cam.fx * qzi * (pair.t0.x() - q.x() * qzi * pair.t0.z());
+  jac.dpx_didepth[1] = cam.fy * qzi * (pair.t0.y() - q.y() * qzi * pair.t0.z());
+}
+
+}  // namespace
 
 float evaluateResidual(const ActivePoint& point, PointResidual& res, const FramePairPrecalc& pair,
                        const ResidualSettings& settings, ResidualAccumulator* acc) {
-  const LevelCamera& cam = pair.cam;
-  const float w = static_cast<float>(pair.target_image.width);
-  const float h = static_cast<float>(pair.target_image.height);
+  const int w = pair.target_image.width;
+  const int h = pair.target_image.height;
   const float d = point.idepth;
 
   // Centre projection at the current estimate (visibility, reported projection).
@@ -40,55 +102,29 @@ float evaluateResidual(const ActivePoint& point, PointResidual& res, const Frame
     return res.energy = 0.f;
   }
   res.projection = {pc.x() / pc.z(), pc.y() / pc.z()};
-  if (!isInsideForBilinear(res.projection.x(), res.projection.y(), static_cast<int>(w),
-                           static_cast<int>(h), settings.border + kPatternPadding)) {
+  if (!isInsideForBilinear(res.projection.x(), res.projection.y(), w, h,
+                           settings.border + kPatternPadding)) {
     res.state = ResidualState::OutOfBounds;
     return res.energy = 0.f;
   }
 
-  // Geometric Jacobians of the centre pixel at the linearisation point (FEJ).
-  Eigen::Matrix<float, 2, 6> dpx_deps = Eigen::Matrix<float, 2, 6>::Zero();
-  Eigen::Vector2f dpx_dd = Eigen::Vector2f::Zero();
-  if (acc != nullptr) {
-    const Eigen::Vector3f ray = cam.unproject(point.u, point.v);
-    const Eigen::Vector3f p = pair.R0 * ray / d + pair.t0;  // point in target, metric
-    const float zi = 1.f / p.z();
-    Eigen::Matrix<float, 2, 3> dpx_dp;
-    dpx_dp << cam.fx * zi, 0.f, -cam.fx * p.x() * zi * zi, 0.f, cam.fy * zi,
-        -cam.fy * p.y() * zi * zi;
-    Eigen::Matrix<float, 3, 6> dp_deps;
-    dp_deps << 1.f, 0.f, 0.f, 0.f, p.z(), -p.y(), 0.f, 1.f, 0.f, -p.z(), 0.f, p.x(), 0.f, 0.f,
-        1.f, p.y(), -p.x(), 0.f;
-    dpx_deps = dpx_dp * dp_deps;
-    dpx_dd = dpx_dp * (-(p - pair.t0) / d);
-  }
-
   const float c = settings.gradient_weight_c;
-  const float th = settings.huber_threshold;
-  float energy = 0.f;
-  struct PixelTerm {
-    float r, weight, gx, gy, color;
-  };
-  PixelTerm terms[kPatternSize];
-  for (int k = 0; k < kPatternSize; ++k) {
-    const float hu = point.u + static_cast<float>(kPatternOffsets[k][0]);
-    const float hv = point.v + static_cast<float>(kPatternOffsets[k][1]);
-    const Eigen::Vector3f q = pair.KRKi * Eigen::Vector3f(hu, hv, 1.f) + pair.Kt * d;
-    const float x = q.x() / q.z();
-    const float y = q.y() / q.z();
-    if (!(q.z() > 0.f) || !isInsideForBilinear(x, y, static_cast<int>(w), static_cast<int>(h),
-                                               settings.border)) {
-      res.state = ResidualState::OutOfBounds;
-      return res.energy = 0.f;
-    }
-    const GradientPixel g = interpolateBilinear(pair.target_image, x, y);
-    const float r = g.intensity - pair.scale * point.colors[k] - pair.offset;
-    const float gw = 0.5f * (gradientWeightSqrt(g.dx, g.dy, c) + point.grad_weights[k]);
-    const float ar = std::fabs(r);
-    const float hw = ar < th ? 1.f : th / ar;
-    energy += gw * gw * (ar < th ? r * r : 2.f * th * ar - th * th);
-    terms[k] = {r, gw * gw * hw, g.dx, g.dy, point.colors[k]};
+  simd::PatternWeighting weighting;
+  weighting.gradient_c2 = c * c;
+  weighting.huber = settings.huber_threshold;
+  weighting.margin = settings.border;
+  simd::PatternPoint pattern_point;
+  pattern_point.u = point.u;
+  pattern_point.v = point.v;
+  pattern_point.idepth = d;
+  pattern_point.colors = point.colors;
+  pattern_point.grad_weights = point.grad_weights;
+  simd::PatternSamples samples;
+  if (!simd::samplePattern<simd::Vec4>(pair.sampling, weighting, pattern_point, samples)) {
+    res.state = ResidualState::OutOfBounds;
+    return res.energy = 0.f;
   }
+  const float energy = samples.energy;
   res.energy = energy;
   if (energy > settings.outlier_energy) {
     res.state = ResidualState::Outlier;
@@ -97,40 +133,27 @@ float evaluateResidual(const ActivePoint& point, PointResidual& res, const Frame
   res.state = ResidualState::Inlier;
   if (acc == nullptr) return energy;
 
+  simd::PatternJacobian jac;
+  centreJacobian(point, pair, jac);
   if (acc->depth_only) {
-    for (int k = 0; k < kPatternSize; ++k) {
-      const PixelTerm& t = terms[k];
-      const float Jd = t.gx * dpx_dd.x() + t.gy * dpx_dd.y();
-      acc->H_dd += static_cast<double>(t.weight * Jd * Jd);
-      acc->b_d += static_cast<double>(t.weight * Jd * t.r);
-    }
+    float H_dd, b_d;
+    simd::accumulateDepthOnly<simd::Vec4>(samples, jac.dpx_didepth, &H_dd, &b_d);
+    acc->H_dd += H_dd;
+    acc->b_d += b_d;
     return energy;
   }
-  // Jacobian rows [eps (6), a_h, b_h, a_t, b_t, idepth, 0] per pattern pixel, summed as outer
-  // products in a 12x12 float block (padded so that the columns vectorise).
-  using Vec12 = Eigen::Matrix<float, 12, 1>;
-  Eigen::Matrix<float, 12, 12> Hf = Eigen::Matrix<float, 12, 12>::Zero();
-  Vec12 bf = Vec12::Zero();
-  Vec12 J;
-  J[11] = 0.f;
-  J[9] = -1.f;  // b_t
-  for (int k = 0; k < kPatternSize; ++k) {
-    const PixelTerm& t = terms[k];
-    J.head<6>() = dpx_deps.row(0).transpose() * t.gx + dpx_deps.row(1).transpose() * t.gy;
-    const float dc = pair.scale * (t.color - pair.host_b);
-    J[6] = dc;          // a_h
-    J[7] = pair.scale;  // b_h
-    J[8] = -dc;         // a_t
-    J[10] = t.gx * dpx_dd.x() + t.gy * dpx_dd.y();
-    const Vec12 wJ = t.weight * J;
-    Hf.noalias() += wJ.lazyProduct(J.transpose());
-    bf += wJ * t.r;
-  }
-  *acc->H_pair += Hf.topLeftCorner<kRelParams, kRelParams>().cast<double>();
-  *acc->b_pair += bf.head<kRelParams>().cast<double>();
-  acc->coupling += Hf.block<kRelParams, 1>(0, kRelParams).cast<double>();
-  acc->H_dd += Hf(kRelParams, kRelParams);
-  acc->b_d += bf[kRelParams];
+  jac.colors = point.colors;
+  jac.scale = pair.scale;
+  jac.host_b = pair.host_b;
+  simd::PatternPointSums ps;
+  acc->pair->sums().add(samples, jac, ps);
+  // Coupling over [eps, a_h, b_h, a_t, b_t] from the basis [eps, a_h, 1].
+  for (int i = 0; i < 7; ++i) acc->coupling[i] += ps.coupling[i];
+  acc->coupling[7] += static_cast<double>(pair.scale * ps.coupling[7]);
+  acc->coupling[8] -= ps.coupling[6];
+  acc->coupling[9] -= ps.coupling[7];
+  acc->H_dd += ps.H_dd;
+  acc->b_d += ps.b_d;
   return energy;
 }
 

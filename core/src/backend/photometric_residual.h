@@ -11,6 +11,7 @@
 #include "ldsm/image/gradient_pixel.h"
 #include "map/active_point.h"
 #include "map/window_keyframe.h"
+#include "math/simd/pattern_accumulate.h"
 
 namespace ldsm {
 
@@ -20,10 +21,10 @@ using RelMatrix = Eigen::Matrix<double, kRelParams, kRelParams>;
 using RelVector = Eigen::Matrix<double, kRelParams, 1>;
 
 struct ResidualSettings {
-  float huber_threshold = 9.f;          ///< grey levels
-  float gradient_weight_c = 50.f;       ///< c of w = c^2 / (c^2 + |grad I|^2)
+  float huber_threshold = 9.f;                        ///< grey levels
+  float gradient_weight_c = 50.f;                     ///< c of w = c^2 / (c^2 + |grad I|^2)
   float outlier_energy = 12.f * 12.f * kPatternSize;  ///< pattern energy above: outlier
-  float border = 2.f;                   ///< pixels kept free at the image border
+  float border = 2.f;                                 ///< pixels kept free at the image border
 };
 
 /// Everything about a (host, target) keyframe pair that residuals share.
@@ -35,23 +36,39 @@ struct FramePairPrecalc {
   float scale = 1.f, offset = 0.f, host_b = 0.f;
   LevelCamera cam;
   ImageView<const GradientPixel> target_image;
+  simd::PatternSamplingParams sampling;  ///< the above as the sampling kernel takes them
 
   void set(const WindowKeyframe& host, const WindowKeyframe& target, const LevelCamera& camera);
 };
 
-/// Sums the Gauss-Newton terms of residuals into relative-parameter accumulators.
+/// The Gauss-Newton block of one (host, target) pair, summed over its residuals in SIMD lanes
+/// and reduced once (reduce()) per linearisation.
+class PairAccumulator {
+ public:
+  void reset() { sums_.reset(); }
+  /// Residuals added since reset().
+  int count() const { return sums_.count(); }
+  /// H = sum w J_rel^T J_rel and b = sum w J_rel^T r over the residuals added since reset();
+  /// `pair` is the precalc they were evaluated with.
+  void reduce(const FramePairPrecalc& pair, RelMatrix& H, RelVector& b) const;
+  simd::PatternPairSums& sums() { return sums_; }
+
+ private:
+  simd::PatternPairSums sums_;
+};
+
+/// Receives the Gauss-Newton terms of one residual.
 struct ResidualAccumulator {
-  RelMatrix* H_pair = nullptr;  ///< sum w J_rel^T J_rel of the (host, target) pair
-  RelVector* b_pair = nullptr;  ///< sum w J_rel^T r
-  double H_dd = 0.0;            ///< this residual's sum w J_d^2
-  double b_d = 0.0;             ///< sum w J_d r
+  PairAccumulator* pair = nullptr;  ///< the (host, target) pair's block (unused if depth_only)
+  double H_dd = 0.0;                ///< this residual's sum w J_d^2
+  double b_d = 0.0;                 ///< sum w J_d r
   RelVector coupling = RelVector::Zero();  ///< sum w J_rel^T J_d
-  bool depth_only = false;  ///< accumulate H_dd and b_d only (H_pair, b_pair may be null)
+  bool depth_only = false;                 ///< accumulate H_dd and b_d only (pair may be null)
 };
 
 /// Evaluates the residual of `point` in the pair's target. Updates `res.state`, `res.energy`,
 /// `res.projection` and returns the energy. When `acc` is given and the residual is an inlier,
-/// adds its linearisation to it.
+/// adds its linearisation to it (pair block to acc->pair, point terms to acc's fields).
 float evaluateResidual(const ActivePoint& point, PointResidual& res, const FramePairPrecalc& pair,
                        const ResidualSettings& settings, ResidualAccumulator* acc);
 

@@ -57,6 +57,30 @@ std::vector<int> windowIds(const std::vector<WindowKeyframe*>& window) {
   return ids;
 }
 
+/// Adds the pairs' accumulated blocks, mapped onto (host, target) parameters, to H and b.
+void addPairAccumulators(int n, const std::vector<PairAccumulator>& acc,
+                         const std::vector<FramePairPrecalc>& pairs,
+                         const std::vector<Eigen::Matrix<double, 6, 6>>& adjoints,
+                         Eigen::MatrixXd& H, Eigen::VectorXd& b) {
+  RelMatrix Hr;
+  RelVector br;
+  for (int h = 0; h < n; ++h)
+    for (int t = 0; t < n; ++t) {
+      const size_t pi = static_cast<size_t>(h) * n + t;
+      if (h == t || acc[pi].count() == 0) continue;
+      acc[pi].reduce(pairs[pi], Hr, br);
+      const Map10x16 P = relativeToAbsolute(adjoints[pi]);
+      const Mat16 H16 = P.transpose() * Hr * P;
+      const Vec16 b16 = P.transpose() * br;
+      addPairBlocks(h, t, H16, b16, H, b);
+    }
+}
+
+void resetPairAccumulators(size_t count, std::vector<PairAccumulator>& acc) {
+  acc.resize(count);
+  for (auto& a : acc) a.reset();
+}
+
 }  // namespace
 
 void WindowOptimizer::precalcPairs(const std::vector<WindowKeyframe*>& window) {
@@ -134,12 +158,7 @@ void WindowOptimizer::linearize(const std::vector<WindowKeyframe*>& window,
   sys.b_d.clear();
   sys.inliers = sys.outliers = 0;
   sys.inlier_energy = 0.0;
-  pair_H_.assign(static_cast<size_t>(n) * n, RelMatrix::Zero());
-  pair_b_.assign(static_cast<size_t>(n) * n, RelVector::Zero());
-  std::vector<Map10x16> P(static_cast<size_t>(n) * n);
-  for (int h = 0; h < n; ++h)
-    for (int t = 0; t < n; ++t)
-      if (h != t) P[h * n + t] = relativeToAbsolute(adjoints_[h * n + t]);
+  resetPairAccumulators(static_cast<size_t>(n) * n, pair_acc_);
 
   size_t num_points = 0;
   for (const auto* kf : window) num_points += kf->points.size();
@@ -157,8 +176,7 @@ void WindowOptimizer::linearize(const std::vector<WindowKeyframe*>& window,
         const int t = res.target->window_index;
         const size_t pi = static_cast<size_t>(h) * n + t;
         ResidualAccumulator acc;
-        acc.H_pair = &pair_H_[pi];
-        acc.b_pair = &pair_b_[pi];
+        acc.pair = &pair_acc_[pi];
         const float e = evaluateResidual(p, res, pairs_[pi], settings_.residual, &acc);
         if (res.state == ResidualState::Inlier) {
           residual_energy += e;
@@ -181,16 +199,7 @@ void WindowOptimizer::linearize(const std::vector<WindowKeyframe*>& window,
       sys.b_d.push_back(b_d);
     }
   }
-  for (int h = 0; h < n; ++h)
-    for (int t = 0; t < n; ++t) {
-      if (h == t) continue;
-      const size_t pi = static_cast<size_t>(h) * n + t;
-      const RelMatrix& Hr = pair_H_[pi];
-      const Map10x16& Pm = P[pi];
-      const Mat16 H16 = Pm.transpose() * Hr * Pm;
-      const Vec16 b16 = Pm.transpose() * pair_b_[pi];
-      addPairBlocks(h, t, H16, b16, sys.H, sys.b);
-    }
+  addPairAccumulators(n, pair_acc_, pairs_, adjoints_, sys.H, sys.b);
   sys.energy = 0.5 * residual_energy + addPriors(window, prior, &sys.H, &sys.b);
 }
 
@@ -307,12 +316,7 @@ void WindowOptimizer::marginalizePoints(const std::vector<WindowKeyframe*>& wind
   precalcPairs(window);
   const int n = static_cast<int>(window.size());
   const int dim = kFrameParams * n;
-  std::vector<Map10x16> P(static_cast<size_t>(n) * n);
-  for (int h = 0; h < n; ++h)
-    for (int t = 0; t < n; ++t)
-      if (h != t) P[h * n + t] = relativeToAbsolute(adjoints_[h * n + t]);
-  pair_H_.assign(static_cast<size_t>(n) * n, RelMatrix::Zero());
-  pair_b_.assign(static_cast<size_t>(n) * n, RelVector::Zero());
+  resetPairAccumulators(static_cast<size_t>(n) * n, pair_acc_);
   Eigen::MatrixXd H = Eigen::MatrixXd::Zero(dim, dim);
   Eigen::VectorXd b = Eigen::VectorXd::Zero(dim);
   Eigen::VectorXd c(dim);
@@ -325,8 +329,7 @@ void WindowOptimizer::marginalizePoints(const std::vector<WindowKeyframe*>& wind
       const int t = res.target->window_index;
       const size_t pi = static_cast<size_t>(h) * n + t;
       ResidualAccumulator acc;
-      acc.H_pair = &pair_H_[pi];
-      acc.b_pair = &pair_b_[pi];
+      acc.pair = &pair_acc_[pi];
       evaluateResidual(copy, res, pairs_[pi], settings_.residual, &acc);
       if (res.state != ResidualState::Inlier) continue;
       addCoupling(adjoints_[pi], acc.coupling, h, t, c);
@@ -337,13 +340,7 @@ void WindowOptimizer::marginalizePoints(const std::vector<WindowKeyframe*>& wind
     H.noalias() -= c * c.transpose() / H_dd;
     b -= c * (b_d / H_dd);
   }
-  for (int h = 0; h < n; ++h)
-    for (int t = 0; t < n; ++t) {
-      if (h == t) continue;
-      const size_t pi = static_cast<size_t>(h) * n + t;
-      addPairBlocks(h, t, P[pi].transpose() * pair_H_[pi] * P[pi],
-                    P[pi].transpose() * pair_b_[pi], H, b);
-    }
+  addPairAccumulators(n, pair_acc_, pairs_, adjoints_, H, b);
   prior.add(windowIds(window), H, b, stackedDeltas(window));
 }
 

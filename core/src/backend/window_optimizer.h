@@ -91,8 +91,7 @@ class WindowOptimizer {
   LevelCamera camera_;
   std::vector<FramePairPrecalc> pairs_;  ///< n x n, [host * n + target]
   std::vector<Eigen::Matrix<double, 6, 6>> adjoints_;  ///< Ad(T_th) at the linearisation points
-  std::vector<RelMatrix> pair_H_;
-  std::vector<RelVector> pair_b_;
+  std::vector<PairAccumulator> pair_acc_;  ///< n x n, the pairs' blocks during a linearisation
 };
 
 }  // namespace ldsm

@@ -8,6 +8,7 @@
 #include <cstdlib>
 
 #include "ldsm/error.h"
+#include "ldsm/image/interpolation.h"
 
 namespace ldsm {
 
@@ -33,6 +34,8 @@ void CoarseInitializerSettings::validate() const {
             "max_iterations must be in [0, 1000]");
   }
   require(min_gradient >= 0.f && std::isfinite(min_gradient), "min_gradient must be >= 0");
+  require(selector_density > 0.f && std::isfinite(selector_density),
+          "selector_density must be > 0");
   require(neighbours >= 1 && neighbours <= kMaxNeighbours,
           "neighbours must be in [1, " + std::to_string(kMaxNeighbours) + "]");
   require(initial_lambda > 0 && initial_lambda < 1e6, "initial_lambda must be in (0, 1e6)");
@@ -52,6 +55,8 @@ void CoarseInitializerSettings::validate() const {
           "affine prior weights must be >= 0");
   require(min_parallax_flow > 0.f && std::isfinite(min_parallax_flow),
           "min_parallax_flow must be > 0");
+  require(min_rotation_free_parallax >= 0.f && min_rotation_free_parallax <= min_parallax_flow,
+          "min_rotation_free_parallax must be in [0, min_parallax_flow]");
   require(max_snap_rms > 0.f && fail_rms >= max_snap_rms, "need 0 < max_snap_rms <= fail_rms");
   require(min_snap_good_fraction >= 0.f && min_snap_good_fraction <= 1.f &&
               min_good_fraction >= 0.f && min_good_fraction <= min_snap_good_fraction,
@@ -95,6 +100,9 @@ CoarseInitializer::CoarseInitializer(const PyramidCamera& camera,
   }
   width_ = camera[0].width;
   height_ = camera[0].height;
+  if (settings_.use_pixel_selector) {
+    selector_ = std::make_unique<PixelSelector>(width_, height_, settings_.selection);
+  }
 }
 
 void CoarseInitializer::reset() {
@@ -153,13 +161,11 @@ void CoarseInitializer::setReference(const ImagePyramid& pyramid, double exposur
                         pyramid.height(levels - 1) < settings_.min_coarsest_size)) {
     --levels;
   }
-  // Points keep their whole pattern one pixel inside the image.
-  const int margin = kPatternPadding + 1;
   levels_ = 0;
+  std::array<float, kMaxPyramidLevels> bucket{};
   for (int lvl = 0; lvl < levels; ++lvl) {
-    Level& L = levels_data_[lvl];
-    const int n = selectBestGradientPerCell(pyramid.gradients(lvl), settings_.cell_size[lvl],
-                                            settings_.min_gradient, margin, L.u);
+    bucket[lvl] = selectPoints(pyramid, lvl);
+    const int n = static_cast<int>(levels_data_[lvl].u.size());
     if (lvl == 0 && n < settings_.min_points) {
       fail(InitFailure::kTooFewPoints);
       return;
@@ -187,15 +193,19 @@ void CoarseInitializer::setReference(const ImagePyramid& pyramid, double exposur
     L.good_trial.assign(n, 0);
     L.accum_w.assign(n, 0.f);
     L.accum_wd.assign(n, 0.f);
+    const ImageView<const float> intensity = pyramid.intensity(lvl);
     for (std::size_t i = 0; i < n; ++i) {
-      const int x = static_cast<int>(L.u[i].x());
-      const int y = static_cast<int>(L.u[i].y());
+      const float x = L.u[i].x();
+      const float y = L.u[i].y();
+      const bool integer = x == std::floor(x) && y == std::floor(y);
       for (int p = 0; p < kPatternSize; ++p) {
-        L.ref[i][p] = img(x + kPatternOffsets[p][0], y + kPatternOffsets[p][1]).intensity;
+        const float px = x + static_cast<float>(kPatternOffsets[p][0]);
+        const float py = y + static_cast<float>(kPatternOffsets[p][1]);
+        L.ref[i][p] = integer ? img(static_cast<int>(px), static_cast<int>(py)).intensity
+                              : interpolateBilinear(intensity, px, py);
       }
     }
-    grid_.build(L.u, static_cast<float>(settings_.cell_size[lvl]), pyramid.width(lvl),
-                pyramid.height(lvl));
+    grid_.build(L.u, bucket[lvl], pyramid.width(lvl), pyramid.height(lvl));
     for (std::size_t i = 0; i < n; ++i) {
       const int found = grid_.nearest(L.u[i], k, static_cast<int>(i), nn_scratch_);
       L.neighbour_count[i] = found;
@@ -206,7 +216,7 @@ void CoarseInitializer::setReference(const ImagePyramid& pyramid, double exposur
   for (int lvl = 0; lvl + 1 < levels_; ++lvl) {
     Level& L = levels_data_[lvl];
     const Level& P = levels_data_[lvl + 1];
-    const float cell = static_cast<float>(settings_.cell_size[lvl + 1]);
+    const float cell = bucket[lvl + 1];
     const float max_dist_sq = (3.f * cell + 2.f) * (3.f * cell + 2.f);
     grid_.build(P.u, cell, pyramid.width(lvl + 1), pyramid.height(lvl + 1));
     for (std::size_t i = 0; i < L.u.size(); ++i) {
@@ -218,6 +228,31 @@ void CoarseInitializer::setReference(const ImagePyramid& pyramid, double exposur
     }
   }
   status_ = InitStatus::kWaitingForParallax;
+}
+
+float CoarseInitializer::selectPoints(const ImagePyramid& pyramid, int lvl) {
+  Level& L = levels_data_[lvl];
+  if (lvl == 0 && selector_) {
+    selector_->select(pyramid, settings_.selector_density, selected_);
+    L.u.clear();
+    L.is_corner.clear();
+    // Keep the whole pattern at least one pixel inside the image (bilinear reads included).
+    const float lo = static_cast<float>(kPatternPadding + 1);
+    const float hi_x = static_cast<float>(pyramid.width(0) - kPatternPadding - 2);
+    const float hi_y = static_cast<float>(pyramid.height(0) - kPatternPadding - 2);
+    for (const SelectedPixel& s : selected_) {
+      if (s.u < lo || s.v < lo || s.u > hi_x || s.v > hi_y) continue;
+      L.u.emplace_back(s.u, s.v);
+      L.is_corner.push_back(s.is_corner ? 1 : 0);
+    }
+    const float area = static_cast<float>(pyramid.width(0)) * static_cast<float>(pyramid.height(0));
+    return std::max(2.f, std::sqrt(area / static_cast<float>(std::max<std::size_t>(1, L.u.size()))));
+  }
+  // Whole pattern one pixel inside the image.
+  selectBestGradientPerCell(pyramid.gradients(lvl), settings_.cell_size[lvl],
+                            settings_.min_gradient, kPatternPadding + 1, L.u);
+  L.is_corner.assign(L.u.size(), 0);
+  return static_cast<float>(settings_.cell_size[lvl]);
 }
 
 void CoarseInitializer::trackFrame(const ImagePyramid& pyramid, double exposure) {
@@ -261,6 +296,7 @@ void CoarseInitializer::decide() {
     return;
   }
   const bool parallax = stats_.flow_translation > settings_.min_parallax_flow &&
+                        stats_.parallax > settings_.min_rotation_free_parallax &&
                         stats_.rms_residual <= settings_.max_snap_rms &&
                         stats_.good_fraction >= settings_.min_snap_good_fraction;
   if (!parallax) {
@@ -359,7 +395,7 @@ void CoarseInitializer::publishResult() {
     p.idepth = L.idepth[i] * inv_mean;
     p.hessian = L.lin[i].hphoto * static_cast<float>(mean * mean);
     p.good = L.good[i] != 0;
-    p.is_corner = false;
+    p.is_corner = L.is_corner[i] != 0;
   }
   result_.T_frame_ref = SE3d(T_.so3(), T_.translation() * mean);
   result_.affine_frame = affine_;

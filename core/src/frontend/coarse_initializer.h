@@ -20,7 +20,9 @@
 //    depths are propagated up (parent = Hessian-weighted mean of its children).
 //
 // Acceptance: the parallax is real once the RMS optical flow caused by the translation alone over
-// the level-0 points exceeds min_parallax_flow pixels while the residual is low and most points are
+// the level-0 points exceeds min_parallax_flow pixels, a good part of that flow cannot be explained
+// by a rotation (with free depths, a small translation can mimic a rotation: for a static or
+// purely rotating camera, noise is fitted that way), the residual is low and most points are
 // inliers ("snap"). It is confirmed over confirm_frames more frames; then the depth distribution is
 // checked (no mostly negative or hugely spread inverse depths) and the result published with the
 // mean inverse depth normalised to 1. A static or purely rotating camera never produces that flow.
@@ -31,12 +33,15 @@
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "frontend/affine_light.h"
 #include "frontend/init_point_graph.h"
+#include "frontend/pixel_selector.h"
 #include "frontend/pyramid_camera.h"
 #include "frontend/residual_pattern.h"
+#include "ldsm/config.h"
 #include "ldsm/image/image_pyramid.h"
 #include "ldsm/math/se3.h"
 
@@ -50,6 +55,12 @@ struct CoarseInitializerSettings {
   /// Point selection: best-gradient pixel per cell x cell block, per level (level 0 first).
   std::array<int, kMaxPyramidLevels> cell_size{{8, 6, 4, 2, 2, 2, 2, 2}};
   float min_gradient = 3.f;  ///< |grad I| (grey levels / pixel) a selected pixel must reach
+  /// Level-0 points come from the keyframe PixelSelector (so that its corners, flagged is_corner,
+  /// can carry descriptors later), about selection.points_per_keyframe * selector_density of
+  /// them; the coarser levels always use the best-gradient-per-cell selection.
+  bool use_pixel_selector = true;
+  PointSelectionConfig selection;
+  float selector_density = 2.f;
   int neighbours = 10;       ///< k of the smoothness neighbourhood (<= kMaxNeighbours)
   /// Levenberg-Marquardt iterations per level (level 0 first).
   std::array<int, kMaxPyramidLevels> max_iterations{{4, 6, 10, 15, 20, 20, 20, 20}};
@@ -73,8 +84,12 @@ struct CoarseInitializerSettings {
   float affine_prior_weight_b = 0.01f;
 
   // ---- acceptance
-  /// RMS flow due to translation (level-0 pixels) that counts as real parallax.
+  /// RMS flow due to translation (level-0 pixels) that counts as real parallax...
   float min_parallax_flow = 6.f;
+  /// ...when at least this much of it (RMS, level-0 pixels) cannot be explained by a rotation.
+  /// Catches translations that only mimic a rotation (static or rotating camera, depths fitted
+  /// to noise).
+  float min_rotation_free_parallax = 1.5f;
   float max_snap_rms = 10.f;              ///< level-0 Huber RMS residual allowed when snapping
   float min_snap_good_fraction = 0.6f;    ///< share of level-0 points that must be inliers to snap
   int confirm_frames = 5;                 ///< frames after the snap before the result is accepted
@@ -196,6 +211,7 @@ class CoarseInitializer {
     std::vector<std::array<int, CoarseInitializerSettings::kMaxNeighbours>> neighbours;
     std::vector<int> neighbour_count;
     std::vector<int> parent;  ///< index one level up, -1: none
+    std::vector<std::uint8_t> is_corner;
     std::vector<float> idepth, idepth_trial, ir, ir_trial;
     std::vector<PointLinearization> lin, lin_trial;
     std::vector<std::uint8_t> good, good_trial;
@@ -203,6 +219,9 @@ class CoarseInitializer {
   };
 
   void setReference(const ImagePyramid& pyramid, double exposure);
+  /// Selects the points of level `lvl` of the reference into levels_data_[lvl].u (and is_corner);
+  /// returns the bucket size for neighbour searches.
+  float selectPoints(const ImagePyramid& pyramid, int lvl);
   void checkFrame(const ImagePyramid& pyramid, double exposure) const;
   void fail(InitFailure failure);
   void trackFrame(const ImagePyramid& pyramid, double exposure);
@@ -250,6 +269,8 @@ class CoarseInitializer {
   InitFrameStats stats_;
   InitializationResult result_;
   PointBucketGrid grid_;
+  std::unique_ptr<PixelSelector> selector_;
+  std::vector<SelectedPixel> selected_;
   std::vector<int> nn_scratch_;
   std::vector<float> sort_scratch_;
 };

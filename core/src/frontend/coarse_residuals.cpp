@@ -13,7 +13,8 @@ void WarpedResiduals::allocate(std::size_t n) {
 
 void accumulateNormalEquations(const WarpedResiduals& residuals, CoarseMatrix& H, CoarseVector& g) {
   constexpr int kBlock = 256;  // float partial sums stay accurate over this many points
-  constexpr int kUpper = kCoarseParams * (kCoarseParams + 1) / 2;
+  using Vector8f = Eigen::Matrix<float, kCoarseParams, 1>;
+  using Matrix8f = Eigen::Matrix<float, kCoarseParams, kCoarseParams>;
   H.setZero();
   g.setZero();
   const float* dx_fx = residuals.dx_fx.data();
@@ -26,27 +27,22 @@ void accumulateNormalEquations(const WarpedResiduals& residuals, CoarseMatrix& H
   const float* w = residuals.weight.data();
   for (int begin = 0; begin < residuals.count; begin += kBlock) {
     const int end = std::min(begin + kBlock, residuals.count);
-    float h[kUpper] = {};
-    float b[kCoarseParams] = {};
+    Matrix8f h = Matrix8f::Zero();
+    Vector8f b = Vector8f::Zero();
     for (int i = begin; i < end; ++i) {
-      float J[kCoarseParams];
-      coarseJacobianRow(dx_fx[i], dy_fy[i], nx[i], ny[i], iz[i], ref_term[i], J);
-      const float wi = w[i];
-      const float wr = wi * r[i];
-      int k = 0;
-      for (int row = 0; row < kCoarseParams; ++row) {
-        const float wj = wi * J[row];
-        b[row] += J[row] * wr;
-        for (int col = row; col < kCoarseParams; ++col) h[k++] += wj * J[col];
-      }
+      Vector8f J;
+      coarseJacobianRow(dx_fx[i], dy_fy[i], nx[i], ny[i], iz[i], ref_term[i], J.data());
+      // A full rank-1 update: 8 x 8 floats vectorise better than the triangle.
+      h.noalias() += (w[i] * J) * J.transpose();
+      b.noalias() += (w[i] * r[i]) * J;
     }
-    int k = 0;
-    for (int row = 0; row < kCoarseParams; ++row) {
-      g(row) += b[row];
-      for (int col = row; col < kCoarseParams; ++col) H(row, col) += h[k++];
-    }
+    H += h.cast<double>();
+    g += b.cast<double>();
   }
-  H.triangularView<Eigen::StrictlyLower>() = H.transpose();
+  // (w J_i) J_j and (w J_j) J_i round differently: make H exactly symmetric.
+  for (int row = 1; row < kCoarseParams; ++row) {
+    for (int col = 0; col < row; ++col) H(row, col) = H(col, row);
+  }
 }
 
 }  // namespace ldsm

@@ -51,8 +51,8 @@ LevelWarp makeLevelWarp(const LevelCamera& cam, const SE3d& T, const Eigen::Vect
 
 // Projects reference pixel (x, y) with inverse depth `idepth` into the frame and computes its
 // residual. False when it lands outside the frame (with margin) or behind the camera.
-inline bool warpPoint(const LevelWarp& w, float x, float y, float idepth, float ref_intensity,
-                      WarpedPoint& out) {
+[[gnu::always_inline]] inline bool warpPoint(const LevelWarp& w, float x, float y, float idepth,
+                                             float ref_intensity, WarpedPoint& out) {
   const Eigen::Vector3f p = w.KRKi * Eigen::Vector3f(x, y, 1.f) + w.Kt * idepth;
   if (!(p.z() > 0.f)) return false;
   const float zi = 1.f / p.z();
@@ -255,6 +255,7 @@ CoarseTracker::Evaluation CoarseTracker::optimiseLevel(const ImagePyramid& frame
   addAffinePrior(affine, H, g);
   double current_cost = cost(ev, affine);
   double lambda = settings_.initial_lambda;
+  int rejected_in_a_row = 0;
   for (int it = 0; it < settings_.max_iterations[level]; ++it) {
     // Jacobi scaling makes the diagonal 1, so rotation, translation, a and b are comparable.
     const CoarseVector D = (H.diagonal().array().max(1e-12)).sqrt().inverse().matrix();
@@ -262,13 +263,15 @@ CoarseTracker::Evaluation CoarseTracker::optimiseLevel(const ImagePyramid& frame
     A.diagonal().array() += lambda;
     const CoarseVector step_scaled = -A.ldlt().solve(D.asDiagonal() * g);
     if (!step_scaled.allFinite()) break;
+    // sum_i H_ii step_i^2 / n: roughly the mean squared change of the residuals.
+    const double rms_step = std::sqrt(step_scaled.squaredNorm() / std::max(ev.inliers, 1));
+    if (rms_step < settings_.convergence_rms_step) break;
     const CoarseVector step = D.asDiagonal() * step_scaled;
     const SE3d T_new = SE3d::exp(step.head<6>()) * T;
     const AffineLight affine_new{affine.a + step(6), affine.b + step(7)};
     const Evaluation ev_new = evaluate(frame, exposure, level, T_new, affine_new, cutoff);
     ++iterations;
-    const bool accepted = usable(ev_new) && cost(ev_new, affine_new) < current_cost;
-    if (accepted) {
+    if (usable(ev_new) && cost(ev_new, affine_new) < current_cost) {
       T = T_new;
       affine = affine_new;
       ev = ev_new;
@@ -276,11 +279,12 @@ CoarseTracker::Evaluation CoarseTracker::optimiseLevel(const ImagePyramid& frame
       accumulateNormalEquations(warped_, H, g);
       addAffinePrior(affine, H, g);
       lambda = std::max(lambda * 0.5, 1e-8);
+      rejected_in_a_row = 0;
     } else {
+      // Repeated failures to descend: the minimum is reached as far as the data can tell.
+      if (++rejected_in_a_row >= settings_.max_rejected_steps) break;
       lambda *= 4.0;
     }
-    const double rms_step = std::sqrt(step_scaled.squaredNorm() / std::max(ev.in_image, 1));
-    if (rms_step < settings_.convergence_rms_step || lambda > 1e8) break;
   }
   return ev;
 }

@@ -54,8 +54,10 @@ struct CoarseTrackerSettings {
   double affine_prior_weight_a = 1e-3;
   double affine_prior_weight_b = 1e-3;
   double initial_lambda = 0.01;  ///< LM damping of the Jacobi-scaled normal equations
-  /// A level stops when a step changes the residuals by less than this (RMS, grey levels).
-  double convergence_rms_step = 1e-3;
+  /// A level stops when a step would change the residuals by less than this (RMS, grey levels)
+  /// or after max_rejected_steps steps in a row failed to lower the cost.
+  double convergence_rms_step = 5e-3;
+  int max_rejected_steps = 3;
 
   /// Settings from the configuration: tracking.huber_threshold, tracking.max_iterations_per_level
   /// (for level 0; level 1 gets twice and coarser levels five times as many, as coarse levels are

@@ -45,7 +45,7 @@ void validate(const SimOptions& o) {
   requireRange("fps", o.fps, 1.0, 1000.0);
   if (o.focal_px != 0.0) requireRange("focal_px", o.focal_px, 1.0, 1e5);
   requireRange("hfov_deg", o.hfov_deg, 10.0, 150.0);
-  requireRange<std::int64_t>("frames", o.frames, 0, 10000000);
+  requireRange<std::int64_t>("frames", o.frames, 0, 1000000);
   requireRange("exposure_ms", o.exposure_ms, 0.01, 1000.0);
   requireRange("vignette", o.vignette, 0.0, 0.9);
   requireRange("noise_sigma", o.noise_sigma, 0.0, 50.0);

@@ -111,4 +111,9 @@ TumMonoWriteSummary writeTumMonoSequence(SimSource& source, const std::string& o
   return summary;
 }
 
+TumMonoWriteSummary writeTumMonoSequence(SimSource& source, const std::string& out_dir,
+                                         const SimProgress& progress) {
+  return writeTumMonoSequence(source, out_dir, TumMonoWriteOptions{}, progress);
+}
+
 }  // namespace ldsm::drivers::sim

@@ -12,9 +12,11 @@ void applyEnv(CoarseInitializerSettings& s) {
   s.smoothness_weight_parallax = envd("SWP", s.smoothness_weight_parallax);
   s.idepth_prior_weight = envd("WP", s.idepth_prior_weight);
   s.min_parallax_flow = envd("FLOW", s.min_parallax_flow);
+  s.min_rotation_free_parallax = envd("PAR", s.min_rotation_free_parallax);
   s.confirm_frames = (int)envd("CONF", s.confirm_frames);
   s.convergence_energy_fraction = envd("CONV", s.convergence_energy_fraction);
   s.gradient_weight_c = (float)envd("GWC", s.gradient_weight_c);
+  s.use_pixel_selector = envd("SEL", 1) > 0; s.selector_density = envd("DENS", s.selector_density);
   char n[8];
   for (int l = 0; l < 5; ++l) { snprintf(n, 8, "IT%d", l); s.max_iterations[l] = (int)envd(n, s.max_iterations[l]);
     snprintf(n, 8, "C%d", l); s.cell_size[l] = (int)envd(n, s.cell_size[l]); }

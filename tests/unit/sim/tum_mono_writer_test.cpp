@@ -116,7 +116,10 @@ TEST(TumMonoWriter, RoundTripThroughTheReaders) {
 
   // A shorter run into the same folder leaves no stale frames behind.
   SimSource shorter(test::sharedScene("short"), smallOptions(3));
-  writeTumMonoSequence(shorter, dir.string());
+  std::int64_t last = 0;
+  writeTumMonoSequence(shorter, dir.string(),
+                       [&](std::int64_t done, std::int64_t) { last = done; });
+  EXPECT_EQ(last, 3);
   EXPECT_EQ(describeDataset(dir.string()).frame_count, 3);
   EXPECT_FALSE(fs::exists(dir / "images" / "00005.png"));
 }

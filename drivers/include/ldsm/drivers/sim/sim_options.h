@@ -26,7 +26,7 @@ struct SimOptions {
   double focal_px = 0.0;
   /// Horizontal field of view in degrees, used when focal_px is 0.
   double hfov_deg = 80.0;
-  /// Number of frames; 0 uses the scene's default length.
+  /// Number of frames (at most 1e6); 0 uses the scene's default length.
   std::int64_t frames = 0;
   /// Nominal exposure time (ms). Irradiance 1 saturates the sensor at 20 ms (times vignette).
   double exposure_ms = 10.0;

@@ -4,12 +4,13 @@
 // buffer (one sample per pixel); each pixel is then shaded from the nearest quad with a
 // trilinear, mip-mapped lookup of its albedo pattern and detail map (footprint from the analytic
 // derivatives of the plane's homography). Pixels on geometric edges (the nearest quad differs
-// from a neighbour's) are re-rendered with 4 rotated-grid sub-samples. Optional full-frame
+// from a neighbour's) average 4 rotated-grid sub-samples, each taking the nearest of the quads
+// seen around the pixel (sub-samples on the centre's quad reuse its value). Optional full-frame
 // supersampling renders at k x k resolution and box-averages. Pixel centres are at integer
 // coordinates: pixel (x, y) looks along ((x - cx) / fx, (y - cy) / fy, 1) in camera coordinates.
 //
 // All arithmetic is IEEE float/double in a fixed order, so results are bit-identical on every
-// platform compiled with -ffp-contract=off.
+// platform compiled with -ffp-contract=off. A renderer keeps scratch buffers: use one per thread.
 #pragma once
 
 #include <cstdint>

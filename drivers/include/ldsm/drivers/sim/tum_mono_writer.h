@@ -38,4 +38,8 @@ TumMonoWriteSummary writeTumMonoSequence(SimSource& source, const std::string& o
                                          const TumMonoWriteOptions& options = {},
                                          const SimProgress& progress = {});
 
+/// The same with default options (true calibration in camera.txt).
+TumMonoWriteSummary writeTumMonoSequence(SimSource& source, const std::string& out_dir,
+                                         const SimProgress& progress);
+
 }  // namespace ldsm::drivers::sim

@@ -1,0 +1,56 @@
+// Test access to the coarse initializer's internals (declared friend in coarse_initializer.h).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "frontend/coarse_initializer.h"
+
+namespace ldsm {
+
+struct CoarseInitializerAccess {
+  static std::vector<float>& idepth(CoarseInitializer& c, int level) {
+    return c.levels_data_[level].idepth;
+  }
+  static std::vector<std::uint8_t>& good(CoarseInitializer& c, int level) {
+    return c.levels_data_[level].good;
+  }
+  static const std::vector<Eigen::Vector2f>& pixels(const CoarseInitializer& c, int level) {
+    return c.levels_data_[level].u;
+  }
+  static const std::vector<int>& parents(const CoarseInitializer& c, int level) {
+    return c.levels_data_[level].parent;
+  }
+  static const std::array<int, CoarseInitializerSettings::kMaxNeighbours>& neighbours(
+      const CoarseInitializer& c, int level, int index, int* count) {
+    *count = c.levels_data_[level].neighbour_count[static_cast<std::size_t>(index)];
+    return c.levels_data_[level].neighbours[static_cast<std::size_t>(index)];
+  }
+  static SE3d& pose(CoarseInitializer& c) { return c.T_; }
+  static bool depthsDegenerate(CoarseInitializer& c) { return c.depthsDegenerate(); }
+  static double parallax(const CoarseInitializer& c) { return c.rotationFreeParallax(); }
+
+  /// Energy of level `level` against `frame` (exposure ratio 1) at (T, affine, d) without the
+  /// smoothness term; fills the gradient w.r.t. [rho, phi, a, b] and the per-depth gradients.
+  static double energy(CoarseInitializer& c, const ImagePyramid& frame, int level, const SE3d& T,
+                       const AffineLight& affine, const std::vector<float>& d,
+                       Eigen::Matrix<double, 8, 1>* b, std::vector<float>* bd) {
+    c.frame_ = &frame;
+    c.exposure_ratio_ = 1.f;
+    c.smoothness_weight_ = 0.f;
+    std::vector<float> ir(d.size(), 1.f);
+    std::vector<CoarseInitializer::PointLinearization> lin(d.size());
+    std::vector<std::uint8_t> good(d.size());
+    CoarseInitializer::Evaluation ev;
+    c.evaluate(level, T, affine, d.data(), ir.data(), lin.data(), good.data(), ev);
+    c.frame_ = nullptr;
+    if (b != nullptr) *b = ev.b;
+    if (bd != nullptr) {
+      bd->resize(d.size());
+      for (std::size_t i = 0; i < d.size(); ++i) (*bd)[i] = lin[i].bd;
+    }
+    return ev.energy;
+  }
+};
+
+}  // namespace ldsm

@@ -1,0 +1,381 @@
+// Building blocks and contracts of the coarse initializer: point selection and links, gradients
+// against numeric differentiation, the parallax measure, bad input, failures and restarts.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include "frontend/init_point_graph.h"
+#include "init_access.h"
+#include "init_test_util.h"
+#include "ldsm/error.h"
+
+namespace ldsm {
+namespace {
+
+using test::makeIntrinsics;
+using Access = CoarseInitializerAccess;
+
+constexpr double kDeg = 3.14159265358979323846 / 180.0;
+
+ImagePyramid renderPyramid(const test::PlaneScene& scene, const SE3d& pose,
+                           const PinholeIntrinsics& K, float noise = 0.f, unsigned seed = 1) {
+  std::mt19937 rng(seed);
+  ImagePyramid pyramid(K.width, K.height, 5);
+  const ImageF image = scene.render(pose, K, 1, noise, &rng);
+  pyramid.build(image.view());
+  return pyramid;
+}
+
+ImagePyramid flatPyramid(int width, int height, float value) {
+  ImageF image(width, height, value);
+  ImagePyramid pyramid(width, height, 5);
+  pyramid.build(image.view());
+  return pyramid;
+}
+
+// ---- point selection and links ---------------------------------------------------------------
+
+TEST(InitPointGraph, BestGradientPerCellPicksTheCellMaximumAboveThreshold) {
+  const PinholeIntrinsics K = makeIntrinsics(160, 120, 120);
+  const ImagePyramid pyr = renderPyramid(test::wallAndFloorScene(), SE3d(), K);
+  const ImageView<const GradientPixel> g = pyr.gradients(0);
+  const int cell = 5, margin = 3;
+  const float min_grad = 4.f;
+  std::vector<Eigen::Vector2f> picks;
+  const int n = selectBestGradientPerCell(g, cell, min_grad, margin, picks);
+  ASSERT_EQ(n, static_cast<int>(picks.size()));
+  ASSERT_GT(n, 100);
+  const auto mag = [&](int x, int y) { return g(x, y).dx * g(x, y).dx + g(x, y).dy * g(x, y).dy; };
+  std::vector<int> per_cell(10000, 0);
+  for (const Eigen::Vector2f& p : picks) {
+    const int x = static_cast<int>(p.x()), y = static_cast<int>(p.y());
+    ASSERT_GE(x, margin);
+    ASSERT_GE(y, margin);
+    ASSERT_LT(x, K.width - margin);
+    ASSERT_LT(y, K.height - margin);
+    EXPECT_GE(mag(x, y), min_grad * min_grad);
+    const int cx = (x - margin) / cell, cy = (y - margin) / cell;
+    ++per_cell[static_cast<std::size_t>(cy * 100 + cx)];
+    // No pixel of the same cell has a larger gradient.
+    for (int yy = margin + cy * cell; yy < std::min(margin + (cy + 1) * cell, K.height - margin);
+         ++yy) {
+      for (int xx = margin + cx * cell; xx < std::min(margin + (cx + 1) * cell, K.width - margin);
+           ++xx) {
+        EXPECT_LE(mag(xx, yy), mag(x, y));
+      }
+    }
+  }
+  for (const int c : per_cell) EXPECT_LE(c, 1);
+
+  const ImagePyramid flat = flatPyramid(160, 120, 90.f);
+  EXPECT_EQ(selectBestGradientPerCell(flat.gradients(0), cell, min_grad, margin, picks), 0);
+}
+
+TEST(InitPointGraph, BucketGridNearestMatchesBruteForce) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> ux(0.f, 200.f), uy(0.f, 90.f);
+  std::vector<Eigen::Vector2f> points;
+  for (int i = 0; i < 700; ++i) points.emplace_back(ux(rng), uy(rng));
+  PointBucketGrid grid;
+  grid.build(points, 7.f, 200, 90);
+  std::vector<int> found;
+  for (const int k : {1, 4, 10}) {
+    for (int q = 0; q < 200; ++q) {
+      const bool self = q % 2 == 0;
+      const Eigen::Vector2f query = self ? points[static_cast<std::size_t>(q)]
+                                         : Eigen::Vector2f(ux(rng) * 1.1f - 10.f, uy(rng));
+      const int skip = self ? q : -1;
+      grid.nearest(query, k, skip, found);
+      std::vector<std::pair<float, int>> all;
+      for (int i = 0; i < static_cast<int>(points.size()); ++i) {
+        if (i != skip) all.emplace_back((points[static_cast<std::size_t>(i)] - query).squaredNorm(), i);
+      }
+      std::sort(all.begin(), all.end());
+      ASSERT_EQ(static_cast<int>(found.size()), k);
+      for (int j = 0; j < k; ++j) {
+        EXPECT_FLOAT_EQ((points[static_cast<std::size_t>(found[static_cast<std::size_t>(j)])] -
+                         query).squaredNorm(),
+                        all[static_cast<std::size_t>(j)].first);
+      }
+    }
+  }
+}
+
+TEST(CoarseInitializer, ReferenceLinksNeighboursAndParents) {
+  const PinholeIntrinsics K = makeIntrinsics(320, 240, 250);
+  CoarseInitializer init(PyramidCamera(K, 5));
+  const ImagePyramid pyr = renderPyramid(test::wallAndFloorScene(), SE3d(), K);
+  EXPECT_FALSE(init.addFrame(pyr, 1.0));
+  ASSERT_EQ(init.status(), InitStatus::kWaitingForParallax);
+  ASSERT_GE(init.levels(), 3);
+  for (int l = 0; l < init.levels(); ++l) {
+    const auto& u = Access::pixels(init, l);
+    ASSERT_GT(u.size(), 10u);
+    for (int i = 0; i < static_cast<int>(u.size()); i += 7) {
+      int count = 0;
+      const auto& nb = Access::neighbours(init, l, i, &count);
+      EXPECT_EQ(count, init.settings().neighbours);
+      float last = 0.f;
+      for (int j = 0; j < count; ++j) {
+        EXPECT_NE(nb[static_cast<std::size_t>(j)], i);
+        const float dist = (u[static_cast<std::size_t>(nb[static_cast<std::size_t>(j)])] -
+                            u[static_cast<std::size_t>(i)]).norm();
+        EXPECT_GE(dist, last);  // nearest first
+        last = dist;
+      }
+      if (l + 1 < init.levels()) {
+        const int p = Access::parents(init, l)[static_cast<std::size_t>(i)];
+        if (p >= 0) {
+          const Eigen::Vector2f up = (u[static_cast<std::size_t>(i)].array() + 0.5f) * 0.5f - 0.5f;
+          EXPECT_LT((Access::pixels(init, l + 1)[static_cast<std::size_t>(p)] - up).norm(), 12.f);
+        }
+      }
+    }
+  }
+}
+
+// ---- gradients against numeric differentiation -----------------------------------------------
+
+TEST(CoarseInitializer, EnergyGradientMatchesNumericDifferentiation) {
+  // Smooth images and a frame near the solution, so that the analytic gradient (pattern
+  // Jacobians taken at the point centre, interpolated central-difference image gradients) is
+  // accurate.
+  const PinholeIntrinsics K = makeIntrinsics(320, 240, 250);
+  const test::PlaneScene scene = test::wallAndFloorScene();
+  CoarseInitializerSettings s;
+  s.affine_prior_weight_a = 0.f;
+  s.affine_prior_weight_b = 0.f;
+  s.outlier_rms = 1e4f;  // no outlier cap: the energy must be smooth for differencing
+  CoarseInitializer init(PyramidCamera(K, 5), s);
+  init.addFrame(renderPyramid(scene, SE3d(), K), 1.0);
+  const SE3d T_w_f(SO3d::exp(Eigen::Vector3d(0.2, -0.3, 0.1) * kDeg), Eigen::Vector3d(0.05, 0.02, 0.03));
+  const ImagePyramid frame = renderPyramid(scene, T_w_f, K);
+
+  for (const int level : {0, 2}) {
+    // State near the solution: true inverse depths and pose (in units of 3.5 m), plus small
+    // errors.
+    const auto& u = Access::pixels(init, level);
+    std::vector<float> d(u.size());
+    const float s_l = static_cast<float>(1 << level);
+    for (std::size_t i = 0; i < u.size(); ++i) {
+      const double x = (u[i].x() + 0.5) * s_l - 0.5, y = (u[i].y() + 0.5) * s_l - 0.5;
+      d[i] = static_cast<float>(3.5 * scene.inverseDepth(SE3d(), K, x, y)) *
+             (1.f + 0.02f * static_cast<float>(i % 5) - 0.04f);
+    }
+    SE3d T = T_w_f.inverse();
+    T.translation() *= 3.5;
+    T = SE3d::exp((Eigen::Matrix<double, 6, 1>() << 0.003, -0.002, 0.004, 0.001, 0.0015, -0.001)
+                      .finished()) * T;
+    const AffineLight affine{0.02, 1.5};
+    Eigen::Matrix<double, 8, 1> b;
+    std::vector<float> bd;
+    Access::energy(init, frame, level, T, affine, d, &b, &bd);
+
+    Eigen::Matrix<double, 8, 1> numeric;
+    for (int j = 0; j < 8; ++j) {
+      const double h = j < 6 ? 1e-4 : (j == 6 ? 1e-4 : 1e-2);
+      SE3d Tp = T, Tm = T;
+      AffineLight ap = affine, am = affine;
+      if (j < 6) {
+        Eigen::Matrix<double, 6, 1> delta = Eigen::Matrix<double, 6, 1>::Zero();
+        delta(j) = h;
+        Tp = SE3d::exp(delta) * T;
+        Tm = SE3d::exp(-delta) * T;
+      } else if (j == 6) {
+        ap.a += h;
+        am.a -= h;
+      } else {
+        ap.b += h;
+        am.b -= h;
+      }
+      numeric(j) = (Access::energy(init, frame, level, Tp, ap, d, nullptr, nullptr) -
+                    Access::energy(init, frame, level, Tm, am, d, nullptr, nullptr)) /
+                   (2 * h);
+    }
+    for (int j = 0; j < 8; ++j) {
+      EXPECT_NEAR(b(j), numeric(j), 0.05 * std::abs(numeric(j)) + 1e-3 * numeric.norm())
+          << "level " << level << " parameter " << j;
+    }
+
+    // Depth gradients of a sample of points.
+    int checked = 0;
+    double err = 0, ref = 0;
+    for (std::size_t i = 0; i < d.size(); i += 13) {
+      std::vector<float> dp = d, dm = d;
+      const float h = 1e-3f;
+      dp[i] += h;
+      dm[i] -= h;
+      const double num = (Access::energy(init, frame, level, T, affine, dp, nullptr, nullptr) -
+                          Access::energy(init, frame, level, T, affine, dm, nullptr, nullptr)) /
+                         (2 * h);
+      err += (num - bd[i]) * (num - bd[i]);
+      ref += num * num;
+      ++checked;
+    }
+    ASSERT_GT(checked, 10);
+    EXPECT_LT(std::sqrt(err / ref), 0.1) << "level " << level;
+  }
+}
+
+// ---- parallax measure and degenerate maps ------------------------------------------------------
+
+TEST(CoarseInitializer, RotationFreeParallaxSeparatesTranslationFromRotation) {
+  const PinholeIntrinsics K = makeIntrinsics(320, 240, 250);
+  CoarseInitializer init(PyramidCamera(K, 5));
+  init.addFrame(renderPyramid(test::wallAndFloorScene(), SE3d(), K), 1.0);
+  std::vector<float>& d = Access::idepth(init, 0);
+  std::vector<std::uint8_t>& good = Access::good(init, 0);
+  std::fill(good.begin(), good.end(), 1);
+  std::mt19937 rng(2);
+  std::uniform_real_distribution<float> depth(0.5f, 1.5f);
+
+  // Pure rotation: no parallax.
+  for (float& v : d) v = depth(rng);
+  Access::pose(init) = SE3d(SO3d::exp(Eigen::Vector3d(0.01, -0.02, 0.005)), Eigen::Vector3d::Zero());
+  EXPECT_NEAR(Access::parallax(init), 0.0, 1e-6);
+
+  // Sideways translation with equal depths: the flow is nearly a rotation's.
+  std::fill(d.begin(), d.end(), 1.f);
+  Access::pose(init) = SE3d(SO3d(), Eigen::Vector3d(0.04, 0, 0));  // 10 px of flow
+  const double uniform = Access::parallax(init);
+  EXPECT_LT(uniform, 1.0);
+
+  // The same translation over varying depths: real parallax, of the size of the depth spread.
+  for (float& v : d) v = depth(rng);
+  const double varied = Access::parallax(init);
+  EXPECT_GT(varied, 2.0);
+  EXPECT_LT(varied, 10.0 * 0.5);
+
+  // Forward motion: radial flow that no rotation explains.
+  std::fill(d.begin(), d.end(), 1.f);
+  Access::pose(init) = SE3d(SO3d(), Eigen::Vector3d(0, 0, -0.05));
+  EXPECT_GT(Access::parallax(init), 3.0);
+}
+
+TEST(CoarseInitializer, DegenerateDepthDistributionsAreDetected) {
+  const PinholeIntrinsics K = makeIntrinsics(320, 240, 250);
+  CoarseInitializer init(PyramidCamera(K, 5));
+  init.addFrame(renderPyramid(test::wallAndFloorScene(), SE3d(), K), 1.0);
+  std::vector<float>& d = Access::idepth(init, 0);
+  std::vector<std::uint8_t>& good = Access::good(init, 0);
+  std::fill(good.begin(), good.end(), 1);
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<float> plausible(0.5f, 2.0f);
+  for (float& v : d) v = plausible(rng);
+  EXPECT_FALSE(Access::depthsDegenerate(init));
+
+  // A quarter of the depths negative.
+  for (std::size_t i = 0; i < d.size(); i += 4) d[i] = -0.3f;
+  EXPECT_TRUE(Access::depthsDegenerate(init));
+
+  // Hugely spread: 10 % of the points 50 times closer than the median.
+  for (float& v : d) v = plausible(rng);
+  for (std::size_t i = 0; i < d.size(); i += 10) d[i] = 60.f;
+  EXPECT_TRUE(Access::depthsDegenerate(init));
+
+  // No inliers at all.
+  for (float& v : d) v = plausible(rng);
+  std::fill(good.begin(), good.end(), 0);
+  EXPECT_TRUE(Access::depthsDegenerate(init));
+}
+
+// ---- bad input, failures, restarts -----------------------------------------------------------
+
+TEST(CoarseInitializer, InvalidSettingsAreRejected) {
+  const PyramidCamera cam(makeIntrinsics(320, 240, 250), 5);
+  const auto expectConfigError = [&](auto mutate) {
+    CoarseInitializerSettings s;
+    mutate(s);
+    EXPECT_THROW(CoarseInitializer(cam, s), ConfigError);
+  };
+  expectConfigError([](CoarseInitializerSettings& s) { s.max_levels = 0; });
+  expectConfigError([](CoarseInitializerSettings& s) { s.neighbours = 0; });
+  expectConfigError([](CoarseInitializerSettings& s) { s.neighbours = 11; });
+  expectConfigError([](CoarseInitializerSettings& s) { s.cell_size[1] = 0; });
+  expectConfigError([](CoarseInitializerSettings& s) { s.huber_threshold = -1.f; });
+  expectConfigError([](CoarseInitializerSettings& s) {
+    s.huber_threshold = std::numeric_limits<float>::quiet_NaN();
+  });
+  expectConfigError([](CoarseInitializerSettings& s) { s.idepth_prior_weight = 0.f; });
+  expectConfigError([](CoarseInitializerSettings& s) { s.min_parallax_flow = 0.f; });
+  expectConfigError([](CoarseInitializerSettings& s) { s.min_rotation_free_parallax = 100.f; });
+  expectConfigError([](CoarseInitializerSettings& s) { s.fail_rms = 1.f; });
+  expectConfigError([](CoarseInitializerSettings& s) { s.min_good_fraction = 0.9f; });
+  expectConfigError([](CoarseInitializerSettings& s) { s.max_idepth_spread = 0.5f; });
+  expectConfigError([](CoarseInitializerSettings& s) { s.selector_density = 0.f; });
+  EXPECT_THROW(CoarseInitializer(PyramidCamera(), CoarseInitializerSettings{}), InputError);
+}
+
+TEST(CoarseInitializer, BadFramesThrowInputError) {
+  const PinholeIntrinsics K = makeIntrinsics(320, 240, 250);
+  CoarseInitializer init(PyramidCamera(K, 5));
+  const ImagePyramid good = renderPyramid(test::wallAndFloorScene(), SE3d(), K);
+  const ImagePyramid wrong_size = flatPyramid(160, 120, 100.f);
+  EXPECT_THROW(init.addFrame(wrong_size, 1.0), InputError);
+  EXPECT_THROW(init.addFrame(good, 0.0), InputError);
+  EXPECT_THROW(init.addFrame(good, -1.0), InputError);
+  EXPECT_THROW(init.addFrame(good, std::numeric_limits<double>::quiet_NaN()), InputError);
+  EXPECT_THROW(init.addFrame(good, std::numeric_limits<double>::infinity()), InputError);
+  EXPECT_EQ(init.status(), InitStatus::kNoReference);  // nothing was accepted
+
+  init.addFrame(good, 1.0);
+  ASSERT_EQ(init.status(), InitStatus::kWaitingForParallax);
+  ImagePyramid two_levels(K.width, K.height, 2);
+  ImageF image(K.width, K.height, 80.f);
+  two_levels.build(image.view());
+  try {
+    init.addFrame(two_levels, 1.0);
+    FAIL() << "a pyramid with fewer levels than the reference must be rejected";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("levels"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(init.status(), InitStatus::kWaitingForParallax);  // the reference is kept
+}
+
+TEST(CoarseInitializer, TexturelessReferenceIsRefusedAndNextFrameRestarts) {
+  const PinholeIntrinsics K = makeIntrinsics(320, 240, 250);
+  CoarseInitializer init(PyramidCamera(K, 5));
+  EXPECT_FALSE(init.addFrame(flatPyramid(K.width, K.height, 120.f), 1.0));
+  EXPECT_TRUE(init.failed());
+  EXPECT_EQ(init.failure(), InitFailure::kTooFewPoints);
+  EXPECT_FALSE(init.addFrame(renderPyramid(test::wallAndFloorScene(), SE3d(), K), 1.0));
+  EXPECT_EQ(init.status(), InitStatus::kWaitingForParallax);
+  EXPECT_EQ(init.failure(), InitFailure::kNone);
+  EXPECT_EQ(init.framesTracked(), 0);
+}
+
+TEST(CoarseInitializer, UnrelatedImageFailsTrackingAndResetStartsOver) {
+  const PinholeIntrinsics K = makeIntrinsics(320, 240, 250);
+  CoarseInitializer init(PyramidCamera(K, 5));
+  init.addFrame(renderPyramid(test::wallAndFloorScene(), SE3d(), K), 1.0);
+  init.addFrame(renderPyramid(test::wallAndFloorScene(), SE3d(SO3d(), {0.01, 0, 0}), K), 1.0);
+  ASSERT_EQ(init.status(), InitStatus::kWaitingForParallax);
+  EXPECT_EQ(init.framesTracked(), 1);
+
+  // A different scene: most points cannot be matched.
+  test::PlaneScene other;
+  other.addPlane({0, 0, 2.0}, {0, 0, -1}, 99U);
+  EXPECT_FALSE(init.addFrame(renderPyramid(other, SE3d(), K), 1.0));
+  EXPECT_TRUE(init.failed());
+  EXPECT_TRUE(init.failure() == InitFailure::kLostTrack ||
+              init.failure() == InitFailure::kResidualTooLarge)
+      << toString(init.failure());
+
+  // The next frame becomes the new reference.
+  EXPECT_FALSE(init.addFrame(renderPyramid(other, SE3d(), K), 1.0));
+  EXPECT_EQ(init.status(), InitStatus::kWaitingForParallax);
+  EXPECT_EQ(init.framesTracked(), 0);
+
+  init.addFrame(renderPyramid(other, SE3d(SO3d(), {0.01, 0, 0}), K), 1.0);
+  EXPECT_EQ(init.framesTracked(), 1);
+  init.reset();
+  EXPECT_EQ(init.status(), InitStatus::kNoReference);
+  EXPECT_EQ(init.framesTracked(), 0);
+}
+
+}  // namespace
+}  // namespace ldsm

@@ -1,0 +1,250 @@
+// The pattern kernels (sampling and accumulation), for the selected instruction set and the
+// plain-C++ vector, against the scalar reference on random inputs. Tolerance: relative 1e-5 of
+// the magnitude of each quantity (for sums of products, the Cauchy-Schwarz bound
+// sqrt(H_ii H_jj) of the terms' absolute sum).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "ldsm/image.h"
+#include "math/simd/pattern_accumulate.h"
+#include "math/simd/pattern_sampling.h"
+
+namespace ldsm {
+namespace simd {
+namespace {
+
+constexpr double kTol = 1e-5;
+
+template <class V>
+class PatternKernelTest : public ::testing::Test {};
+using VecTypes = ::testing::Types<Vec4, Vec4Scalar>;
+TYPED_TEST_SUITE(PatternKernelTest, VecTypes);
+
+/// A smooth random texture with central-difference gradients, as a pyramid level holds it.
+Image<GradientPixel> randomTexture(int w, int h, std::mt19937& rng) {
+  std::uniform_real_distribution<float> U(0.f, 6.2832f);
+  const float p1 = U(rng), p2 = U(rng), p3 = U(rng);
+  Image<float> I(w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const float fx = static_cast<float>(x), fy = static_cast<float>(y);
+      I(x, y) = 120.f + 60.f * std::sin(0.31f * fx + p1) * std::cos(0.23f * fy + p2) +
+                40.f * std::sin(0.11f * fx - 0.37f * fy + p3);
+    }
+  Image<GradientPixel> g(w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const bool in = x > 0 && y > 0 && x + 1 < w && y + 1 < h;
+      g(x, y) = {I(x, y), in ? 0.5f * (I(x + 1, y) - I(x - 1, y)) : 0.f,
+                 in ? 0.5f * (I(x, y + 1) - I(x, y - 1)) : 0.f};
+    }
+  return g;
+}
+
+struct RandomPair {
+  PatternSamplingParams params;
+  PatternWeighting weighting;
+};
+
+RandomPair randomPair(const Image<GradientPixel>& img, std::mt19937& rng) {
+  std::uniform_real_distribution<float> U(-1.f, 1.f);
+  RandomPair rp;
+  // K R K^-1 of a small rotation (a near-identity homography) and a translation.
+  const float e[9] = {1.f + 0.02f * U(rng), 0.03f * U(rng),       1e-4f * U(rng),
+                      0.03f * U(rng),       1.f + 0.02f * U(rng), 1e-4f * U(rng),
+                      3.f * U(rng),         3.f * U(rng),         1.f + 0.01f * U(rng)};
+  for (int i = 0; i < 9; ++i) rp.params.KRKi[i] = e[i];
+  rp.params.Kt[0] = 5.f * U(rng);
+  rp.params.Kt[1] = 5.f * U(rng);
+  rp.params.Kt[2] = 0.02f * U(rng);
+  rp.params.scale = 1.f + 0.2f * U(rng);
+  rp.params.offset = 10.f * U(rng);
+  rp.params.image = img.view();
+  rp.weighting.gradient_c2 = 50.f * 50.f;
+  rp.weighting.huber = 9.f;
+  rp.weighting.margin = 2.f;
+  return rp;
+}
+
+struct RandomPoint {
+  float colors[kPatternSize];
+  float grad_weights[kPatternSize];
+  PatternPoint point;
+};
+
+RandomPoint randomPoint(int w, int h, std::mt19937& rng) {
+  std::uniform_real_distribution<float> U(0.f, 1.f);
+  RandomPoint p;
+  p.point.u = -4.f + (static_cast<float>(w) + 8.f) * U(rng);  // some leave the image
+  p.point.v = -4.f + (static_cast<float>(h) + 8.f) * U(rng);
+  p.point.idepth = 0.05f + 2.f * U(rng);
+  for (int k = 0; k < kPatternSize; ++k) {
+    p.colors[k] = 40.f + 180.f * U(rng);
+    p.grad_weights[k] = 0.3f + 0.7f * U(rng);
+  }
+  p.point.colors = p.colors;
+  p.point.grad_weights = p.grad_weights;
+  return p;
+}
+
+TYPED_TEST(PatternKernelTest, SamplingMatchesReference) {
+  std::mt19937 rng(7);
+  const Image<GradientPixel> img = randomTexture(97, 61, rng);
+  int inside = 0, outside = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    const RandomPair rp = randomPair(img, rng);
+    const RandomPoint pt = randomPoint(img.width(), img.height(), rng);
+    PatternSamples ref, got;
+    const bool ok_ref = reference::samplePattern(rp.params, rp.weighting, pt.point, ref);
+    const bool ok = samplePattern<TypeParam>(rp.params, rp.weighting, pt.point, got);
+    ASSERT_EQ(ok, ok_ref) << "trial " << trial;
+    if (!ok) {
+      ++outside;
+      continue;
+    }
+    ++inside;
+    const double grey = 255.0, grad = 128.0;  // magnitudes of intensities and gradients
+    for (int k = 0; k < kPatternSize; ++k) {
+      ASSERT_NEAR(got.gx[k], ref.gx[k], kTol * grad) << trial << " " << k;
+      ASSERT_NEAR(got.gy[k], ref.gy[k], kTol * grad) << trial << " " << k;
+      ASSERT_NEAR(got.r[k], ref.r[k], kTol * grey) << trial << " " << k;
+      ASSERT_NEAR(got.w[k], ref.w[k], kTol) << trial << " " << k;
+    }
+    ASSERT_NEAR(got.energy, ref.energy, kTol * std::max(1.0, static_cast<double>(ref.energy)));
+  }
+  EXPECT_GT(inside, 1000);
+  EXPECT_GT(outside, 100);
+}
+
+TYPED_TEST(PatternKernelTest, SamplingRejectsBehindCameraAndNonFinite) {
+  std::mt19937 rng(3);
+  const Image<GradientPixel> img = randomTexture(64, 48, rng);
+  RandomPair rp = randomPair(img, rng);
+  RandomPoint pt = randomPoint(64, 48, rng);
+  pt.point.u = 32.f;
+  pt.point.v = 24.f;
+  PatternSamples s;
+  ASSERT_TRUE(samplePattern<TypeParam>(rp.params, rp.weighting, pt.point, s));
+  for (float bad :
+       {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity()}) {
+    RandomPoint q = pt;
+    q.point.u = bad;
+    q.point.colors = q.colors;
+    q.point.grad_weights = q.grad_weights;
+    EXPECT_FALSE(samplePattern<TypeParam>(rp.params, rp.weighting, q.point, s));
+  }
+  // Mirror the image plane: every pixel lands behind the camera, at a valid-looking position.
+  for (float& e : rp.params.KRKi) e = -e;
+  for (float& e : rp.params.Kt) e = -e;
+  EXPECT_FALSE(samplePattern<TypeParam>(rp.params, rp.weighting, pt.point, s));
+  EXPECT_FALSE(reference::samplePattern(rp.params, rp.weighting, pt.point, s));
+}
+
+PatternSamples randomSamples(std::mt19937& rng) {
+  std::uniform_real_distribution<float> U(-1.f, 1.f);
+  PatternSamples s;
+  for (int k = 0; k < kPatternSize; ++k) {
+    s.gx[k] = 60.f * U(rng);
+    s.gy[k] = 60.f * U(rng);
+    s.r[k] = 20.f * U(rng);
+    s.w[k] = 0.5f + 0.5f * U(rng);
+  }
+  return s;
+}
+
+PatternJacobian randomJacobian(const float* colors, std::mt19937& rng) {
+  std::uniform_real_distribution<float> U(-1.f, 1.f);
+  PatternJacobian j;
+  for (int r = 0; r < 2; ++r) {
+    for (int c = 0; c < 6; ++c) j.dpx_deps[r][c] = 400.f * U(rng);
+    j.dpx_didepth[r] = 80.f * U(rng);
+  }
+  j.colors = colors;
+  j.scale = 1.f + 0.3f * U(rng);
+  j.host_b = 15.f * U(rng);
+  return j;
+}
+
+/// Tolerance of the sums in `pair` (totals layout) from their diagonal.
+double pairTolerance(const double* pair, int index) {
+  for (int i = 0; i < kPatternBasis; ++i)
+    for (int j = i; j < kPatternBasis; ++j)
+      if (patternUpperIndex(i, j) == index)
+        return kTol * std::sqrt(pair[patternUpperIndex(i, i)] * pair[patternUpperIndex(j, j)]);
+  return -1.0;
+}
+
+TYPED_TEST(PatternKernelTest, AccumulationMatchesReference) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> U(0.f, 255.f);
+  for (int n : {1, 15, 16, 17, 40, 200}) {  // around and across the float flush interval
+    PatternPairSumsT<TypeParam> sums;
+    double ref_pair[kPatternPairSums] = {};
+    double sum_wr2 = 0.0;
+    for (int i = 0; i < n; ++i) {
+      float colors[kPatternSize];
+      for (float& c : colors) c = U(rng);
+      const PatternSamples s = randomSamples(rng);
+      const PatternJacobian jac = randomJacobian(colors, rng);
+      double ref_point[kPatternBasis + 2];
+      reference::accumulatePattern(s, jac, ref_pair, ref_point);
+      PatternPointSums got;
+      sums.add(s, jac, got);
+      double wr2 = 0.0;
+      for (int k = 0; k < kPatternSize; ++k) wr2 += s.w[k] * s.r[k] * s.r[k];
+      sum_wr2 += wr2;
+      // Point terms: sum w u_i J_d <= sqrt(sum w u_i^2 * H_dd).
+      double single[kPatternPairSums] = {};
+      double unused[kPatternBasis + 2];
+      reference::accumulatePattern(s, jac, single, unused);
+      const double hdd = ref_point[kPatternBasis];
+      for (int c = 0; c < kPatternBasis; ++c)
+        ASSERT_NEAR(got.coupling[c], ref_point[c],
+                    kTol * std::sqrt(single[patternUpperIndex(c, c)] * hdd))
+            << n << " " << c;
+      ASSERT_NEAR(got.H_dd, hdd, kTol * hdd);
+      ASSERT_NEAR(got.b_d, ref_point[kPatternBasis + 1], kTol * std::sqrt(hdd * wr2));
+    }
+    EXPECT_EQ(sums.count(), n);
+    double got[kPatternPairSums];
+    sums.totals(got);
+    for (int k = 0; k < kPatternUpper; ++k)
+      ASSERT_NEAR(got[k], ref_pair[k], pairTolerance(ref_pair, k)) << n << " " << k;
+    for (int i = 0; i < kPatternBasis; ++i) {
+      const int k = patternGradientIndex(i);
+      ASSERT_NEAR(got[k], ref_pair[k],
+                  kTol * std::sqrt(ref_pair[patternUpperIndex(i, i)] * sum_wr2))
+          << n << " " << i;
+    }
+    sums.reset();
+    sums.totals(got);
+    for (double g : got) EXPECT_EQ(g, 0.0);
+    EXPECT_EQ(sums.count(), 0);
+  }
+}
+
+TYPED_TEST(PatternKernelTest, DepthOnlyMatchesReference) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> U(0.f, 255.f);
+  for (int i = 0; i < 200; ++i) {
+    float colors[kPatternSize];
+    for (float& c : colors) c = U(rng);
+    const PatternSamples s = randomSamples(rng);
+    const PatternJacobian jac = randomJacobian(colors, rng);
+    double pair[kPatternPairSums] = {}, point[kPatternBasis + 2];
+    reference::accumulatePattern(s, jac, pair, point);
+    float H_dd, b_d;
+    accumulateDepthOnly<TypeParam>(s, jac.dpx_didepth, &H_dd, &b_d);
+    double wr2 = 0.0;
+    for (int k = 0; k < kPatternSize; ++k) wr2 += s.w[k] * s.r[k] * s.r[k];
+    ASSERT_NEAR(H_dd, point[kPatternBasis], kTol * point[kPatternBasis]);
+    ASSERT_NEAR(b_d, point[kPatternBasis + 1], kTol * std::sqrt(point[kPatternBasis] * wr2));
+  }
+}
+
+}  // namespace
+}  // namespace simd
+}  // namespace ldsm
