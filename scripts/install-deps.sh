@@ -11,6 +11,7 @@ PACKAGES=(
   libspdlog-dev libfmt-dev
   libyaml-cpp-dev libcli11-dev
   libzip-dev zipcmp zipmerge ziptool zlib1g-dev
+  libpng-dev libjpeg62-turbo-dev
   libv4l-dev libcamera-dev
   libgtest-dev libgmock-dev libbenchmark-dev
 )

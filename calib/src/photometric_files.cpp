@@ -1,11 +1,12 @@
 #include "ldsm/calib/photometric_files.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
-#include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <vector>
 
+#include "ldsm/calib/image_file.h"
 #include "ldsm/camera/photometric_model.h"
 #include "ldsm/error.h"
 #include "text_file.h"
@@ -56,26 +57,22 @@ void writeInverseResponse(const std::string& path, const std::array<float, 256>&
 ImageF readVignette(const std::string& path) {
   if (!std::filesystem::is_regular_file(path))
     throw InputError(path + ": cannot open vignette image (no such file)");
-  const cv::Mat img = cv::imread(path, cv::IMREAD_UNCHANGED);
-  if (img.empty()) throw InputError(path + ": cannot decode the vignette image");
-  if (img.channels() != 1)
+  ImageU16 raw;
+  const ImageFileInfo file = readImage(path, raw);
+  if (file.channels != 1)
     throw InputError(path + ": vignette must be a single-channel image (has " +
-                     std::to_string(img.channels()) + " channels)");
-  if (img.depth() != CV_8U && img.depth() != CV_16U)
-    throw InputError(path + ": vignette must be 8- or 16-bit");
-  cv::Mat f;
-  img.convertTo(f, CV_32F);
-  double max_value = 0.0;
-  cv::minMaxLoc(f, nullptr, &max_value);
-  if (!(max_value > 0.0)) throw InputError(path + ": vignette is all zero");
-  ImageF out(f.cols, f.rows);
-  for (int y = 0; y < f.rows; ++y) {
-    const float* src = f.ptr<float>(y);
-    for (int x = 0; x < f.cols; ++x) {
-      if (src[x] <= 0.0f)
+                     std::to_string(file.channels) + " channels)");
+  std::uint16_t max_value = 0;
+  for (int y = 0; y < raw.height(); ++y)
+    for (int x = 0; x < raw.width(); ++x) max_value = std::max(max_value, raw(x, y));
+  if (max_value == 0) throw InputError(path + ": vignette is all zero");
+  ImageF out(raw.width(), raw.height());
+  for (int y = 0; y < raw.height(); ++y) {
+    for (int x = 0; x < raw.width(); ++x) {
+      if (raw(x, y) == 0)
         throw InputError(path + ": vignette is zero at pixel (" + std::to_string(x) + ", " +
                          std::to_string(y) + "); it must be positive everywhere");
-      out(x, y) = static_cast<float>(src[x] / max_value);
+      out(x, y) = static_cast<float>(static_cast<double>(raw(x, y)) / max_value);
     }
   }
   return out;
@@ -92,20 +89,12 @@ void writeVignette(const std::string& path, const ImageF& vignette) {
                          std::to_string(y) + ") is not finite and positive");
       max_value = std::max(max_value, v);
     }
-  cv::Mat img(vignette.height(), vignette.width(), CV_16UC1);
-  for (int y = 0; y < vignette.height(); ++y) {
-    auto* dst = img.ptr<std::uint16_t>(y);
+  ImageU16 img(vignette.width(), vignette.height());
+  for (int y = 0; y < vignette.height(); ++y)
     for (int x = 0; x < vignette.width(); ++x)
-      dst[x] = static_cast<std::uint16_t>(
+      img(x, y) = static_cast<std::uint16_t>(
           std::max(1L, std::lround(65535.0 * vignette(x, y) / max_value)));
-  }
-  bool ok = false;
-  try {
-    ok = cv::imwrite(path, img);
-  } catch (const cv::Exception& e) {
-    throw Error(path + ": cannot write the vignette: " + e.what());
-  }
-  if (!ok) throw Error(path + ": cannot write the vignette");
+  writePng(path, img.view());
 }
 
 PhotometricCalibration loadPhotometricCalibration(const std::string& pcalib_path,

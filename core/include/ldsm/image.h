@@ -111,6 +111,7 @@ class Image {
 };
 
 using ImageU8 = Image<std::uint8_t>;
+using ImageU16 = Image<std::uint16_t>;
 using ImageF = Image<float>;
 
 }  // namespace ldsm

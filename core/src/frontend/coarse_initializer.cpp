@@ -187,7 +187,7 @@ void CoarseInitializer::setReference(const ImagePyramid& pyramid, double exposur
     L.idepth_trial.assign(n, 1.f);
     L.ir.assign(n, 1.f);
     L.ir_trial.assign(n, 1.f);
-    L.lin.assign(n, PointLinearization{Eigen::Matrix<float, 8, 1>::Zero(), 0.f, 0.f, 0.f});
+    L.lin.assign(n, PointLinearization{Eigen::Matrix<float, 8, 1>::Zero(), 0.f, 0.f, 0.f, 0.f});
     L.lin_trial.assign(n, L.lin.front());
     L.good.assign(n, 0);
     L.good_trial.assign(n, 0);

@@ -189,12 +189,14 @@ class CoarseInitializer {
   friend struct CoarseInitializerAccess;
 
   /// A point's Schur data: coupling to [rho, phi, a, b], total depth Hessian (with priors),
-  /// depth gradient and photometric depth Hessian alone.
+  /// depth gradient, photometric depth Hessian alone and photometric energy (the outlier cost
+  /// when the point is not an inlier).
   struct PointLinearization {
     Eigen::Matrix<float, 8, 1> hxd;
     float hdd;
     float bd;
     float hphoto;
+    float energy;
   };
   struct Evaluation {
     Eigen::Matrix<double, 8, 8> H;

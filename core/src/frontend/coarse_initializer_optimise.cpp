@@ -79,6 +79,7 @@ void CoarseInitializer::evaluate(int lvl, const SE3d& T, const AffineLight& affi
     P.hdd = ws + wp;
     P.bd = ws * dr + wp * dp;
     P.hphoto = 0.f;
+    P.energy = cap;
     good[i] = 0;
 
     const Eigen::Vector3f qc = R * cam.unproject(L.u[i].x(), L.u[i].y()) + t * d;
@@ -133,6 +134,7 @@ void CoarseInitializer::evaluate(int lvl, const SE3d& T, const AffineLight& affi
     out.photo_good += e;
     ++out.good;
     good[i] = 1;
+    P.energy = e;
 
     // Centre geometry: normalised coordinates, 1/z of q and the Jacobians of pi.
     const float iz = 1.f / qc.z();

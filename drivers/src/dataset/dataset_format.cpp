@@ -1,6 +1,8 @@
 // Dataset format names and layout detection.
 #include "ldsm/drivers/dataset_format.h"
 
+#include "dataset/file_listing.h"
+
 #include <algorithm>
 #include <array>
 #include <cctype>
@@ -126,7 +128,8 @@ DatasetFormat detectDatasetFormat(const std::string& path) {
   if (isFile(root / "times.txt") && (isDir(root / "images") || isFile(root / "images.zip"))) {
     return DatasetFormat::TumMono;
   }
-  if (containsImages(root)) return DatasetFormat::Folder;
+  if (containsImages(root) || containsImages(detail::imageFolderOf(root.string())))
+    return DatasetFormat::Folder;
   throw InputError(path +
                    ": unknown dataset layout: looked for mav0/cam0/data.csv or cam0/data.csv "
                    "(euroc), sequences/NN/image_0 or image_0/ + times.txt (kitti), rgb.txt "

@@ -4,13 +4,11 @@
 #include <limits>
 #include <system_error>
 
-#include <opencv2/core/mat.hpp>
-
 #include "dataset/file_listing.h"
-#include "dataset/image_decoding.h"
 #include "dataset/timestamp_files.h"
 #include "dataset/video_source.h"
 #include "dataset/zip_archive.h"
+#include "ldsm/calib/image_file.h"
 #include "ldsm/drivers/dataset_description.h"
 #include "ldsm/error.h"
 
@@ -183,7 +181,7 @@ void describeTumRgbd(DatasetDescription& d) {
 }
 
 void describeFolder(DatasetDescription& d) {
-  d.images = detail::listImageFiles(d.root);
+  d.images = detail::listImageFiles(detail::imageFolderOf(d.root));
   d.timestamps.resize(d.images.size());
   d.exposures_ms.assign(d.images.size(), kNaN);
   for (std::size_t i = 0; i < d.images.size(); ++i) {
@@ -201,12 +199,11 @@ void readFirstImageSize(DatasetDescription& d) {
     archive.read(archive.indexOf(d.images.front()), bytes);
     where = d.image_archive + ":" + d.images.front();
   } else {
-    detail::readFileBytes(d.images.front(), bytes);
+    calib::readFileBytes(d.images.front(), bytes);
     where = d.images.front();
   }
-  cv::Mat scratch;
   ImageU8 image;
-  detail::decodeToGrey(bytes, where, scratch, image);
+  calib::decodeImage(bytes.data(), bytes.size(), where, image);
   d.width = image.width();
   d.height = image.height();
 }

@@ -69,4 +69,24 @@ std::vector<std::string> listImageFiles(const std::string& dir) {
   return paths;
 }
 
+std::string imageFolderOf(const std::string& dir) {
+  std::error_code ec;
+  if (listImageFiles(dir).size() >= 2) return dir;
+  std::vector<std::string> subdirs;
+  for (const auto& entry : fs::directory_iterator(dir, ec)) {
+    std::error_code type_ec;
+    const std::string name = entry.path().filename().string();
+    if (entry.is_directory(type_ec) && name.front() != '.') subdirs.push_back(name);
+  }
+  sortNaturally(subdirs);
+  for (const std::string& sub : subdirs) {
+    const std::string path = (fs::path(dir) / sub).string();
+    std::error_code list_ec;
+    fs::directory_iterator probe(path, list_ec);
+    if (list_ec) continue;
+    if (listImageFiles(path).size() >= 2) return path;
+  }
+  return dir;
+}
+
 }  // namespace ldsm::drivers::detail

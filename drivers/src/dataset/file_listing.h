@@ -16,4 +16,10 @@ void sortNaturally(std::vector<std::string>& names);
 /// their names. Throws ldsm::InputError "<dir>: cannot list folder" when `dir` is unreadable.
 std::vector<std::string> listImageFiles(const std::string& dir);
 
+/// The folder holding the images of a plain image-folder dataset: `dir` itself when it has at
+/// least two images, else the first subfolder (natural order) with at least two, else `dir`.
+/// Lets a folder like rtabmap_loop84/ (images in samples/, a ground-truth bitmap beside it) be
+/// opened by its top folder.
+std::string imageFolderOf(const std::string& dir);
+
 }  // namespace ldsm::drivers::detail

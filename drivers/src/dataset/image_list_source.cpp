@@ -5,7 +5,7 @@
 #include <limits>
 #include <utility>
 
-#include "dataset/image_decoding.h"
+#include "ldsm/calib/image_file.h"
 #include "ldsm/error.h"
 
 namespace ldsm::drivers::detail {
@@ -49,9 +49,9 @@ void DatasetSource::decode(std::size_t i, ImageU8& out) {
   if (archive_) {
     archive_->read(entry_indices_[i], bytes_);
   } else {
-    readFileBytes(description_.images[i], bytes_);
+    calib::readFileBytes(description_.images[i], bytes_);
   }
-  decodeToGrey(bytes_, where, scratch_, out);
+  calib::decodeImage(bytes_.data(), bytes_.size(), where, out);
   if (width_ == 0 && height_ == 0) {
     width_ = out.width();
     height_ = out.height();

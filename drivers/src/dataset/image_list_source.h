@@ -6,8 +6,6 @@
 #include <memory>
 #include <vector>
 
-#include <opencv2/core/mat.hpp>
-
 #include "dataset/zip_archive.h"
 #include "ldsm/drivers/dataset_description.h"
 #include "ldsm/drivers/frame_source.h"
@@ -34,8 +32,7 @@ class DatasetSource : public FrameSource {
   bool failed_ = false;
   int width_ = 0;  ///< expected size (first image's)
   int height_ = 0;
-  std::vector<unsigned char> bytes_;
-  cv::Mat scratch_;
+  std::vector<unsigned char> bytes_;  ///< encoded image (capacity reused)
 };
 
 }  // namespace ldsm::drivers::detail

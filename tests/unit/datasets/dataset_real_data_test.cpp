@@ -83,6 +83,9 @@ INSTANTIATE_TEST_SUITE_P(
                      1403715273.262142976, 1403715277.962142976, "euroc_v101_static95/camera.txt",
                      "euroc_v101_static95/groundtruth_body.txt"},
         RealSequence{"rtabmap_loop84/samples", DatasetFormat::Folder, 84, 512, 384, 0.0,
+                     83.0 / kAssumedFolderFps, "", ""},
+        // The top folder: images in samples/, the ground-truth bitmap beside them.
+        RealSequence{"rtabmap_loop84", DatasetFormat::Folder, 84, 512, 384, 0.0,
                      83.0 / kAssumedFolderFps, "", ""}),
     [](const ::testing::TestParamInfo<RealSequence>& param_info) {
       std::string name = param_info.param.folder;

@@ -30,11 +30,14 @@ struct CoarseInitializerAccess {
   static bool depthsDegenerate(CoarseInitializer& c) { return c.depthsDegenerate(); }
   static double parallax(const CoarseInitializer& c) { return c.rotationFreeParallax(); }
 
-  /// Energy of level `level` against `frame` (exposure ratio 1) at (T, affine, d) without the
-  /// smoothness term; fills the gradient w.r.t. [rho, phi, a, b] and the per-depth gradients.
+  /// Photometric energy over the points with mask[i] != 0 of level `level` against `frame`
+  /// (exposure ratio 1) at (T, affine, d), without smoothness and priors; fills the gradient of
+  /// the whole level w.r.t. [rho, phi, a, b], the per-depth gradients (with the depth prior) and
+  /// which points are inliers.
   static double energy(CoarseInitializer& c, const ImagePyramid& frame, int level, const SE3d& T,
                        const AffineLight& affine, const std::vector<float>& d,
-                       Eigen::Matrix<double, 8, 1>* b, std::vector<float>* bd) {
+                       const std::vector<std::uint8_t>& mask, Eigen::Matrix<double, 8, 1>* b,
+                       std::vector<float>* bd, std::vector<std::uint8_t>* inliers) {
     c.frame_ = &frame;
     c.exposure_ratio_ = 1.f;
     c.smoothness_weight_ = 0.f;
@@ -49,7 +52,12 @@ struct CoarseInitializerAccess {
       bd->resize(d.size());
       for (std::size_t i = 0; i < d.size(); ++i) (*bd)[i] = lin[i].bd;
     }
-    return ev.energy;
+    if (inliers != nullptr) *inliers = good;
+    double e = 0;
+    for (std::size_t i = 0; i < d.size(); ++i) {
+      if (mask[i]) e += lin[i].energy;
+    }
+    return e;
   }
 };
 

@@ -74,7 +74,7 @@ float PlaneScene::shade(int plane, const Eigen::Vector3d& X) const {
   const double s = p.axis_s.dot(X);
   const double t = p.axis_t.dot(X);
   // Octaves with lattice spacings from 0.4 m down to 10 cm.
-  double value = 0, total = 0, amplitude = 1, freq = 2.5;
+  double value = 0, total = 0, amplitude = 1, freq = 2.5 * texture_scale_;
   for (int o = 0; o < 3; ++o) {
     value += amplitude * valueNoise(s * freq, t * freq, p.seed + 101U * static_cast<unsigned>(o));
     total += amplitude;
@@ -120,8 +120,8 @@ double PlaneScene::inverseDepth(const SE3d& T_world_cam, const PinholeIntrinsics
   return s > 0 ? 1.0 / s : 0.0;  // the hit is at camera depth z = s
 }
 
-PlaneScene wallAndFloorScene() {
-  PlaneScene scene;
+PlaneScene wallAndFloorScene(double texture_scale) {
+  PlaneScene scene(texture_scale);
   const double a = 25.0 * 3.14159265358979323846 / 180.0;
   scene.addPlane({0, 0, 4.0}, {std::sin(a), 0, -std::cos(a)}, 11U);
   scene.addPlane({0, 1.2, 0}, {0, -1, 0}, 23U);

@@ -24,6 +24,9 @@ struct TexturedPlane {
 
 class PlaneScene {
  public:
+  /// Texture frequency multiplier (1: lattice spacings 0.4 m .. 0.1 m; smaller is smoother).
+  explicit PlaneScene(double texture_scale = 1.0) : texture_scale_(texture_scale) {}
+
   /// Adds the plane through `point` with normal `normal` (normalised here).
   void addPlane(const Eigen::Vector3d& point, const Eigen::Vector3d& normal, std::uint32_t seed);
 
@@ -44,11 +47,12 @@ class PlaneScene {
                       double v) const;
 
  private:
+  double texture_scale_;
   std::vector<TexturedPlane> planes_;
 };
 
 /// A wall about 4 m ahead (tilted by 25 degrees about the vertical) and a floor 1.2 m below the
 /// camera at the origin: inverse depths between ~0.15 and ~0.4 over the image.
-PlaneScene wallAndFloorScene();
+PlaneScene wallAndFloorScene(double texture_scale = 1.0);
 
 }  // namespace ldsm::test
