@@ -6,9 +6,9 @@
 #include <cstdio>
 #include <limits>
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "ldsm/calib/image_file.h"
 #include "ldsm/drivers/atomic_file.h"
 #include "ldsm/error.h"
 
@@ -237,8 +237,11 @@ std::string renderPng(const Layout& L, const std::vector<PlotSeries>& series,
   marker(img, lx + 25, ys + 18, true, cv::Scalar(90, 90, 90));
   text(img, "end", lx + 50, ys + 22, 0.0);
 
-  std::vector<unsigned char> buf;
-  if (!cv::imencode(".png", img, buf)) throw Error("cannot encode the plot as PNG");
+  // Drawn in OpenCV's BGR order; the PNG encoder takes RGB.
+  cv::cvtColor(img, img, cv::COLOR_BGR2RGB);
+  const ImageView<const calib::Rgb8> rgb(reinterpret_cast<const calib::Rgb8*>(img.ptr()), img.cols,
+                                         img.rows, static_cast<std::ptrdiff_t>(img.step1() / 3));
+  const std::vector<unsigned char> buf = calib::encodePng(rgb);
   return std::string(buf.begin(), buf.end());
 }
 

@@ -9,11 +9,13 @@
 namespace ldsm {
 namespace {
 
-WindowOptimizerSettings optimizerSettings(const Config& c) {
+WindowOptimizerSettings optimizerSettings(const Config& c, bool photometry_known) {
   WindowOptimizerSettings s;
   s.max_iterations = c.window.max_iterations;
-  s.affine_prior_a = c.photometric.affine_prior_weight_unknown;
-  s.affine_prior_b = c.photometric.affine_prior_weight_unknown;
+  const double w = photometry_known ? c.photometric.affine_prior_weight_known
+                                    : c.photometric.affine_prior_weight_unknown;
+  s.affine_prior_a = w;
+  s.affine_prior_b = w;
   s.residual.huber_threshold = static_cast<float>(c.tracking.huber_threshold);
   const float th = static_cast<float>(c.window.outlier_threshold);
   s.residual.outlier_energy = th * th * kPatternSize;
@@ -22,11 +24,12 @@ WindowOptimizerSettings optimizerSettings(const Config& c) {
 
 }  // namespace
 
-Mapper::Mapper(const Config& config, const PyramidCamera& camera, MapStore& store)
+Mapper::Mapper(const Config& config, const PyramidCamera& camera, MapStore& store,
+               bool photometry_known)
     : config_(config),
       camera_(camera),
       store_(store),
-      optimizer_(optimizerSettings(config), camera[0]),
+      optimizer_(optimizerSettings(config, photometry_known), camera[0]),
       selector_(camera[0].width, camera[0].height, config.points) {
   trace_settings_.huber_threshold = static_cast<float>(config.tracking.huber_threshold);
   trace_settings_.outlier_threshold = static_cast<float>(config.window.outlier_threshold);

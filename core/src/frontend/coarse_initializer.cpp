@@ -66,6 +66,10 @@ void CoarseInitializerSettings::validate() const {
           "max_nonpositive_fraction must be in [0, 1]");
   require(max_idepth_spread > 1.f, "max_idepth_spread must be > 1");
   require(min_points >= 1, "min_points must be >= 1");
+  require(max_residual_growth > 1.f && std::isfinite(max_residual_growth),
+          "max_residual_growth must be > 1");
+  require(residual_growth_floor >= 0.f && std::isfinite(residual_growth_floor),
+          "residual_growth_floor must be >= 0");
 }
 
 const char* toString(InitStatus status) {
@@ -110,6 +114,7 @@ void CoarseInitializer::reset() {
   failure_ = InitFailure::kNone;
   frames_ = 0;
   snapped_frames_ = 0;
+  lowest_rms_ = 0;
   stats_ = InitFrameStats{};
 }
 
@@ -291,10 +296,13 @@ void CoarseInitializer::decide() {
     fail(InitFailure::kLostTrack);
     return;
   }
-  if (stats_.rms_residual > settings_.fail_rms) {
+  const bool grew = frames_ > 1 && stats_.rms_residual > settings_.residual_growth_floor &&
+                    stats_.rms_residual > settings_.max_residual_growth * lowest_rms_;
+  if (stats_.rms_residual > settings_.fail_rms || grew) {
     fail(InitFailure::kResidualTooLarge);
     return;
   }
+  lowest_rms_ = frames_ > 1 ? std::min(lowest_rms_, stats_.rms_residual) : stats_.rms_residual;
   const bool parallax = stats_.flow_translation > settings_.min_parallax_flow &&
                         stats_.parallax > settings_.min_rotation_free_parallax &&
                         stats_.rms_residual <= settings_.max_snap_rms &&

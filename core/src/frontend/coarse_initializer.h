@@ -100,6 +100,11 @@ struct CoarseInitializerSettings {
   int min_points = 100;            ///< fewer selected level-0 points: refuse the reference
   float min_good_fraction = 0.3f;  ///< fewer level-0 inliers: tracking lost
   float fail_rms = 25.f;           ///< level-0 Huber RMS residual that means tracking is lost
+  /// Tracking is also lost when the RMS residual exceeds this multiple of the lowest one since
+  /// the reference (and residual_growth_floor): free depths can fit almost any image along the
+  /// epipolar lines, so a wrong frame shows up as a jump of the residual, not as an explosion.
+  float max_residual_growth = 2.5f;
+  float residual_growth_floor = 3.f;  ///< grey levels
 
   /// Throws ConfigError naming the first invalid field.
   void validate() const;
@@ -257,6 +262,7 @@ class CoarseInitializer {
   InitFailure failure_ = InitFailure::kNone;
   int frames_ = 0;
   int snapped_frames_ = 0;  ///< frames since the snap
+  double lowest_rms_ = 0;   ///< lowest level-0 RMS residual since the reference
   double exposure_ref_ = 1;
   double exposure_frame_ = 1;
 

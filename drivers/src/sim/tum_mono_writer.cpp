@@ -3,13 +3,12 @@
 #include <charconv>
 #include <cmath>
 #include <filesystem>
-#include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <string>
 #include <system_error>
 #include <vector>
 
 #include "ldsm/calib/dso_camera_file.h"
+#include "ldsm/calib/image_file.h"
 #include "ldsm/calib/photometric_files.h"
 #include "ldsm/drivers/atomic_file.h"
 #include "ldsm/drivers/trajectory_io.h"
@@ -90,14 +89,7 @@ TumMonoWriteSummary writeTumMonoSequence(SimSource& source, const std::string& o
     source.renderFrame(i, frame);
     const std::string name = frameName(i, digits);
     const fs::path file = images / (name + ".png");
-    const cv::Mat mat(frame.image.height(), frame.image.width(), CV_8UC1, frame.image.data());
-    bool ok = false;
-    try {
-      ok = cv::imwrite(file.string(), mat);
-    } catch (const cv::Exception& e) {
-      throw Error(file.string() + ": cannot write image (" + e.what() + ")");
-    }
-    if (!ok) throw Error(file.string() + ": cannot write image");
+    calib::writePng(file.string(), frame.image.view());
     times += name + ' ' + shortest(frame.timestamp) + ' ' + shortest(frame.exposure_ms) + '\n';
     if (progress) progress(i + 1, frames);
   }

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "frontend/coarse_initializer.h"
@@ -31,9 +32,9 @@ struct CoarseInitializerAccess {
   static double parallax(const CoarseInitializer& c) { return c.rotationFreeParallax(); }
 
   /// Photometric energy over the points with mask[i] != 0 of level `level` against `frame`
-  /// (exposure ratio 1) at (T, affine, d), without smoothness and priors; fills the gradient of
-  /// the whole level w.r.t. [rho, phi, a, b], the per-depth gradients (with the depth prior) and
-  /// which points are inliers.
+  /// (exposure ratio 1) at (T, affine, d), without smoothness and priors; fills its gradient
+  /// w.r.t. [rho, phi, a, b] (plus the affine prior's), the per-depth gradients (with the depth
+  /// prior) and which points are inliers. Points outside the mask are made invalid (NaN depth).
   static double energy(CoarseInitializer& c, const ImagePyramid& frame, int level, const SE3d& T,
                        const AffineLight& affine, const std::vector<float>& d,
                        const std::vector<std::uint8_t>& mask, Eigen::Matrix<double, 8, 1>* b,
@@ -41,11 +42,15 @@ struct CoarseInitializerAccess {
     c.frame_ = &frame;
     c.exposure_ratio_ = 1.f;
     c.smoothness_weight_ = 0.f;
+    std::vector<float> dm = d;
+    for (std::size_t i = 0; i < d.size(); ++i) {
+      if (!mask[i]) dm[i] = std::numeric_limits<float>::quiet_NaN();
+    }
     std::vector<float> ir(d.size(), 1.f);
     std::vector<CoarseInitializer::PointLinearization> lin(d.size());
     std::vector<std::uint8_t> good(d.size());
     CoarseInitializer::Evaluation ev;
-    c.evaluate(level, T, affine, d.data(), ir.data(), lin.data(), good.data(), ev);
+    c.evaluate(level, T, affine, dm.data(), ir.data(), lin.data(), good.data(), ev);
     c.frame_ = nullptr;
     if (b != nullptr) *b = ev.b;
     if (bd != nullptr) {

@@ -106,7 +106,7 @@ TEST(Experiment, DISABLED_SinglePointGrad) {
 namespace ldsm { namespace {
 TEST(Experiment, DISABLED_ImageGrad) {
   const PinholeIntrinsics K = test::makeIntrinsics(320, 240, 250);
-  const test::PlaneScene scene = test::wallAndFloorScene();
+  const test::PlaneScene scene = test::wallAndFloorScene(envd("TS", 1));
   std::mt19937 rng(1);
   ImagePyramid p0(K.width, K.height, 5);
   ImageF i0 = scene.render(SE3d(), K, 3, 0.f, &rng); p0.build(i0.view());
@@ -119,8 +119,24 @@ TEST(Experiment, DISABLED_ImageGrad) {
       float ny = (interpolateBilinear(I, x, y + h) - interpolateBilinear(I, x, y - h)) / (2*h);
       auto gp = interpolateBilinear(g, x, y);
       se += (nx-gp.dx)*(nx-gp.dx) + (ny-gp.dy)*(ny-gp.dy); sr += nx*nx+ny*ny;
+      if (std::getenv("PR") && lvl == 0 && ((int)x) % 40 == 5) printf("(%.1f %.1f) num %.3f %.3f  cd %.3f %.3f\n", x, y, nx, ny, gp.dx, gp.dy);
     }
     printf("level %d rel grad err %.3f\n", lvl, std::sqrt(se/sr));
   }
+}
+}}
+namespace ldsm { namespace {
+TEST(Experiment, DISABLED_Unrelated) {
+  const PinholeIntrinsics K = test::makeIntrinsics(320, 240, 250);
+  CoarseInitializerSettings s; applyEnv(s);
+  CoarseInitializer init(PyramidCamera(K, 5), s);
+  std::mt19937 rng(1);
+  ImagePyramid p(K.width, K.height, 5);
+  auto feed = [&](const test::PlaneScene& sc, const SE3d& T) { ImageF im = sc.render(T, K, 1, 1.f, &rng); p.build(im.view()); init.addFrame(p, 1.0);
+    auto& st = init.lastFrameStats(); printf("%-20s flow %.2f par %.2f rms %.2f good %.2f fail %s\n", toString(init.status()), st.flow_translation, st.parallax, st.rms_residual, st.good_fraction, toString(init.failure())); };
+  feed(test::wallAndFloorScene(), SE3d());
+  feed(test::wallAndFloorScene(), SE3d(SO3d(), {0.01, 0, 0}));
+  test::PlaneScene other; other.addPlane({0, 0, 2.0}, {0, 0, -1}, 99U);
+  for (int i = 0; i < 4; ++i) feed(other, SE3d());
 }
 }}

@@ -1,6 +1,7 @@
-// Four-float vector on NEON, for AArch64 and ARMv7 (where division and square root are
-// reciprocal estimates refined by Newton steps, and reductions use pairwise adds). Same
-// interface as Vec4Scalar, see vec4f.h.
+// Four-float vector on NEON, for AArch64 and ARMv7 (which lacks vector division, square root and
+// across-vector adds: division goes lane by lane, the square root is a reciprocal square-root
+// estimate refined by two Newton steps, reductions use pairwise adds). Same interface as
+// Vec4Scalar, see vec4f.h.
 #pragma once
 
 #include <arm_neon.h>
@@ -39,10 +40,13 @@ inline Vec4Neon operator/(Vec4Neon a, Vec4Neon b) {
 #if defined(__aarch64__)
   return {vdivq_f32(a.n, b.n)};
 #else
-  float32x4_t r = vrecpeq_f32(b.n);
-  r = vmulq_f32(vrecpsq_f32(b.n, r), r);
-  r = vmulq_f32(vrecpsq_f32(b.n, r), r);
-  return {vmulq_f32(a.n, r)};
+  // Lane by lane on the VFP: a refined reciprocal estimate is a few ulp off, which moves
+  // projected pixel positions (divisions by depth) by more than the kernels' tolerance.
+  alignas(16) float x[4], y[4];
+  vst1q_f32(x, a.n);
+  vst1q_f32(y, b.n);
+  for (int i = 0; i < 4; ++i) x[i] /= y[i];
+  return {vld1q_f32(x)};
 #endif
 }
 inline Mask4Neon operator<(Vec4Neon a, Vec4Neon b) {

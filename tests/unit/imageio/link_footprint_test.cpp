@@ -1,0 +1,57 @@
+// The memory baseline: the ldsm tool must not load OpenCV imgcodecs or videoio (they bring GDAL,
+// HDF5, FFmpeg, GStreamer... tens of MB of resident memory), and reading images must not load
+// the video plugin.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "ldsm/calib/image_file.h"
+#include "ldsm/drivers/dataset_source.h"
+#include "test_paths.h"
+
+namespace ldsm {
+namespace {
+
+using ::testing::HasSubstr;
+using ::testing::Not;
+
+#ifdef LDSM_EXE
+TEST(LinkFootprint, LdsmToolLoadsNeitherImgcodecsNorVideoio) {
+  std::string out;
+  if (test::runCommand("ldd --version", &out) != 0) GTEST_SKIP() << "no ldd";
+  ASSERT_EQ(test::runCommand(std::string("ldd ") + LDSM_EXE, &out), 0) << out;
+  EXPECT_THAT(out, HasSubstr("libopencv_core"));  // the listing is real
+  EXPECT_THAT(out, Not(HasSubstr("opencv_imgcodecs")));
+  EXPECT_THAT(out, Not(HasSubstr("opencv_videoio")));
+  EXPECT_THAT(out, Not(HasSubstr("libgdal")));
+  EXPECT_THAT(out, Not(HasSubstr("libavcodec")));
+}
+#endif
+
+std::string mappedFiles() {
+  std::ifstream maps("/proc/self/maps");
+  std::stringstream s;
+  s << maps.rdbuf();
+  return s.str();
+}
+
+TEST(LinkFootprint, ReadingImagesDoesNotLoadTheVideoPlugin) {
+  const std::string dir = test::scratchDir("imageio/footprint");
+  ImageU8 frame(8, 6, 50);
+  for (int k = 0; k < 3; ++k) calib::writePng(dir + "/" + std::to_string(k) + ".png", frame.view());
+  auto source = drivers::openDataset(dir);
+  Frame f;
+  int n = 0;
+  while (source->next(f)) ++n;
+  EXPECT_EQ(n, 3);
+  const std::string maps = mappedFiles();
+  ASSERT_THAT(maps, HasSubstr("libpng"));
+  EXPECT_THAT(maps, Not(HasSubstr("libldsm_video_plugin")));
+  EXPECT_THAT(maps, Not(HasSubstr("opencv_videoio")));
+}
+
+}  // namespace
+}  // namespace ldsm
