@@ -3,7 +3,9 @@
 
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
+#include <system_error>
 
 #include "image_file_codecs.h"
 #include "ldsm/error.h"
@@ -87,6 +89,11 @@ ImageFileFormat detectImageFileFormat(const unsigned char* data, std::size_t siz
 }
 
 void readFileBytes(const std::string& path, std::vector<unsigned char>& bytes) {
+  std::error_code ec;
+  const std::filesystem::file_status status = std::filesystem::status(path, ec);
+  if (!std::filesystem::exists(status)) throw InputError(path + ": cannot open (no such file)");
+  if (std::filesystem::is_directory(status))
+    throw InputError(path + ": cannot open: it is a folder, not a file");
   std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) throw InputError(path + ": cannot open (" + std::strerror(errno) + ")");
   const std::streamoff size = in.tellg();
@@ -107,9 +114,13 @@ ImageFileInfo decodeImage(const unsigned char* data, std::size_t size, const std
   return decodeAny(data, size, where, out);
 }
 
-ImageFileInfo readImage(const std::string& path, ImageU8& out) { return readAny(path, out); }
+ImageFileInfo readImage(const std::string& path, ImageU8& out) {
+  return readAny(path, out);
+}
 
-ImageFileInfo readImage(const std::string& path, ImageU16& out) { return readAny(path, out); }
+ImageFileInfo readImage(const std::string& path, ImageU16& out) {
+  return readAny(path, out);
+}
 
 void writePng(const std::string& path, ImageView<const std::uint8_t> image,
               const PngWriteOptions& options) {
@@ -134,9 +145,8 @@ void throwDecodeError(const std::string& where, const std::string& what) {
 
 void checkImageSize(const std::string& where, long long width, long long height) {
   if (width <= 0 || height <= 0 || width > kMaxImageDimension || height > kMaxImageDimension)
-    throwDecodeError(where, "image size " + std::to_string(width) + " x " +
-                                std::to_string(height) + " is outside 1.." +
-                                std::to_string(kMaxImageDimension));
+    throwDecodeError(where, "image size " + std::to_string(width) + " x " + std::to_string(height) +
+                                " is outside 1.." + std::to_string(kMaxImageDimension));
 }
 
 template <typename T>

@@ -17,9 +17,9 @@ namespace ldsm::calib::detail {
 /// Throws when width or height is not in 1..kMaxImageDimension.
 void checkImageSize(const std::string& where, long long width, long long height);
 
-/// 16-bit sample to 8 bits: round(v * 255 / 65535).
+/// 16-bit sample to 8 bits: the high byte (inverse of the 8 -> 16 bit expansion v * 257).
 inline std::uint8_t scale16To8(std::uint32_t v) {
-  return static_cast<std::uint8_t>((v * 255u + 32767u) / 65535u);
+  return static_cast<std::uint8_t>(v >> 8);
 }
 
 /// BT.601 luma of a colour sample triple, in the samples' own range (8 or 16 bits).

@@ -162,10 +162,8 @@ ImageFileInfo decodeJpeg(const unsigned char* data, std::size_t size, const std:
   return file;
 }
 
-template ImageFileInfo decodeJpeg(const unsigned char*, std::size_t, const std::string&,
-                                  ImageU8&);
-template ImageFileInfo decodeJpeg(const unsigned char*, std::size_t, const std::string&,
-                                  ImageU16&);
+template ImageFileInfo decodeJpeg(const unsigned char*, std::size_t, const std::string&, ImageU8&);
+template ImageFileInfo decodeJpeg(const unsigned char*, std::size_t, const std::string&, ImageU16&);
 
 }  // namespace detail
 }  // namespace ldsm::calib

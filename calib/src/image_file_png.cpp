@@ -180,8 +180,8 @@ int fileChannels(int color_type) {
   }
 }
 
-/// Encodes rows of `bytes_per_row` bytes each (samples already in the PNG's order but native
-/// 16-bit words).
+/// Encodes an image whose elements are whole PNG pixels of `bit_depth` samples (16-bit samples
+/// in native byte order; libpng swaps them on little-endian hosts).
 template <typename T>
 std::vector<unsigned char> encodeRows(ImageView<const T> image, int bit_depth, int color_type,
                                       const PngWriteOptions& options) {
@@ -257,16 +257,15 @@ ImageFileInfo decodePng(const unsigned char* data, std::size_t size, const std::
       for (int y = 0; y < file.height; ++y)
         if (!readRow(png, all.data() + row_bytes * static_cast<std::size_t>(y))) fail();
     for (int y = 0; y < file.height; ++y)
-      rowToGrey(all.data() + row_bytes * static_cast<std::size_t>(y), depth, channels,
-                file.width, out.row(y));
+      rowToGrey(all.data() + row_bytes * static_cast<std::size_t>(y), depth, channels, file.width,
+                out.row(y));
   }
   if (!readEnd(png)) fail();
   return file;
 }
 
 template ImageFileInfo decodePng(const unsigned char*, std::size_t, const std::string&, ImageU8&);
-template ImageFileInfo decodePng(const unsigned char*, std::size_t, const std::string&,
-                                 ImageU16&);
+template ImageFileInfo decodePng(const unsigned char*, std::size_t, const std::string&, ImageU16&);
 
 }  // namespace detail
 

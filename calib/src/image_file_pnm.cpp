@@ -29,11 +29,13 @@ class PnmHeader {
         break;
       }
     }
-    if (pos_ >= size_) throwDecodeError(where_, std::string("PNM: header ends before the ") + field);
+    if (pos_ >= size_)
+      throwDecodeError(where_, std::string("PNM: header ends before the ") + field);
     long long value = 0;
     const std::size_t start = pos_;
     while (pos_ < size_ && data_[pos_] >= '0' && data_[pos_] <= '9') {
-      if (value > 1000000000LL) throwDecodeError(where_, std::string("PNM: ") + field + " too large");
+      if (value > 1000000000LL)
+        throwDecodeError(where_, std::string("PNM: ") + field + " too large");
       value = value * 10 + (data_[pos_] - '0');
       ++pos_;
     }
@@ -93,8 +95,10 @@ ImageFileInfo decodePnm(const unsigned char* data, std::size_t size, const std::
     throwDecodeError(where, "PNM: truncated data (" + std::to_string(size - offset) + " of " +
                                 std::to_string(needed) + " bytes)");
 
+  // Samples are scaled to the full range of 8 bits when maxval < 256, else of 16 bits (then
+  // reduced to 8 bits like 16-bit PNG samples when T is 8-bit).
   const std::uint64_t max = static_cast<std::uint64_t>(maxval);
-  const std::uint64_t full = sizeof(T) == 1 ? 255 : 65535;
+  const std::uint64_t full = maxval < 256 ? 255 : 65535;
   const unsigned char* p = data + offset;
   out.resize(file.width, file.height);
   for (int y = 0; y < file.height; ++y) {
@@ -110,14 +114,18 @@ ImageFileInfo decodePnm(const unsigned char* data, std::size_t size, const std::
                                       ") exceeds maxval " + std::to_string(maxval));
       }
       const std::uint64_t v = file.channels == 1 ? s[0] : lumaOf(s[0], s[1], s[2]);
-      dst[x] = static_cast<T>(max == full ? v : (v * full + max / 2) / max);
+      const auto scaled = static_cast<std::uint32_t>(max == full ? v : (v * full + max / 2) / max);
+      if constexpr (sizeof(T) == 1) {
+        dst[x] = full == 255 ? static_cast<T>(scaled) : scale16To8(scaled);
+      } else {
+        dst[x] = static_cast<T>(full == 255 ? scaled * 257u : scaled);
+      }
     }
   }
   return file;
 }
 
 template ImageFileInfo decodePnm(const unsigned char*, std::size_t, const std::string&, ImageU8&);
-template ImageFileInfo decodePnm(const unsigned char*, std::size_t, const std::string&,
-                                 ImageU16&);
+template ImageFileInfo decodePnm(const unsigned char*, std::size_t, const std::string&, ImageU16&);
 
 }  // namespace ldsm::calib::detail

@@ -38,7 +38,8 @@ bool toGrey(LdsmVideo& v) {
     grey = &v.scratch;
   }
   if (depth == CV_16U) {
-    grey->convertTo(v.grey, CV_8U, 255.0 / 65535.0);
+    // The high byte, floor(v / 256), as the image decoders do: round(v / 256 - 0.498).
+    grey->convertTo(v.grey, CV_8U, 1.0 / 256.0, -127.5 / 256.0);
   } else {
     grey->copyTo(v.grey);
   }
@@ -76,9 +77,13 @@ double property(const LdsmVideo* video, int id) {
   }
 }
 
-double fps(const LdsmVideo* video) { return property(video, cv::CAP_PROP_FPS); }
+double fps(const LdsmVideo* video) {
+  return property(video, cv::CAP_PROP_FPS);
+}
 
-double frameCount(const LdsmVideo* video) { return property(video, cv::CAP_PROP_FRAME_COUNT); }
+double frameCount(const LdsmVideo* video) {
+  return property(video, cv::CAP_PROP_FRAME_COUNT);
+}
 
 int nextFrame(LdsmVideo* video, LdsmVideoFrame* frame, char* error, std::size_t error_size) {
   try {

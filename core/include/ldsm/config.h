@@ -134,6 +134,29 @@ struct KeyframeConfig {
   }
 };
 
+struct InitializerConfig {
+  /// RMS optical flow (pixels) caused by the translation that counts as real parallax.
+  double min_parallax_px = 6.0;
+  /// Part of that flow (RMS, pixels) that no rotation may explain.
+  double min_rotation_free_parallax_px = 1.5;
+  int confirm_frames = 5;      ///< frames the parallax must hold before the map is accepted
+  double point_density = 2.0;  ///< initializer points per points.points_per_keyframe
+
+  template <typename V>
+  void visit(V& v) {
+    v.field("min_parallax_px", min_parallax_px, Range<double>{0.5, 100.0},
+            "RMS optical flow (pixels) from the translation needed to initialise");
+    v.field("min_rotation_free_parallax_px", min_rotation_free_parallax_px,
+            Range<double>{0.0, 100.0},
+            "part of that flow (RMS pixels) that a rotation cannot explain; at most "
+            "min_parallax_px");
+    v.field("confirm_frames", confirm_frames, Range<int>{0, 100},
+            "frames the parallax must hold before the initial map is accepted");
+    v.field("point_density", point_density, Range<double>{0.1, 20.0},
+            "points of the initializer's reference, per points.points_per_keyframe");
+  }
+};
+
 /// The whole configuration tree. Sections are added here as modules arrive.
 struct Config {
   SystemConfig system;
@@ -142,6 +165,7 @@ struct Config {
   TrackingConfig tracking;
   WindowConfig window;
   KeyframeConfig keyframes;
+  InitializerConfig initializer;
 
   template <typename V>
   void visit(V& v) {
@@ -151,6 +175,7 @@ struct Config {
     v.section("tracking", tracking, "coarse tracking of every frame");
     v.section("window", window, "sliding-window bundle adjustment");
     v.section("keyframes", keyframes, "when a frame becomes a keyframe");
+    v.section("initializer", initializer, "monocular initialisation from the first frames");
   }
 };
 

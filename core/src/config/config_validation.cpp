@@ -47,6 +47,11 @@ std::vector<std::string> configProblems(const Config& config) {
     problems.push_back("window.min_keyframes (" + std::to_string(config.window.min_keyframes) +
                        ") must not exceed window.max_keyframes (" +
                        std::to_string(config.window.max_keyframes) + ")");
+  if (config.initializer.min_rotation_free_parallax_px > config.initializer.min_parallax_px)
+    problems.push_back("initializer.min_rotation_free_parallax_px (" +
+                       std::to_string(config.initializer.min_rotation_free_parallax_px) +
+                       ") must not exceed initializer.min_parallax_px (" +
+                       std::to_string(config.initializer.min_parallax_px) + ")");
   return problems;
 }
 

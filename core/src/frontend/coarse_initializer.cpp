@@ -3,9 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
-#include <cstdio>
-#include <ctime>
-#include <cstdlib>
 
 #include "ldsm/error.h"
 #include "ldsm/image/interpolation.h"
@@ -72,25 +69,55 @@ void CoarseInitializerSettings::validate() const {
           "residual_growth_floor must be >= 0");
 }
 
+CoarseInitializerSettings CoarseInitializerSettings::fromConfig(const Config& config,
+                                                                int max_levels,
+                                                                bool exposures_known) {
+  CoarseInitializerSettings s;
+  s.max_levels = std::clamp(max_levels, 1, kMaxPyramidLevels);
+  s.huber_threshold = static_cast<float>(config.tracking.huber_threshold);
+  s.selection = config.points;
+  s.selector_density = static_cast<float>(config.initializer.point_density);
+  s.min_parallax_flow = static_cast<float>(config.initializer.min_parallax_px);
+  s.min_rotation_free_parallax =
+      static_cast<float>(config.initializer.min_rotation_free_parallax_px);
+  s.confirm_frames = config.initializer.confirm_frames;
+  if (exposures_known) {
+    s.affine_prior_weight_a = kAffinePriorKnownA;
+    s.affine_prior_weight_b = kAffinePriorKnownB;
+  }
+  return s;
+}
+
 const char* toString(InitStatus status) {
   switch (status) {
-    case InitStatus::kNoReference: return "no reference";
-    case InitStatus::kWaitingForParallax: return "waiting for parallax";
-    case InitStatus::kConfirming: return "confirming";
-    case InitStatus::kComplete: return "complete";
-    case InitStatus::kFailed: return "failed";
+    case InitStatus::kNoReference:
+      return "no reference";
+    case InitStatus::kWaitingForParallax:
+      return "waiting for parallax";
+    case InitStatus::kConfirming:
+      return "confirming";
+    case InitStatus::kComplete:
+      return "complete";
+    case InitStatus::kFailed:
+      return "failed";
   }
   return "?";
 }
 
 const char* toString(InitFailure failure) {
   switch (failure) {
-    case InitFailure::kNone: return "none";
-    case InitFailure::kTooFewPoints: return "too few textured points in the reference";
-    case InitFailure::kLostTrack: return "too few points tracked";
-    case InitFailure::kResidualTooLarge: return "photometric residual too large";
-    case InitFailure::kNotFinite: return "estimate not finite";
-    case InitFailure::kDegenerateDepths: return "degenerate inverse-depth distribution";
+    case InitFailure::kNone:
+      return "none";
+    case InitFailure::kTooFewPoints:
+      return "too few textured points in the reference";
+    case InitFailure::kLostTrack:
+      return "too few points tracked";
+    case InitFailure::kResidualTooLarge:
+      return "photometric residual too large";
+    case InitFailure::kNotFinite:
+      return "estimate not finite";
+    case InitFailure::kDegenerateDepths:
+      return "degenerate inverse-depth distribution";
   }
   return "?";
 }
@@ -126,8 +153,8 @@ void CoarseInitializer::checkFrame(const ImagePyramid& pyramid, double exposure)
                                                  std::to_string(pyramid.height(0))) +
                      ", the camera is " + std::to_string(width_) + "x" + std::to_string(height_));
   }
-  const bool tracking = status_ == InitStatus::kWaitingForParallax ||
-                        status_ == InitStatus::kConfirming;
+  const bool tracking =
+      status_ == InitStatus::kWaitingForParallax || status_ == InitStatus::kConfirming;
   if (tracking && pyramid.levels() < levels_) {
     throw InputError("coarse initializer: frame pyramid has " + std::to_string(pyramid.levels()) +
                      " levels, the reference had " + std::to_string(levels_));
@@ -232,6 +259,9 @@ void CoarseInitializer::setReference(const ImagePyramid& pyramid, double exposur
       }
     }
   }
+  // What completion needs, so that no frame after the reference allocates.
+  sort_scratch_.reserve(levels_data_[0].u.size());
+  result_.points.reserve(levels_data_[0].u.size());
   status_ = InitStatus::kWaitingForParallax;
 }
 
@@ -251,7 +281,8 @@ float CoarseInitializer::selectPoints(const ImagePyramid& pyramid, int lvl) {
       L.is_corner.push_back(s.is_corner ? 1 : 0);
     }
     const float area = static_cast<float>(pyramid.width(0)) * static_cast<float>(pyramid.height(0));
-    return std::max(2.f, std::sqrt(area / static_cast<float>(std::max<std::size_t>(1, L.u.size()))));
+    return std::max(2.f,
+                    std::sqrt(area / static_cast<float>(std::max<std::size_t>(1, L.u.size()))));
   }
   // Whole pattern one pixel inside the image.
   selectBestGradientPerCell(pyramid.gradients(lvl), settings_.cell_size[lvl],
@@ -271,7 +302,7 @@ void CoarseInitializer::trackFrame(const ImagePyramid& pyramid, double exposure)
   stats_.iterations = 0;
   for (int lvl = levels_ - 1; lvl >= 0; --lvl) {
     if (lvl + 1 < levels_) propagateDown(lvl);
-    { timespec a{}, b{}; clock_gettime(CLOCK_THREAD_CPUTIME_ID, &a); const int its = optimiseLevel(lvl); clock_gettime(CLOCK_THREAD_CPUTIME_ID, &b); stats_.iterations += its; if (std::getenv("LVLIT")) std::printf("L%d:%d %.1fms ", lvl, its, (b.tv_sec-a.tv_sec)*1e3+(b.tv_nsec-a.tv_nsec)*1e-6); }
+    stats_.iterations += optimiseLevel(lvl);
     normaliseScale(lvl);
   }
   propagateUp();
@@ -318,7 +349,12 @@ void CoarseInitializer::decide() {
   } else {
     ++snapped_frames_;
   }
-  if (snapped_frames_ < settings_.confirm_frames) return;
+  // Fast motion (e.g. a car at 10 Hz) leaves the reference's view within a few frames; when the
+  // parallax is already three times what is needed, one confirming frame is enough.
+  const int needed = stats_.flow_translation >= 3.f * settings_.min_parallax_flow
+                         ? std::min(settings_.confirm_frames, 1)
+                         : settings_.confirm_frames;
+  if (snapped_frames_ < needed) return;
   if (depthsDegenerate()) {
     fail(InitFailure::kDegenerateDepths);
     return;

@@ -204,8 +204,7 @@ void CoarseInitializer::evaluate(int lvl, const SE3d& T, const AffineLight& affi
   out.finite = out.finite && std::isfinite(out.energy) && out.H.allFinite() && out.b.allFinite();
 }
 
-bool CoarseInitializer::computeStep(int lvl, double lambda, SE3d& T_new,
-                                    AffineLight& affine_new) {
+bool CoarseInitializer::computeStep(int lvl, double lambda, SE3d& T_new, AffineLight& affine_new) {
   Level& L = levels_data_[lvl];
   Eigen::Matrix<double, 8, 8> H = eval_.H;
   Eigen::Matrix<double, 8, 1> b = eval_.b;
@@ -262,8 +261,8 @@ int CoarseInitializer::optimiseLevel(int lvl) {
     ++iterations;
     if (!computeStep(lvl, lambda, T_new, affine_new)) break;
     computeSmoothnessTargets(lvl, L.idepth_trial.data(), L.ir_trial.data());
-    evaluate(lvl, T_new, affine_new, L.idepth_trial.data(), L.ir_trial.data(),
-             L.lin_trial.data(), L.good_trial.data(), eval_trial_);
+    evaluate(lvl, T_new, affine_new, L.idepth_trial.data(), L.ir_trial.data(), L.lin_trial.data(),
+             L.good_trial.data(), eval_trial_);
     if (eval_trial_.finite && eval_trial_.energy < eval_.energy) {
       const double decrease = (eval_.energy - eval_trial_.energy) / eval_.energy;
       std::swap(L.idepth, L.idepth_trial);

@@ -2,7 +2,11 @@
 
 #include <algorithm>
 
+#include "math/simd/coarse_accumulate.h"
+
 namespace ldsm {
+
+static_assert(kCoarseParams == simd::kCoarseRow, "the kernel's row is the tracker's parameters");
 
 void WarpedResiduals::allocate(std::size_t n) {
   for (std::vector<float>* v : {&dx_fx, &dy_fy, &nx, &ny, &iz, &ref_term, &residual, &weight}) {
@@ -10,6 +14,27 @@ void WarpedResiduals::allocate(std::size_t n) {
   }
   count = 0;
 }
+
+void accumulateNormalEquations(const WarpedResiduals& residuals, CoarseMatrix& H, CoarseVector& g) {
+  simd::CoarseResidualArrays a;
+  a.dx_fx = residuals.dx_fx.data();
+  a.dy_fy = residuals.dy_fy.data();
+  a.nx = residuals.nx.data();
+  a.ny = residuals.ny.data();
+  a.iz = residuals.iz.data();
+  a.ref_term = residuals.ref_term.data();
+  a.residual = residuals.residual.data();
+  a.weight = residuals.weight.data();
+  a.count = residuals.count;
+  double sums[simd::kCoarseSums];
+  simd::accumulateCoarseSystem<simd::Vec4>(a, sums);
+  for (int i = 0; i < kCoarseParams; ++i) {
+    g(i) = sums[simd::kCoarseUpper + i];
+    for (int j = i; j < kCoarseParams; ++j) H(i, j) = H(j, i) = sums[simd::coarseUpperIndex(i, j)];
+  }
+}
+
+namespace reference {
 
 void accumulateNormalEquations(const WarpedResiduals& residuals, CoarseMatrix& H, CoarseVector& g) {
   constexpr int kBlock = 256;  // float partial sums stay accurate over this many points
@@ -45,4 +70,5 @@ void accumulateNormalEquations(const WarpedResiduals& residuals, CoarseMatrix& H
   }
 }
 
+}  // namespace reference
 }  // namespace ldsm

@@ -1,6 +1,5 @@
 // The coarse tracker's photometric residuals, linearised per point and stored as a struct of
-// arrays, and the accumulation of their normal equations in one tight scalar loop (laid out so
-// that it can later be vectorised).
+// arrays, and the accumulation of their normal equations (vectorised over the points).
 //
 // Residual of a reference point p (pixel (x, y), inverse depth d) for the parameters
 // T = T_frame_ref (SE3, left-perturbed: T <- exp(delta) T) and the frame's affine (a, b):
@@ -47,8 +46,13 @@ inline void coarseJacobianRow(float dx_fx, float dy_fy, float nx, float ny, floa
   J[7] = -1.f;
 }
 
-/// H = sum w J^T J and g = sum w J^T r over the buffer (float accumulation in blocks, summed in
-/// double).
+/// H = sum w J^T J and g = sum w J^T r over the buffer (SIMD kernel of
+/// math/simd/coarse_accumulate.h: float lane sums in blocks, summed in double).
 void accumulateNormalEquations(const WarpedResiduals& residuals, CoarseMatrix& H, CoarseVector& g);
+
+namespace reference {
+/// The scalar formulation of accumulateNormalEquations (one coarseJacobianRow per residual).
+void accumulateNormalEquations(const WarpedResiduals& residuals, CoarseMatrix& H, CoarseVector& g);
+}  // namespace reference
 
 }  // namespace ldsm

@@ -53,8 +53,8 @@ void PointBucketGrid::build(const std::vector<Eigen::Vector2f>& points, float ce
   std::vector<int> fill(bucket_start_.begin(), bucket_start_.end() - 1);
   for (int i = 0; i < static_cast<int>(points.size()); ++i) {
     const Eigen::Vector2f& p = points[static_cast<std::size_t>(i)];
-    point_index_[static_cast<std::size_t>(fill[static_cast<std::size_t>(
-        bucketY(p.y()) * cols_ + bucketX(p.x()))]++)] = i;
+    point_index_[static_cast<std::size_t>(
+        fill[static_cast<std::size_t>(bucketY(p.y()) * cols_ + bucketX(p.x()))]++)] = i;
   }
 }
 
@@ -84,8 +84,7 @@ int PointBucketGrid::countInBlock(int bx, int by, int radius, int skip) const {
   return count;
 }
 
-int PointBucketGrid::nearest(const Eigen::Vector2f& query, int k, int skip,
-                             std::vector<int>& out) {
+int PointBucketGrid::nearest(const Eigen::Vector2f& query, int k, int skip, std::vector<int>& out) {
   out.clear();
   if (points_ == nullptr || k <= 0 || points_->empty()) return 0;
   const int bx = bucketX(query.x());
@@ -95,8 +94,8 @@ int PointBucketGrid::nearest(const Eigen::Vector2f& query, int k, int skip,
   // query, so every closer point lies in the block of radius ceil((radius + 1) * sqrt(2)).
   int radius = 0;
   while (radius < max_radius && countInBlock(bx, by, radius, skip) < k) ++radius;
-  const int search = std::min(
-      max_radius, static_cast<int>(std::ceil(static_cast<float>(radius + 1) * 1.41422f)));
+  const int search =
+      std::min(max_radius, static_cast<int>(std::ceil(static_cast<float>(radius + 1) * 1.41422f)));
 
   scratch_.clear();
   const int y0 = std::max(0, by - search), y1 = std::min(rows_ - 1, by + search);

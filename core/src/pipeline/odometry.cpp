@@ -13,13 +13,6 @@ int usableLevels(const PinholeIntrinsics& k, int wanted) {
   return levels;
 }
 
-CoarseInitializerSettings initializerSettings(const Config& c, int levels) {
-  CoarseInitializerSettings s;
-  s.max_levels = levels;
-  s.huber_threshold = static_cast<float>(c.tracking.huber_threshold);
-  return s;
-}
-
 }  // namespace
 
 Odometry::Odometry(const Config& config, const GeometricCalibration& geometric,
@@ -30,7 +23,10 @@ Odometry::Odometry(const Config& config, const GeometricCalibration& geometric,
               usableLevels(preprocessor_.output(), config.tracking.pyramid_levels)),
       mapper_(config, camera_, store_,
               preprocessor_.photometricallyCalibrated() && config.photometric.use_exposure),
-      initializer_(camera_, initializerSettings(config, camera_.levels())),
+      initializer_(camera_, CoarseInitializerSettings::fromConfig(
+                                config, camera_.levels(),
+                                preprocessor_.photometricallyCalibrated() &&
+                                    config.photometric.use_exposure)),
       tracker_(config, camera_,
                preprocessor_.photometricallyCalibrated() && config.photometric.use_exposure),
       timer_({"preprocess", "initialize", "track", "trace", "mapping", "total"}, 100000) {}

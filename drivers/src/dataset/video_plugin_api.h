@@ -23,13 +23,13 @@ typedef struct LdsmVideoFrame {
   const unsigned char* data;
   int width;
   int height;
-  ptrdiff_t stride;    /* bytes between rows */
-  double position_ms;  /* decoder position after this frame (negative or NaN when unknown) */
+  ptrdiff_t stride;   /* bytes between rows */
+  double position_ms; /* decoder position after this frame (negative or NaN when unknown) */
 } LdsmVideoFrame;
 
 typedef struct LdsmVideoPlugin {
-  int abi_version;          /* LDSM_VIDEO_PLUGIN_ABI_VERSION */
-  const char* description;  /* e.g. "OpenCV 4.6.0 videoio" */
+  int abi_version;         /* LDSM_VIDEO_PLUGIN_ABI_VERSION */
+  const char* description; /* e.g. "OpenCV 4.6.0 videoio" */
   /* Opens a video file; NULL on failure with a message in `error` (always terminated). */
   LdsmVideo* (*open)(const char* path, char* error, size_t error_size);
   void (*close)(LdsmVideo* video);

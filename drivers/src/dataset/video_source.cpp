@@ -68,7 +68,9 @@ VideoSource::VideoSource(const DatasetDescription& description)
   info_.nominal_fps = description.nominal_fps;
 }
 
-VideoSource::~VideoSource() { plugin_->close(video_); }
+VideoSource::~VideoSource() {
+  plugin_->close(video_);
+}
 
 bool VideoSource::next(Frame& frame) {
   if (ended_) return false;

@@ -2,18 +2,18 @@
 // sequence, and comparing its result with the scene's truth.
 #pragma once
 
-#include <ctime>
 #include <cstdio>
+#include <ctime>
 #include <functional>
 #include <random>
 #include <vector>
 
 #include "frontend/coarse_initializer.h"
 #include "frontend/pyramid_camera.h"
+#include "init_scene.h"
 #include "ldsm/image/image_pyramid.h"
-#include "plane_scene.h"
 
-namespace ldsm::test {
+namespace ldsm::init_test {
 
 inline PinholeIntrinsics makeIntrinsics(int width, int height, double focal) {
   PinholeIntrinsics K;
@@ -36,8 +36,8 @@ inline double threadCpuMs() {
 struct InitRun {
   int completed_at = -1;  ///< index of the pose at which addFrame() returned true
   int failures = 0;
-  int snaps = 0;          ///< frames that ended in kConfirming
-  double max_flow = 0;    ///< largest translation flow seen
+  int snaps = 0;            ///< frames that ended in kConfirming
+  double max_flow = 0;      ///< largest translation flow seen
   double max_parallax = 0;  ///< largest rotation-free parallax seen
   double ms_per_frame = 0;  ///< CPU time of addFrame() (excluding the reference frame)
 };
@@ -45,7 +45,7 @@ struct InitRun {
 /// Renders the scene at each of `poses` (camera-to-world) and feeds the frames to `init`, until
 /// it completes (when stop_at_complete). `on_frame` (optional) sees the initializer after each
 /// frame.
-inline InitRun runSequence(CoarseInitializer& init, const PlaneScene& scene,
+inline InitRun runSequence(CoarseInitializer& init, const InitScene& scene,
                            const std::vector<SE3d>& poses, const PinholeIntrinsics& K, float noise,
                            unsigned seed, bool stop_at_complete, bool verbose = false) {
   std::mt19937 rng(seed);
@@ -70,12 +70,13 @@ inline InitRun runSequence(CoarseInitializer& init, const PlaneScene& scene,
     if (i > 0 && s.parallax > run.max_parallax) run.max_parallax = s.parallax;
     if (verbose) {
       const Eigen::Vector3d w = init.currentPose().so3().log() * 57.29578;
-      std::printf("frame %3zu: %-22s flow %6.2f par %5.2f rms %6.2f good %.2f it %3d  t=(%.4f %.4f %.4f) "
-                  "w=(%.3f %.3f %.3f)\n",
-                  i, toString(init.status()), s.flow_translation, s.parallax, s.rms_residual,
-                  s.good_fraction, s.iterations, init.currentPose().translation().x(),
-                  init.currentPose().translation().y(), init.currentPose().translation().z(),
-                  w.x(), w.y(), w.z());
+      std::printf(
+          "frame %3zu: %-22s flow %6.2f par %5.2f rms %6.2f good %.2f it %3d  t=(%.4f %.4f %.4f) "
+          "w=(%.3f %.3f %.3f)\n",
+          i, toString(init.status()), s.flow_translation, s.parallax, s.rms_residual,
+          s.good_fraction, s.iterations, init.currentPose().translation().x(),
+          init.currentPose().translation().y(), init.currentPose().translation().z(), w.x(), w.y(),
+          w.z());
     }
     if (done) {
       run.completed_at = static_cast<int>(i);
@@ -86,4 +87,4 @@ inline InitRun runSequence(CoarseInitializer& init, const PlaneScene& scene,
   return run;
 }
 
-}  // namespace ldsm::test
+}  // namespace ldsm::init_test

@@ -17,12 +17,12 @@
 namespace ldsm {
 namespace {
 
-using test::makeIntrinsics;
+using init_test::makeIntrinsics;
 using Access = CoarseInitializerAccess;
 
 constexpr double kDeg = 3.14159265358979323846 / 180.0;
 
-ImagePyramid renderPyramid(const test::PlaneScene& scene, const SE3d& pose,
+ImagePyramid renderPyramid(const init_test::InitScene& scene, const SE3d& pose,
                            const PinholeIntrinsics& K, float noise = 0.f, unsigned seed = 1) {
   std::mt19937 rng(seed);
   ImagePyramid pyramid(K.width, K.height, 5);
@@ -42,7 +42,7 @@ ImagePyramid flatPyramid(int width, int height, float value) {
 
 TEST(InitPointGraph, BestGradientPerCellPicksTheCellMaximumAboveThreshold) {
   const PinholeIntrinsics K = makeIntrinsics(160, 120, 120);
-  const ImagePyramid pyr = renderPyramid(test::wallAndFloorScene(), SE3d(), K);
+  const ImagePyramid pyr = renderPyramid(init_test::wallAndFloorScene(), SE3d(), K);
   const ImageView<const GradientPixel> g = pyr.gradients(0);
   const int cell = 5, margin = 3;
   const float min_grad = 4.f;
@@ -93,14 +93,16 @@ TEST(InitPointGraph, BucketGridNearestMatchesBruteForce) {
       grid.nearest(query, k, skip, found);
       std::vector<std::pair<float, int>> all;
       for (int i = 0; i < static_cast<int>(points.size()); ++i) {
-        if (i != skip) all.emplace_back((points[static_cast<std::size_t>(i)] - query).squaredNorm(), i);
+        if (i != skip)
+          all.emplace_back((points[static_cast<std::size_t>(i)] - query).squaredNorm(), i);
       }
       std::sort(all.begin(), all.end());
       ASSERT_EQ(static_cast<int>(found.size()), k);
       for (int j = 0; j < k; ++j) {
-        EXPECT_FLOAT_EQ((points[static_cast<std::size_t>(found[static_cast<std::size_t>(j)])] -
-                         query).squaredNorm(),
-                        all[static_cast<std::size_t>(j)].first);
+        EXPECT_FLOAT_EQ(
+            (points[static_cast<std::size_t>(found[static_cast<std::size_t>(j)])] - query)
+                .squaredNorm(),
+            all[static_cast<std::size_t>(j)].first);
       }
     }
   }
@@ -109,7 +111,7 @@ TEST(InitPointGraph, BucketGridNearestMatchesBruteForce) {
 TEST(CoarseInitializer, ReferenceLinksNeighboursAndParents) {
   const PinholeIntrinsics K = makeIntrinsics(320, 240, 250);
   CoarseInitializer init(PyramidCamera(K, 5));
-  const ImagePyramid pyr = renderPyramid(test::wallAndFloorScene(), SE3d(), K);
+  const ImagePyramid pyr = renderPyramid(init_test::wallAndFloorScene(), SE3d(), K);
   EXPECT_FALSE(init.addFrame(pyr, 1.0));
   ASSERT_EQ(init.status(), InitStatus::kWaitingForParallax);
   ASSERT_GE(init.levels(), 3);
@@ -124,7 +126,8 @@ TEST(CoarseInitializer, ReferenceLinksNeighboursAndParents) {
       for (int j = 0; j < count; ++j) {
         EXPECT_NE(nb[static_cast<std::size_t>(j)], i);
         const float dist = (u[static_cast<std::size_t>(nb[static_cast<std::size_t>(j)])] -
-                            u[static_cast<std::size_t>(i)]).norm();
+                            u[static_cast<std::size_t>(i)])
+                               .norm();
         EXPECT_GE(dist, last);  // nearest first
         last = dist;
       }
@@ -153,12 +156,13 @@ TEST(CoarseInitializer, EnergyGradientMatchesNumericDifferentiation) {
   s.gradient_weight_c = 0.f;
   s.outlier_rms = 1e4f;  // no outlier cap: the energy must be smooth for differencing
   CoarseInitializer init(PyramidCamera(K, 5), s);
-  init.addFrame(renderPyramid(test::wallAndFloorScene(), SE3d(), K), 1.0);
+  init.addFrame(renderPyramid(init_test::wallAndFloorScene(), SE3d(), K), 1.0);
   ImageF smooth(K.width, K.height);
   for (int y = 0; y < K.height; ++y) {
     for (int x = 0; x < K.width; ++x) {
-      smooth(x, y) = static_cast<float>(120.0 + 60.0 * std::sin(0.025 * x + 0.3) * std::cos(0.02 * y) +
-                                        40.0 * std::sin(0.015 * x + 0.0225 * y + 1.0));
+      smooth(x, y) =
+          static_cast<float>(120.0 + 60.0 * std::sin(0.025 * x + 0.3) * std::cos(0.02 * y) +
+                             40.0 * std::sin(0.015 * x + 0.0225 * y + 1.0));
     }
   }
   ImagePyramid frame(K.width, K.height, 5);
@@ -167,7 +171,8 @@ TEST(CoarseInitializer, EnergyGradientMatchesNumericDifferentiation) {
   for (const int level : {0, 1}) {
     std::vector<float> d(Access::pixels(init, level).size());
     for (std::size_t i = 0; i < d.size(); ++i) d[i] = 0.6f + 0.1f * static_cast<float>(i % 7);
-    const SE3d T(SO3d::exp(Eigen::Vector3d(0.01, -0.02, 0.005)), Eigen::Vector3d(0.03, -0.01, 0.02));
+    const SE3d T(SO3d::exp(Eigen::Vector3d(0.01, -0.02, 0.005)),
+                 Eigen::Vector3d(0.03, -0.01, 0.02));
     const AffineLight affine{0.02, 1.5};
     Eigen::Matrix<double, 8, 1> b;
     std::vector<float> bd;
@@ -207,15 +212,16 @@ TEST(CoarseInitializer, EnergyGradientMatchesNumericDifferentiation) {
     }
     int kept = 0;
     for (const auto m : mask) kept += m;
-    ASSERT_GT(kept, static_cast<int>(0.9 * static_cast<double>(std::count(inliers.begin(),
-                                                                           inliers.end(), 1))));
+    ASSERT_GT(kept, static_cast<int>(
+                        0.9 * static_cast<double>(std::count(inliers.begin(), inliers.end(), 1))));
     Eigen::Matrix<double, 8, 1> numeric;
     for (int j = 0; j < 8; ++j) {
       SE3d Tp, Tm;
       AffineLight ap, am;
       perturbed(j, step[static_cast<std::size_t>(j)], &Tp, &ap);
       perturbed(j, -step[static_cast<std::size_t>(j)], &Tm, &am);
-      numeric(j) = (energyAt(Tp, ap, d) - energyAt(Tm, am, d)) / (2 * step[static_cast<std::size_t>(j)]);
+      numeric(j) =
+          (energyAt(Tp, ap, d) - energyAt(Tm, am, d)) / (2 * step[static_cast<std::size_t>(j)]);
     }
     Access::energy(init, frame, level, T, affine, d, mask, &b, nullptr, nullptr);
     for (int j = 0; j < 8; ++j) {
@@ -254,7 +260,7 @@ TEST(CoarseInitializer, EnergyGradientMatchesNumericDifferentiation) {
 TEST(CoarseInitializer, RotationFreeParallaxSeparatesTranslationFromRotation) {
   const PinholeIntrinsics K = makeIntrinsics(320, 240, 250);
   CoarseInitializer init(PyramidCamera(K, 5));
-  init.addFrame(renderPyramid(test::wallAndFloorScene(), SE3d(), K), 1.0);
+  init.addFrame(renderPyramid(init_test::wallAndFloorScene(), SE3d(), K), 1.0);
   std::vector<float>& d = Access::idepth(init, 0);
   std::vector<std::uint8_t>& good = Access::good(init, 0);
   std::fill(good.begin(), good.end(), 1);
@@ -263,7 +269,8 @@ TEST(CoarseInitializer, RotationFreeParallaxSeparatesTranslationFromRotation) {
 
   // Pure rotation: no parallax.
   for (float& v : d) v = depth(rng);
-  Access::pose(init) = SE3d(SO3d::exp(Eigen::Vector3d(0.01, -0.02, 0.005)), Eigen::Vector3d::Zero());
+  Access::pose(init) =
+      SE3d(SO3d::exp(Eigen::Vector3d(0.01, -0.02, 0.005)), Eigen::Vector3d::Zero());
   EXPECT_NEAR(Access::parallax(init), 0.0, 1e-6);
 
   // Sideways translation with equal depths: the flow (10 px) is nearly a rotation's, only the
@@ -290,7 +297,7 @@ TEST(CoarseInitializer, RotationFreeParallaxSeparatesTranslationFromRotation) {
 TEST(CoarseInitializer, DegenerateDepthDistributionsAreDetected) {
   const PinholeIntrinsics K = makeIntrinsics(320, 240, 250);
   CoarseInitializer init(PyramidCamera(K, 5));
-  init.addFrame(renderPyramid(test::wallAndFloorScene(), SE3d(), K), 1.0);
+  init.addFrame(renderPyramid(init_test::wallAndFloorScene(), SE3d(), K), 1.0);
   std::vector<float>& d = Access::idepth(init, 0);
   std::vector<std::uint8_t>& good = Access::good(init, 0);
   std::fill(good.begin(), good.end(), 1);
@@ -344,7 +351,7 @@ TEST(CoarseInitializer, InvalidSettingsAreRejected) {
 TEST(CoarseInitializer, BadFramesThrowInputError) {
   const PinholeIntrinsics K = makeIntrinsics(320, 240, 250);
   CoarseInitializer init(PyramidCamera(K, 5));
-  const ImagePyramid good = renderPyramid(test::wallAndFloorScene(), SE3d(), K);
+  const ImagePyramid good = renderPyramid(init_test::wallAndFloorScene(), SE3d(), K);
   const ImagePyramid wrong_size = flatPyramid(160, 120, 100.f);
   EXPECT_THROW(init.addFrame(wrong_size, 1.0), InputError);
   EXPECT_THROW(init.addFrame(good, 0.0), InputError);
@@ -367,13 +374,29 @@ TEST(CoarseInitializer, BadFramesThrowInputError) {
   EXPECT_EQ(init.status(), InitStatus::kWaitingForParallax);  // the reference is kept
 }
 
+TEST(CoarseInitializer, NonFiniteImageIsReportedNotTracked) {
+  const PinholeIntrinsics K = makeIntrinsics(320, 240, 250);
+  CoarseInitializer init(PyramidCamera(K, 5));
+  init.addFrame(renderPyramid(init_test::wallAndFloorScene(), SE3d(), K), 1.0);
+  std::mt19937 rng(1);
+  ImageF image = init_test::wallAndFloorScene().render(SE3d(SO3d(), {0.01, 0, 0}), K, 1, 0.f, &rng);
+  for (int y = 100; y < 140; ++y) {
+    for (int x = 140; x < 180; ++x) image(x, y) = std::numeric_limits<float>::quiet_NaN();
+  }
+  ImagePyramid pyramid(K.width, K.height, 5);
+  pyramid.build(image.view());
+  EXPECT_FALSE(init.addFrame(pyramid, 1.0));
+  EXPECT_TRUE(init.failed());
+  EXPECT_EQ(init.failure(), InitFailure::kNotFinite);
+}
+
 TEST(CoarseInitializer, TexturelessReferenceIsRefusedAndNextFrameRestarts) {
   const PinholeIntrinsics K = makeIntrinsics(320, 240, 250);
   CoarseInitializer init(PyramidCamera(K, 5));
   EXPECT_FALSE(init.addFrame(flatPyramid(K.width, K.height, 120.f), 1.0));
   EXPECT_TRUE(init.failed());
   EXPECT_EQ(init.failure(), InitFailure::kTooFewPoints);
-  EXPECT_FALSE(init.addFrame(renderPyramid(test::wallAndFloorScene(), SE3d(), K), 1.0));
+  EXPECT_FALSE(init.addFrame(renderPyramid(init_test::wallAndFloorScene(), SE3d(), K), 1.0));
   EXPECT_EQ(init.status(), InitStatus::kWaitingForParallax);
   EXPECT_EQ(init.failure(), InitFailure::kNone);
   EXPECT_EQ(init.framesTracked(), 0);
@@ -382,13 +405,13 @@ TEST(CoarseInitializer, TexturelessReferenceIsRefusedAndNextFrameRestarts) {
 TEST(CoarseInitializer, UnrelatedImageFailsTrackingAndResetStartsOver) {
   const PinholeIntrinsics K = makeIntrinsics(320, 240, 250);
   CoarseInitializer init(PyramidCamera(K, 5));
-  init.addFrame(renderPyramid(test::wallAndFloorScene(), SE3d(), K), 1.0);
-  init.addFrame(renderPyramid(test::wallAndFloorScene(), SE3d(SO3d(), {0.01, 0, 0}), K), 1.0);
+  init.addFrame(renderPyramid(init_test::wallAndFloorScene(), SE3d(), K), 1.0);
+  init.addFrame(renderPyramid(init_test::wallAndFloorScene(), SE3d(SO3d(), {0.01, 0, 0}), K), 1.0);
   ASSERT_EQ(init.status(), InitStatus::kWaitingForParallax);
   EXPECT_EQ(init.framesTracked(), 1);
 
   // A different scene: most points cannot be matched.
-  test::PlaneScene other;
+  init_test::InitScene other;
   other.addPlane({0, 0, 2.0}, {0, 0, -1}, 99U);
   EXPECT_FALSE(init.addFrame(renderPyramid(other, SE3d(), K), 1.0));
   EXPECT_TRUE(init.failed());

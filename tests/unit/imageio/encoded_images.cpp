@@ -85,8 +85,8 @@ Bytes buildPng(const PngSpec& s) {
     for (const auto& rgb : s.palette) plte.insert(plte.end(), rgb.begin(), rgb.end());
     appendChunk(png, "PLTE", plte);
   }
-  if (!s.transparency.empty()) appendChunk(png, "tRNS", Bytes(s.transparency.begin(),
-                                                              s.transparency.end()));
+  if (!s.transparency.empty())
+    appendChunk(png, "tRNS", Bytes(s.transparency.begin(), s.transparency.end()));
   Bytes raw;
   if (!s.interlaced) {
     for (int y = 0; y < s.height; ++y) appendScanline(s, y, 0, 1, raw);
@@ -133,8 +133,8 @@ void patchPngChunk(Bytes& png, const char* type, std::size_t offset, unsigned ch
     png[data + length + k] = static_cast<unsigned char>(crc >> (24 - 8 * k));
 }
 
-Bytes encodeJpeg(const std::vector<std::uint8_t>& samples, int width, int height,
-                 int components, int stored, int quality) {
+Bytes encodeJpeg(const std::vector<std::uint8_t>& samples, int width, int height, int components,
+                 int stored, int quality) {
   jpeg_compress_struct cinfo;
   jpeg_error_mgr err;
   cinfo.err = jpeg_std_error(&err);  // a failure exits the test process: acceptable here

@@ -45,8 +45,8 @@ void patchPngChunk(Bytes& png, const char* type, std::size_t offset, unsigned ch
 /// A JPEG file from 8-bit samples of `components` (1 grey, 3 RGB, 4 CMYK) interleaved channels,
 /// stored in colour space `stored` (as libjpeg's J_COLOR_SPACE: 1 grey, 2 RGB, 3 YCbCr,
 /// 4 CMYK), at `quality`, with every component at full resolution.
-Bytes encodeJpeg(const std::vector<std::uint8_t>& samples, int width, int height,
-                 int components, int stored, int quality);
+Bytes encodeJpeg(const std::vector<std::uint8_t>& samples, int width, int height, int components,
+                 int stored, int quality);
 
 /// The what() of the ldsm::InputError thrown by f, or "" (a failure is recorded) when none is.
 template <typename F>

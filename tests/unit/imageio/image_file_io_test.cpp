@@ -97,7 +97,7 @@ TEST(ImageFileIo, DecodingReusesTheOutputBuffer) {
   decodeImage(big.data(), big.size(), "big", out);
   const std::uint8_t* buffer = out.data();
   const std::size_t capacity = out.capacity();
-  for (const Bytes* b : {&same, &small, &pgm, &jpeg, &big}) {
+  for (const Bytes* b : std::initializer_list<const Bytes*>{&same, &small, &pgm, &jpeg, &big}) {
     decodeImage(b->data(), b->size(), "again", out);
     EXPECT_EQ(out.data(), buffer);
     EXPECT_EQ(out.capacity(), capacity);

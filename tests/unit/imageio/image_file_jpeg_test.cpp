@@ -102,8 +102,8 @@ std::string decodeError(const Bytes& bytes) {
 
 TEST(JpegFileErrors, TruncatedFilesAreErrorsNotGreyPadding) {
   const Bytes good = encodeJpeg(smoothSamples(1), kW, kH, 1, kGrey, 95);
-  for (const std::size_t cut : {std::size_t{3}, std::size_t{40}, good.size() / 2,
-                                good.size() - 2}) {
+  for (const std::size_t cut :
+       {std::size_t{3}, std::size_t{40}, good.size() / 2, good.size() - 2}) {
     const Bytes bad(good.begin(), good.begin() + static_cast<std::ptrdiff_t>(cut));
     EXPECT_THAT(decodeError(bad), StartsWith("bad.jpg: cannot decode image: JPEG: ")) << cut;
   }
@@ -111,11 +111,32 @@ TEST(JpegFileErrors, TruncatedFilesAreErrorsNotGreyPadding) {
   EXPECT_THAT(decodeError(half), HasSubstr("Premature end"));
 }
 
+/// Offset of the first marker 0xFF `code` in a JPEG file.
+std::size_t markerOffset(const Bytes& jpeg, unsigned char code) {
+  for (std::size_t i = 0; i + 1 < jpeg.size(); ++i)
+    if (jpeg[i] == 0xff && jpeg[i + 1] == code) return i;
+  ADD_FAILURE() << "no marker " << int{code};
+  return 0;
+}
+
 TEST(JpegFileErrors, CorruptMarkersAndData) {
   const Bytes good = encodeJpeg(smoothSamples(1), kW, kH, 1, kGrey, 95);
-  Bytes bad_marker = good;
-  bad_marker[3] = 0x01;  // APP0 -> an invalid marker
-  EXPECT_THAT(decodeError(bad_marker), StartsWith("bad.jpg: cannot decode image: JPEG: "));
+  const std::size_t sof = markerOffset(good, 0xc0);  // FF C0, length (2), precision, height...
+  Bytes bad_precision = good;
+  bad_precision[sof + 4] = 7;
+  EXPECT_THAT(decodeError(bad_precision), StartsWith("bad.jpg: cannot decode image: JPEG: "));
+  EXPECT_THAT(decodeError(bad_precision), HasSubstr("precision 7"));
+  Bytes bad_length = good;
+  bad_length[sof + 3] = 3;  // segment length too short for a frame header
+  EXPECT_THAT(decodeError(bad_length), StartsWith("bad.jpg: cannot decode image: JPEG: "));
+  Bytes empty_image = good;
+  empty_image[sof + 5] = 0;
+  empty_image[sof + 6] = 0;  // height 0
+  EXPECT_THAT(decodeError(empty_image), StartsWith("bad.jpg: cannot decode image: JPEG: "));
+  Bytes bad_huffman = good;
+  const std::size_t dht = markerOffset(good, 0xc4);  // FF C4, length, class/id, 16 counts
+  for (int i = 0; i < 16; ++i) bad_huffman[dht + 5 + i] = 0xff;
+  EXPECT_THAT(decodeError(bad_huffman), StartsWith("bad.jpg: cannot decode image: JPEG: "));
   // Entropy-coded data replaced by a marker in the middle of the scan.
   Bytes bad_scan = good;
   const std::size_t mid = good.size() / 2;

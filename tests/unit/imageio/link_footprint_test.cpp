@@ -43,7 +43,7 @@ TEST(LinkFootprint, ReadingImagesDoesNotLoadTheVideoPlugin) {
   ImageU8 frame(8, 6, 50);
   for (int k = 0; k < 3; ++k) calib::writePng(dir + "/" + std::to_string(k) + ".png", frame.view());
   auto source = drivers::openDataset(dir);
-  Frame f;
+  drivers::Frame f;
   int n = 0;
   while (source->next(f)) ++n;
   EXPECT_EQ(n, 3);

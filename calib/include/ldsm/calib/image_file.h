@@ -5,8 +5,10 @@
 // Conversions to grey, identical for every format:
 //  * colour: Y = 0.299 R + 0.587 G + 0.114 B (ITU-R BT.601, fixed point, rounded), the luma of
 //    JPEG; alpha is ignored; palette images are expanded to their colours first;
-//  * 16 -> 8 bits: round(v * 255 / 65535); 8 -> 16 bits: v * 257 (exact inverses);
-//  * grey of 1, 2 or 4 bits (PNG) and PNM maxval other than 255/65535: scaled to the full range.
+//  * 8 -> 16 bits: v * 257 (0..255 onto 0..65535); 16 -> 8 bits: the high byte, v / 256
+//    rounded down (its exact inverse, and what libpng and OpenCV's grey reading do);
+//  * grey of 1, 2 or 4 bits (PNG) and PNM maxval other than 255/65535: scaled to the full range
+//    (to 8 bits directly when maxval < 256, else to 16 bits first).
 //
 // Decoding into an Image reuses its buffer: no allocation when the capacity suffices.
 // Every failure throws ldsm::InputError "<where>: cannot decode image: <what is wrong>".

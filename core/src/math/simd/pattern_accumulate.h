@@ -70,9 +70,11 @@ class PatternPairSumsT {
   void add(const PatternSamples& s, const PatternJacobian& jac, PatternPointSums& point) {
     V u[2][7];  // basis rows without the constant 1, per half
     V jd[2], w[2], wr[2];
+    LDSM_SIMD_UNROLL
     for (int h = 0; h < 2; ++h) {
       const V gx = V::load(s.gx + 4 * h);
       const V gy = V::load(s.gy + 4 * h);
+      LDSM_SIMD_UNROLL
       for (int j = 0; j < 6; ++j)
         u[h][j] = gx * V::set1(jac.dpx_deps[0][j]) + gy * V::set1(jac.dpx_deps[1][j]);
       u[h][6] = V::set1(jac.scale) * (V::loadu(jac.colors + 4 * h) - V::set1(jac.host_b));
@@ -81,21 +83,25 @@ class PatternPairSumsT {
       wr[h] = w[h] * V::load(s.r + 4 * h);
     }
     V* acc = lanes_;
+    LDSM_SIMD_UNROLL
     for (int i = 0; i < 7; ++i) {
       const V wu0 = w[0] * u[0][i];
       const V wu1 = w[1] * u[1][i];
+      LDSM_SIMD_UNROLL
       for (int j = i; j < 7; ++j, ++acc) *acc = *acc + (wu0 * u[0][j] + wu1 * u[1][j]);
       *acc = *acc + (wu0 + wu1);  // (i, 1)
       ++acc;
     }
     *acc = *acc + (w[0] + w[1]);  // (1, 1)
     ++acc;
+    LDSM_SIMD_UNROLL
     for (int i = 0; i < 7; ++i, ++acc) *acc = *acc + (wr[0] * u[0][i] + wr[1] * u[1][i]);
     *acc = *acc + (wr[0] + wr[1]);
 
     const V wjd0 = w[0] * jd[0];
     const V wjd1 = w[1] * jd[1];
     V c[8];
+    LDSM_SIMD_UNROLL
     for (int i = 0; i < 7; ++i) c[i] = wjd0 * u[0][i] + wjd1 * u[1][i];
     c[7] = wjd0 + wjd1;
     sum4(c[0], c[1], c[2], c[3]).storeu(point.coupling);
@@ -146,6 +152,7 @@ template <class V>
 inline void accumulateDepthOnly(const PatternSamples& s, const float dpx_didepth[2], float* H_dd,
                                 float* b_d) {
   V h = V::zero(), b = V::zero();
+  LDSM_SIMD_UNROLL
   for (int k = 0; k < kPatternSize; k += 4) {
     const V jd =
         V::load(s.gx + k) * V::set1(dpx_didepth[0]) + V::load(s.gy + k) * V::set1(dpx_didepth[1]);

@@ -107,6 +107,7 @@ inline bool samplePattern(const PatternSamplingParams& p, const PatternWeighting
   alignas(16) std::int32_t ix[kPatternSize];
   alignas(16) std::int32_t iy[kPatternSize];
   V fx[2], fy[2];
+  LDSM_SIMD_UNROLL
   for (int h = 0; h < 2; ++h) {
     const V ox = V::load(kPatternOffsetsSoA.dx + 4 * h);
     const V oy = V::load(kPatternOffsetsSoA.dy + 4 * h);
@@ -124,6 +125,7 @@ inline bool samplePattern(const PatternSamplingParams& p, const PatternWeighting
   const V th = V::set1(pw.huber);
   const V c2 = V::set1(pw.gradient_c2);
   V energy = V::zero();
+  LDSM_SIMD_UNROLL
   for (int h = 0; h < 2; ++h) {
     const V w00 = (one - fx[h]) * (one - fy[h]);
     const V w10 = fx[h] * (one - fy[h]);

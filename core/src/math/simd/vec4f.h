@@ -24,6 +24,16 @@
 #include "math/simd/vec4f_neon.h"
 #endif
 
+// Fully unrolls the next (short, constant-trip) loop: the kernels' triangular loops must become
+// straight-line code so that the Jacobian rows stay in registers.
+#if defined(__clang__)
+#define LDSM_SIMD_UNROLL _Pragma("unroll")
+#elif defined(__GNUC__)
+#define LDSM_SIMD_UNROLL _Pragma("GCC unroll 16")
+#else
+#define LDSM_SIMD_UNROLL
+#endif
+
 namespace ldsm {
 namespace simd {
 

@@ -1,9 +1,9 @@
-#include "plane_scene.h"
+#include "init_scene.h"
 
 #include <cmath>
 #include <limits>
 
-namespace ldsm::test {
+namespace ldsm::init_test {
 
 namespace {
 
@@ -23,7 +23,9 @@ double lattice(std::int64_t i, std::int64_t j, std::uint32_t seed) {
   return static_cast<double>(h >> 8) / static_cast<double>(1U << 24);
 }
 
-double fade(double x) { return x * x * x * (x * (x * 6.0 - 15.0) + 10.0); }
+double fade(double x) {
+  return x * x * x * (x * (x * 6.0 - 15.0) + 10.0);
+}
 
 /// Smooth value noise in [0, 1) with unit lattice spacing.
 double valueNoise(double s, double t, std::uint32_t seed) {
@@ -38,9 +40,9 @@ double valueNoise(double s, double t, std::uint32_t seed) {
 
 }  // namespace
 
-void PlaneScene::addPlane(const Eigen::Vector3d& point, const Eigen::Vector3d& normal,
-                          std::uint32_t seed) {
-  TexturedPlane p;
+void InitScene::addPlane(const Eigen::Vector3d& point, const Eigen::Vector3d& normal,
+                         std::uint32_t seed) {
+  InitPlane p;
   p.normal = normal.normalized();
   p.offset = p.normal.dot(point);
   const Eigen::Vector3d helper =
@@ -51,12 +53,12 @@ void PlaneScene::addPlane(const Eigen::Vector3d& point, const Eigen::Vector3d& n
   planes_.push_back(p);
 }
 
-double PlaneScene::intersect(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir,
-                             int* plane) const {
+double InitScene::intersect(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir,
+                            int* plane) const {
   double best = std::numeric_limits<double>::infinity();
   int best_plane = -1;
   for (int i = 0; i < static_cast<int>(planes_.size()); ++i) {
-    const TexturedPlane& p = planes_[static_cast<std::size_t>(i)];
+    const InitPlane& p = planes_[static_cast<std::size_t>(i)];
     const double denom = p.normal.dot(dir);
     if (std::abs(denom) < 1e-12) continue;
     const double s = (p.offset - p.normal.dot(origin)) / denom;
@@ -69,8 +71,8 @@ double PlaneScene::intersect(const Eigen::Vector3d& origin, const Eigen::Vector3
   return best_plane < 0 ? -1.0 : best;
 }
 
-float PlaneScene::shade(int plane, const Eigen::Vector3d& X) const {
-  const TexturedPlane& p = planes_[static_cast<std::size_t>(plane)];
+float InitScene::shade(int plane, const Eigen::Vector3d& X) const {
+  const InitPlane& p = planes_[static_cast<std::size_t>(plane)];
   const double s = p.axis_s.dot(X);
   const double t = p.axis_t.dot(X);
   // Octaves with lattice spacings from 0.4 m down to 10 cm.
@@ -84,8 +86,8 @@ float PlaneScene::shade(int plane, const Eigen::Vector3d& X) const {
   return static_cast<float>(30.0 + 195.0 * value / total);
 }
 
-ImageF PlaneScene::render(const SE3d& T_world_cam, const PinholeIntrinsics& K, int samples,
-                          float noise, std::mt19937* rng) const {
+ImageF InitScene::render(const SE3d& T_world_cam, const PinholeIntrinsics& K, int samples,
+                         float noise, std::mt19937* rng) const {
   ImageF image(K.width, K.height);
   const Eigen::Matrix3d R = T_world_cam.rotationMatrix();
   const Eigen::Vector3d origin = T_world_cam.translation();
@@ -112,20 +114,20 @@ ImageF PlaneScene::render(const SE3d& T_world_cam, const PinholeIntrinsics& K, i
   return image;
 }
 
-double PlaneScene::inverseDepth(const SE3d& T_world_cam, const PinholeIntrinsics& K, double u,
-                                double v) const {
+double InitScene::inverseDepth(const SE3d& T_world_cam, const PinholeIntrinsics& K, double u,
+                               double v) const {
   const Eigen::Vector3d ray((u - K.cx) / K.fx, (v - K.cy) / K.fy, 1);  // camera frame, z = 1
   const double s =
       intersect(T_world_cam.translation(), T_world_cam.rotationMatrix() * ray, nullptr);
   return s > 0 ? 1.0 / s : 0.0;  // the hit is at camera depth z = s
 }
 
-PlaneScene wallAndFloorScene(double texture_scale) {
-  PlaneScene scene(texture_scale);
+InitScene wallAndFloorScene(double texture_scale) {
+  InitScene scene(texture_scale);
   const double a = 25.0 * 3.14159265358979323846 / 180.0;
   scene.addPlane({0, 0, 4.0}, {std::sin(a), 0, -std::cos(a)}, 11U);
   scene.addPlane({0, 1.2, 0}, {0, -1, 0}, 23U);
   return scene;
 }
 
-}  // namespace ldsm::test
+}  // namespace ldsm::init_test

@@ -12,9 +12,9 @@
 #include "ldsm/image.h"
 #include "ldsm/math/se3.h"
 
-namespace ldsm::test {
+namespace ldsm::init_test {
 
-struct TexturedPlane {
+struct InitPlane {
   Eigen::Vector3d normal;  ///< unit normal; the plane is { X : normal . X = offset }
   double offset = 0;
   Eigen::Vector3d axis_s;  ///< in-plane texture axes (unit, orthogonal to the normal)
@@ -22,10 +22,10 @@ struct TexturedPlane {
   std::uint32_t seed = 1;
 };
 
-class PlaneScene {
+class InitScene {
  public:
   /// Texture frequency multiplier (1: lattice spacings 0.4 m .. 0.1 m; smaller is smoother).
-  explicit PlaneScene(double texture_scale = 1.0) : texture_scale_(texture_scale) {}
+  explicit InitScene(double texture_scale = 1.0) : texture_scale_(texture_scale) {}
 
   /// Adds the plane through `point` with normal `normal` (normalised here).
   void addPlane(const Eigen::Vector3d& point, const Eigen::Vector3d& normal, std::uint32_t seed);
@@ -48,11 +48,11 @@ class PlaneScene {
 
  private:
   double texture_scale_;
-  std::vector<TexturedPlane> planes_;
+  std::vector<InitPlane> planes_;
 };
 
 /// A wall about 4 m ahead (tilted by 25 degrees about the vertical) and a floor 1.2 m below the
 /// camera at the origin: inverse depths between ~0.15 and ~0.4 over the image.
-PlaneScene wallAndFloorScene(double texture_scale = 1.0);
+InitScene wallAndFloorScene(double texture_scale = 1.0);
 
-}  // namespace ldsm::test
+}  // namespace ldsm::init_test

@@ -1,0 +1,40 @@
+#!/bin/sh
+# Builds the SIMD tests for the NEON kernels with cross compilers and runs them under qemu-user:
+# AArch64 and ARMv7 (hard float, -mfpu=neon). Needs g++-aarch64-linux-gnu,
+# g++-arm-linux-gnueabihf, qemu-user and the GoogleTest sources in /usr/src/googletest.
+#   tests/unit/simd/cross_check_neon.sh [work dir, default /tmp/ldsm-neon-check]
+set -eu
+root=$(cd "$(dirname "$0")/../../.." && pwd)
+work=${1:-/tmp/ldsm-neon-check}
+gtest=/usr/src/googletest/googletest
+mkdir -p "$work"
+
+tests="$root/tests/unit/simd/vec4f_test.cpp $root/tests/unit/simd/pattern_kernels_test.cpp
+  $root/tests/unit/simd/coarse_accumulate_test.cpp $root/tests/unit/simd/evaluate_residual_test.cpp"
+sources="$root/core/src/backend/photometric_residual.cpp $root/core/src/map/active_point.cpp
+  $root/core/src/image/image_pyramid.cpp $root/core/src/frontend/coarse_residuals.cpp"
+
+check() {  # name, compiler, qemu, sysroot, extra flags
+  name=$1 cxx=$2 qemu=$3 sysroot=$4
+  shift 4
+  dir="$work/$name"
+  mkdir -p "$dir"
+  if [ ! -f "$dir/gtest.a" ]; then
+    $cxx -O1 -std=c++17 -isystem "$gtest/include" -I"$gtest" -c "$gtest/src/gtest-all.cc" \
+      -o "$dir/gtest-all.o"
+    $cxx -O1 -std=c++17 -isystem "$gtest/include" -c "$gtest/src/gtest_main.cc" \
+      -o "$dir/gtest_main.o"
+    ar rcs "$dir/gtest.a" "$dir/gtest-all.o" "$dir/gtest_main.o"
+  fi
+  # shellcheck disable=SC2086
+  $cxx -O2 -std=c++17 "$@" -Wall -Wextra -Wpedantic -Wshadow=local -Wcast-align -Werror \
+    -DLDSM_SIMD_NEON=1 -I"$root/core/include" -I"$root/core/src" -I"$root/tests/support" \
+    -isystem /usr/include/eigen3 -isystem "$gtest/include" $tests $sources "$dir/gtest.a" \
+    -lpthread -o "$dir/test_simd"
+  echo "== $name"
+  $qemu -L "$sysroot" "$dir/test_simd" | tail -n 3
+}
+
+check aarch64 aarch64-linux-gnu-g++ qemu-aarch64 /usr/aarch64-linux-gnu
+check armv7 arm-linux-gnueabihf-g++ qemu-arm /usr/arm-linux-gnueabihf \
+  -march=armv7-a -mfpu=neon -mfloat-abi=hard -Wno-psabi
