@@ -10,6 +10,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <spdlog/spdlog.h>
+
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -103,6 +105,7 @@ std::string fmt(double v, const char* f) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  spdlog::set_level(spdlog::level::warn);
   std::string data = LDSM_BENCH_DATA;
   std::string only;
   bool check = false;
