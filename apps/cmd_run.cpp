@@ -24,7 +24,9 @@ namespace ldsm::app {
 namespace {
 
 std::atomic<bool> g_interrupted{false};
-void onSignal(int) { g_interrupted = true; }
+void onSignal(int) {
+  g_interrupted = true;
+}
 
 struct RunOptions {
   std::string dataset;

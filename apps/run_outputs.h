@@ -12,7 +12,7 @@ namespace ldsm::app {
 
 struct RunSummary {
   std::string dataset;
-  std::string status;        ///< "finished", "stopped: <reason>", ...
+  std::string status;  ///< "finished", "stopped: <reason>", ...
   double wall_seconds = 0.0;
   double ms_per_frame = 0.0;  ///< mean processing time per frame
   double peak_rss_mb = 0.0;

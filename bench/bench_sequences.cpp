@@ -95,7 +95,7 @@ Result runSequence(const Sequence& s, const std::string& data) {
   return r;
 }
 
-std::string fmt(double v, const char* f) {
+std::string cell(double v, const char* f) {
   if (std::isnan(v)) return "-";
   char b[32];
   std::snprintf(b, sizeof(b), f, v);
@@ -111,9 +111,12 @@ int main(int argc, char** argv) {
   bool check = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--data" && i + 1 < argc) data = argv[++i];
-    else if (a == "--only" && i + 1 < argc) only = argv[++i];
-    else if (a == "--check") check = true;
+    if (a == "--data" && i + 1 < argc)
+      data = argv[++i];
+    else if (a == "--only" && i + 1 < argc)
+      only = argv[++i];
+    else if (a == "--check")
+      check = true;
     else {
       std::fprintf(stderr, "usage: %s [--data DIR] [--only NAME,...] [--check]\n", argv[0]);
       return 2;
@@ -127,12 +130,11 @@ int main(int argc, char** argv) {
       {"sim:rotation", "", "rotation", 600, {}},
       {"sim:loop", "", "loop", 0, {}},
   };
-  std::printf("%-20s %6s %6s %5s %10s %7s %8s %8s %8s  %s\n", "sequence", "frames", "track",
-              "KFs", "ATE [m]", "ATE %", "ms/frame", "p99 ms", "RSS MB", "targets");
+  std::printf("%-20s %6s %6s %5s %10s %7s %8s %8s %8s  %s\n", "sequence", "frames", "track", "KFs",
+              "ATE [m]", "ATE %", "ms/frame", "p99 ms", "RSS MB", "targets");
   bool all_ok = true;
   for (const Sequence& s : all) {
-    if (!only.empty() && ("," + only + ",").find("," + s.name + ",") == std::string::npos)
-      continue;
+    if (!only.empty() && ("," + only + ",").find("," + s.name + ",") == std::string::npos) continue;
     if (!s.folder.empty() && !std::filesystem::is_directory(data + "/" + s.folder)) {
       std::printf("%-20s skipped: %s/%s not found\n", s.name.c_str(), data.c_str(),
                   s.folder.c_str());
@@ -182,9 +184,9 @@ int main(int argc, char** argv) {
     judge("ms", r.ms_mean, s.target.ms_per_frame);
     judge("RSS", rss, s.target.rss_mb);
     std::printf("%-20s %6lld %6lld %5lld %10s %7s %8s %8s %8.0f  %s\n", s.name.c_str(), r.frames,
-                r.tracked, r.keyframes, fmt(r.ate, "%.4f").c_str(),
-                fmt(100.0 * r.ate / r.path, "%.2f").c_str(), fmt(r.ms_mean, "%.1f").c_str(),
-                fmt(r.ms_p99, "%.1f").c_str(), rss, verdict.c_str());
+                r.tracked, r.keyframes, cell(r.ate, "%.4f").c_str(),
+                cell(100.0 * r.ate / r.path, "%.2f").c_str(), cell(r.ms_mean, "%.1f").c_str(),
+                cell(r.ms_p99, "%.1f").c_str(), rss, verdict.c_str());
     std::fflush(stdout);
   }
   return check && !all_ok ? 1 : 0;

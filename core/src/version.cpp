@@ -1,5 +1,7 @@
 #include "ldsm/version.h"
 
 namespace ldsm {
-const char* versionString() { return LDSM_VERSION; }
+const char* versionString() {
+  return LDSM_VERSION;
+}
 }  // namespace ldsm

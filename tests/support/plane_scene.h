@@ -14,8 +14,8 @@
 namespace ldsm::test {
 
 struct TexturedPlane {
-  Eigen::Vector3d point;   ///< a point on the plane (world)
-  Eigen::Vector3d normal;  ///< unit normal
+  Eigen::Vector3d point;           ///< a point on the plane (world)
+  Eigen::Vector3d normal;          ///< unit normal
   Eigen::Vector3d u_axis, v_axis;  ///< texture axes in the plane
   double phase = 0.0;
 };

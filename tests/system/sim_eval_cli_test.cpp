@@ -21,10 +21,9 @@ double ateFromSummary(const std::string& out) {
 TEST(SimEvalCli, Sim3MovedCopyHasZeroErrorAndNoiseGivesItsRmse) {
   const std::string dir = test::scratchDir("sim_eval_cli");
   std::string out;
-  ASSERT_EQ(test::runCommand(std::string(LDSM_EXE) + " sim --scene short --out " + dir +
-                                 "/scene",
-                             &out),
-            0)
+  ASSERT_EQ(
+      test::runCommand(std::string(LDSM_EXE) + " sim --scene short --out " + dir + "/scene", &out),
+      0)
       << out;
   const Trajectory gt = drivers::readTrajectory(dir + "/scene/groundtruth.txt");
   ASSERT_GT(gt.size(), 30u);

@@ -78,8 +78,7 @@ TEST(SimOdometry, DeterministicModeIsBitIdentical) {
   for (size_t i = 0; i < a.trajectory.size(); ++i) {
     EXPECT_EQ(a.trajectory[i].timestamp, b.trajectory[i].timestamp);
     EXPECT_EQ(a.trajectory[i].pose.translation, b.trajectory[i].pose.translation) << i;
-    EXPECT_EQ(a.trajectory[i].pose.rotation.coeffs(), b.trajectory[i].pose.rotation.coeffs())
-        << i;
+    EXPECT_EQ(a.trajectory[i].pose.rotation.coeffs(), b.trajectory[i].pose.rotation.coeffs()) << i;
   }
 }
 

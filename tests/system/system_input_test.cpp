@@ -26,8 +26,8 @@ ImageU8 texturedImage(int w, int h, int shift = 0) {
   ImageU8 img(w, h);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
-      img(x, y) = static_cast<std::uint8_t>(128 + 60 * std::sin(0.21 * (x + shift)) *
-                                                      std::cos(0.17 * y));
+      img(x, y) =
+          static_cast<std::uint8_t>(128 + 60 * std::sin(0.21 * (x + shift)) * std::cos(0.17 * y));
   return img;
 }
 
@@ -54,8 +54,8 @@ TEST(SystemInput, BadFramesAreRejectedAndCounted) {
   const ImageU8 good = texturedImage(160, 120);
   ImageU8 black(160, 120, 0), saturated(160, 120, 255);
   system.submit({good.view(), 1.0});
-  system.submit({good.view(), 1.0});   // duplicated timestamp
-  system.submit({good.view(), 0.5});   // backwards
+  system.submit({good.view(), 1.0});  // duplicated timestamp
+  system.submit({good.view(), 0.5});  // backwards
   system.submit({good.view(), std::numeric_limits<double>::quiet_NaN()});
   system.submit({good.view(), 2.0, 0.0});   // zero exposure
   system.submit({good.view(), 3.0, -1.0});  // negative exposure
@@ -108,10 +108,9 @@ TEST(SystemInput, NanInCalibrationIsAnInputError) {
 TEST(RunCommand, UnreadableFrameMidSequenceKeepsTheTrajectorySoFar) {
   const std::string dir = test::scratchDir("run_corrupt");
   std::string out;
-  ASSERT_EQ(test::runCommand(std::string(LDSM_EXE) + " sim --scene short --out " + dir +
-                                 "/scene",
-                             &out),
-            0)
+  ASSERT_EQ(
+      test::runCommand(std::string(LDSM_EXE) + " sim --scene short --out " + dir + "/scene", &out),
+      0)
       << out;
   // Corrupt a late frame: the run must stop there with a clear message, keeping what it did.
   std::vector<std::filesystem::path> images;

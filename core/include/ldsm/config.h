@@ -68,9 +68,9 @@ struct PointSelectionConfig {
 };
 
 struct TrackingConfig {
-  int pyramid_levels = 5;          ///< pyramid levels used by the coarse tracker
+  int pyramid_levels = 5;  ///< pyramid levels used by the coarse tracker
   int max_iterations_per_level = 10;
-  double huber_threshold = 9.0;    ///< Huber threshold of the photometric residual, grey levels
+  double huber_threshold = 9.0;  ///< Huber threshold of the photometric residual, grey levels
 
   template <typename V>
   void visit(V& v) {
@@ -84,10 +84,10 @@ struct TrackingConfig {
 };
 
 struct WindowConfig {
-  int min_keyframes = 5;  ///< keyframes kept before marginalisation starts
-  int max_keyframes = 7;  ///< hard upper bound of the optimisation window
-  int active_points = 2000;  ///< target number of active points in the whole window
-  int max_iterations = 6;    ///< Levenberg-Marquardt iterations per new keyframe
+  int min_keyframes = 5;            ///< keyframes kept before marginalisation starts
+  int max_keyframes = 7;            ///< hard upper bound of the optimisation window
+  int active_points = 2000;         ///< target number of active points in the whole window
+  int max_iterations = 6;           ///< Levenberg-Marquardt iterations per new keyframe
   double outlier_threshold = 12.0;  ///< RMS pattern residual (grey levels) of an outlier
   double min_trace_quality = 3.0;   ///< immature point: second-best / best match energy
   double max_trace_interval = 8.0;  ///< immature point: depth interval in pixels to activate

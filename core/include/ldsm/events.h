@@ -22,8 +22,8 @@ struct FrameEvent {
   std::int64_t frame_index = 0;
   double timestamp = 0.0;
   TrackingStatus status = TrackingStatus::Initializing;
-  bool has_pose = false;   ///< false while initialising or when lost
-  Pose pose;               ///< camera-to-world at the time of processing
+  bool has_pose = false;  ///< false while initialising or when lost
+  Pose pose;              ///< camera-to-world at the time of processing
   bool is_keyframe = false;
   double residual_rmse = 0.0;  ///< photometric RMSE of the tracking, grey levels
 };

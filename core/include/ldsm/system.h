@@ -21,7 +21,7 @@ namespace ldsm {
 /// what it needs before submit() returns.
 struct FrameView {
   ImageView<const std::uint8_t> image;
-  double timestamp = 0.0;                                          ///< seconds, increasing
+  double timestamp = 0.0;                                         ///< seconds, increasing
   double exposure_ms = std::numeric_limits<double>::quiet_NaN();  ///< NaN when unknown
 };
 

@@ -76,7 +76,8 @@ bool Mapper::initialize(const InitializationResult& result, const MapperFrame& r
   std::vector<const InitializedPoint*> usable;
   for (const auto& p : result.points)
     if (p.good && p.idepth > 0.f && std::isfinite(p.idepth)) usable.push_back(&p);
-  const double keep = std::min(1.0, config_.window.active_points / std::max<double>(1, usable.size()));
+  const double keep =
+      std::min(1.0, config_.window.active_points / std::max<double>(1, usable.size()));
   double acc = 0.0;
   const float c = optimizer_.settings().residual.gradient_weight_c;
   for (const InitializedPoint* ip : usable) {
@@ -148,9 +149,10 @@ KeyframeInsertion Mapper::addKeyframe(std::unique_ptr<ImagePyramid> pyramid,
   auto ms = [](Clock::time_point a, Clock::time_point b) {
     return std::chrono::duration<double, std::milli>(b - a).count();
   };
-  spdlog::debug("mapping: activate {:.1f} ms, optimise {:.1f} ms ({} it), marginalise {:.1f} ms, "
-                "select {:.1f} ms", ms(t0, t1), ms(t1, t2), ins.optimization.iterations,
-                ms(t2, t3), ms(t3, t4));
+  spdlog::debug(
+      "mapping: activate {:.1f} ms, optimise {:.1f} ms ({} it), marginalise {:.1f} ms, "
+      "select {:.1f} ms",
+      ms(t0, t1), ms(t1, t2), ins.optimization.iterations, ms(t2, t3), ms(t3, t4));
   ins.active_points = activePointCount();
   for (const auto& k : window_) ins.immature_points += static_cast<int>(k->immature.size());
   return ins;
@@ -161,11 +163,10 @@ void Mapper::removeBadResiduals() {
     auto& pts = kf->points;
     for (auto& p : pts) {
       auto& rs = p->residuals;
-      rs.erase(std::remove_if(rs.begin(), rs.end(),
-                              [](const PointResidual& r) {
-                                return r.state != ResidualState::Inlier;
-                              }),
-               rs.end());
+      rs.erase(
+          std::remove_if(rs.begin(), rs.end(),
+                         [](const PointResidual& r) { return r.state != ResidualState::Inlier; }),
+          rs.end());
     }
     pts.erase(std::remove_if(pts.begin(), pts.end(),
                              [](const std::unique_ptr<ActivePoint>& p) {
@@ -185,8 +186,8 @@ std::vector<int> Mapper::framesToMarginalize() const {
     const WindowKeyframe& kf = *window_[i];
     const double in_fraction =
         kf.points_created > 0 ? static_cast<double>(kf.points.size()) / kf.points_created : 1.0;
-    const double log_scale = std::log(
-        affineTransfer(kf.exposure(), newest.exposure(), kf.aff, newest.aff)[0]);
+    const double log_scale =
+        std::log(affineTransfer(kf.exposure(), newest.exposure(), kf.aff, newest.aff)[0]);
     if (in_fraction < 0.05 || std::fabs(log_scale) > 0.7) {
       out.push_back(i);
       --remaining;
@@ -250,11 +251,10 @@ void Mapper::marginalizeFrame(int window_index) {
     auto& pts = kf->points;
     for (auto& p : pts)
       if (p->residuals.empty()) finished.push_back(worldPoint(*p));
-    pts.erase(std::remove_if(pts.begin(), pts.end(),
-                             [](const std::unique_ptr<ActivePoint>& p) {
-                               return p->residuals.empty();
-                             }),
-              pts.end());
+    pts.erase(
+        std::remove_if(pts.begin(), pts.end(),
+                       [](const std::unique_ptr<ActivePoint>& p) { return p->residuals.empty(); }),
+        pts.end());
   }
   optimizer_.marginalizeFrame(view, f, prior_);
   store_.setKeyframe({f.id(), f.frameIndex(), f.timestamp(), f.T_c_w.inverse()});

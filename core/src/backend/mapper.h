@@ -41,8 +41,7 @@ class Mapper {
  public:
   /// `photometry_known`: response, vignette and exposure times are known, so affine brightness
   /// is held near zero by the strong prior (photometric.affine_prior_weight_known).
-  Mapper(const Config& config, const PyramidCamera& camera, MapStore& store,
-         bool photometry_known);
+  Mapper(const Config& config, const PyramidCamera& camera, MapStore& store, bool photometry_known);
   ~Mapper();
 
   bool initialized() const { return !window_.empty(); }

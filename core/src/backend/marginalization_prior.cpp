@@ -62,8 +62,8 @@ void MarginalizationPrior::marginalizeFrame(int keyframe_id) {
   Eigen::MatrixXd Hs = s.asDiagonal() * Hmm * s.asDiagonal();
   Hs.diagonal().array() += 1e-9;
   const Eigen::LDLT<Eigen::MatrixXd> ldlt(Hs);
-  const Eigen::MatrixXd Hmm_inv = s.asDiagonal() * ldlt.solve(Eigen::MatrixXd::Identity(k, k)) *
-                                  s.asDiagonal();
+  const Eigen::MatrixXd Hmm_inv =
+      s.asDiagonal() * ldlt.solve(Eigen::MatrixXd::Identity(k, k)) * s.asDiagonal();
   H_ = Hrr - Hrm * Hmm_inv * Hrm.transpose();
   H_ = 0.5 * (H_ + H_.transpose()).eval();
   b_ = br - Hrm * (Hmm_inv * bm);

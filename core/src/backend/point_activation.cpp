@@ -62,9 +62,9 @@ bool Mapper::optimizeNewPointDepth(ActivePoint& point, const std::vector<FramePa
     for (auto& r : point.residuals) {
       ResidualAccumulator acc;
       acc.depth_only = true;
-      const float e = evaluateResidual(point, r, pairs[static_cast<size_t>(h) * n +
-                                                       r.target->window_index],
-                                       rs, linearize ? &acc : nullptr);
+      const float e =
+          evaluateResidual(point, r, pairs[static_cast<size_t>(h) * n + r.target->window_index], rs,
+                           linearize ? &acc : nullptr);
       energy += r.state == ResidualState::Inlier ? e : rs.outlier_energy;
       *H += acc.H_dd;
       *b += acc.b_d;
@@ -116,14 +116,22 @@ int Mapper::activatePoints() {
   // Spacing control: fewer points than wanted -> activate closer to existing ones.
   const int active = activePointCount();
   const double ratio = active / std::max(1.0, static_cast<double>(config_.window.active_points));
-  if (ratio < 0.66) min_activation_distance_ -= 0.8f;
-  else if (ratio < 0.8) min_activation_distance_ -= 0.5f;
-  else if (ratio < 0.9) min_activation_distance_ -= 0.2f;
-  else if (ratio < 1.0) min_activation_distance_ -= 0.1f;
-  if (ratio > 1.5) min_activation_distance_ += 0.8f;
-  else if (ratio > 1.3) min_activation_distance_ += 0.5f;
-  else if (ratio > 1.15) min_activation_distance_ += 0.2f;
-  else if (ratio > 1.0) min_activation_distance_ += 0.1f;
+  if (ratio < 0.66)
+    min_activation_distance_ -= 0.8f;
+  else if (ratio < 0.8)
+    min_activation_distance_ -= 0.5f;
+  else if (ratio < 0.9)
+    min_activation_distance_ -= 0.2f;
+  else if (ratio < 1.0)
+    min_activation_distance_ -= 0.1f;
+  if (ratio > 1.5)
+    min_activation_distance_ += 0.8f;
+  else if (ratio > 1.3)
+    min_activation_distance_ += 0.5f;
+  else if (ratio > 1.15)
+    min_activation_distance_ += 0.2f;
+  else if (ratio > 1.0)
+    min_activation_distance_ += 0.1f;
   min_activation_distance_ = std::clamp(min_activation_distance_, 0.f, 4.f);
 
   DistanceMap dist((cam.width + 1) / 2, (cam.height + 1) / 2);
@@ -156,8 +164,7 @@ int Mapper::activatePoints() {
                              ip.lastStatus() != TraceStatus::kOob &&
                              ip.lastStatus() != TraceStatus::kOutlier &&
                              ip.lastPixelInterval() < max_interval && ip.quality() >= min_quality &&
-                             ip.idepthMin() + ip.idepthMax() > 0.f &&
-                             std::isfinite(ip.idepthMax());
+                             ip.idepthMin() + ip.idepthMax() > 0.f && std::isfinite(ip.idepthMax());
       if (converged && activated < budget) {
         const float d = ip.idepthEstimate();
         const Eigen::Vector3f q = T_nh * (cam.unproject(ip.u(), ip.v()) / d);

@@ -92,8 +92,7 @@ void WindowOptimizer::precalcPairs(const std::vector<WindowKeyframe*>& window) {
     for (size_t t = 0; t < n; ++t) {
       if (h == t) continue;
       pairs_[h * n + t].set(*window[h], *window[t], camera_);
-      adjoints_[h * n + t] =
-          (window[t]->T_c_w_eval * window[h]->T_c_w_eval.inverse()).adjoint();
+      adjoints_[h * n + t] = (window[t]->T_c_w_eval * window[h]->T_c_w_eval.inverse()).adjoint();
     }
 }
 
@@ -129,8 +128,7 @@ double WindowOptimizer::addPriors(const std::vector<WindowKeyframe*>& window,
     for (size_t j = 0; j < ids.size(); ++j) {
       for (size_t i = 0; i < window.size(); ++i)
         if (window[i]->id() == ids[j]) at[j] = static_cast<int>(i);
-      deltas.segment<k>(k * j) =
-          at[j] >= 0 ? window[at[j]]->delta() : FrameVector::Zero().eval();
+      deltas.segment<k>(k * j) = at[j] >= 0 ? window[at[j]]->delta() : FrameVector::Zero().eval();
     }
     energy += prior.energy(deltas);
     if (H) {
@@ -296,13 +294,12 @@ WindowOptimizationResult WindowOptimizer::optimize(const std::vector<WindowKeyfr
   result.final_energy = sys.energy;
   result.inlier_residuals = sys.inliers;
   result.outlier_residuals = sys.outliers;
-  result.rmse =
-      sys.inliers > 0 ? std::sqrt(sys.inlier_energy / (sys.inliers * kPatternSize)) : 0.0;
+  result.rmse = sys.inliers > 0 ? std::sqrt(sys.inlier_energy / (sys.inliers * kPatternSize)) : 0.0;
   return result;
 }
 
 Eigen::VectorXd WindowOptimizer::frameGradient(const std::vector<WindowKeyframe*>& window,
-                                              const MarginalizationPrior& prior) {
+                                               const MarginalizationPrior& prior) {
   System sys;
   precalcPairs(window);
   linearize(window, prior, sys);

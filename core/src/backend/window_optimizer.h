@@ -19,9 +19,9 @@ struct WindowOptimizerSettings {
   int max_iterations = 6;
   double initial_lambda = 1e-4;
   double min_relative_decrease = 1e-4;  ///< stop when energy falls by less than this fraction
-  double affine_prior_a = 1e-3;  ///< prior weight on a (towards 0)
-  double affine_prior_b = 1e-3;  ///< prior weight on b (towards 0)
-  double pose_prior = 1e8;       ///< weight anchoring the gauge keyframe to its first estimate
+  double affine_prior_a = 1e-3;         ///< prior weight on a (towards 0)
+  double affine_prior_b = 1e-3;         ///< prior weight on b (towards 0)
+  double pose_prior = 1e8;  ///< weight anchoring the gauge keyframe to its first estimate
   ResidualSettings residual;
 };
 
@@ -67,9 +67,9 @@ class WindowOptimizer {
   struct System {
     Eigen::MatrixXd H;  ///< frames (8n x 8n), residuals + priors
     Eigen::VectorXd b;
-    Eigen::MatrixXd coupling;    ///< 8n x points: sum w J_frame^T J_d per point
-    std::vector<double> H_dd;    ///< per point
-    std::vector<double> b_d;     ///< per point
+    Eigen::MatrixXd coupling;  ///< 8n x points: sum w J_frame^T J_d per point
+    std::vector<double> H_dd;  ///< per point
+    std::vector<double> b_d;   ///< per point
     std::vector<ActivePoint*> points;
     double energy = 0.0;
     int inliers = 0, outliers = 0;
@@ -89,7 +89,7 @@ class WindowOptimizer {
 
   WindowOptimizerSettings settings_;
   LevelCamera camera_;
-  std::vector<FramePairPrecalc> pairs_;  ///< n x n, [host * n + target]
+  std::vector<FramePairPrecalc> pairs_;                ///< n x n, [host * n + target]
   std::vector<Eigen::Matrix<double, 6, 6>> adjoints_;  ///< Ad(T_th) at the linearisation points
   std::vector<PairAccumulator> pair_acc_;  ///< n x n, the pairs' blocks during a linearisation
 };

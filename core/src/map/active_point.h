@@ -17,8 +17,9 @@ enum class ResidualState : std::uint8_t { Inlier, Outlier, OutOfBounds };
 struct PointResidual {
   WindowKeyframe* target = nullptr;
   ResidualState state = ResidualState::Inlier;
-  float energy = 0.f;            ///< weighted Huber energy of the pattern at the last evaluation
-  Eigen::Vector2f projection = Eigen::Vector2f::Zero();  ///< centre pixel in the target at the last evaluation
+  float energy = 0.f;  ///< weighted Huber energy of the pattern at the last evaluation
+  Eigen::Vector2f projection =
+      Eigen::Vector2f::Zero();  ///< centre pixel in the target at the last evaluation
 };
 
 struct ActivePoint {
@@ -28,7 +29,7 @@ struct ActivePoint {
   float idepth = 1.f;
   float idepth_backup = 1.f;
   bool is_corner = false;
-  float colors[kPatternSize] = {};   ///< host intensities of the pattern
+  float colors[kPatternSize] = {};        ///< host intensities of the pattern
   float grad_weights[kPatternSize] = {};  ///< c^2 / (c^2 + |grad I_host|^2) per pattern pixel
   std::vector<PointResidual> residuals;
 

@@ -4,8 +4,7 @@ namespace ldsm {
 
 void MapStore::setKeyframe(const KeyframeRecord& record) {
   std::lock_guard<std::mutex> lock(mutex_);
-  if (record.id >= static_cast<int>(keyframes_.size()))
-    {
+  if (record.id >= static_cast<int>(keyframes_.size())) {
     KeyframeRecord empty;
     empty.id = -1;
     keyframes_.resize(static_cast<size_t>(record.id) + 1, empty);

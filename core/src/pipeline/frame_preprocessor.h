@@ -15,8 +15,8 @@ namespace ldsm {
 
 class FramePreprocessor {
  public:
-  FramePreprocessor(const GeometricCalibration& geometric, const PhotometricCalibration& photometric,
-                    const PhotometricConfig& config);
+  FramePreprocessor(const GeometricCalibration& geometric,
+                    const PhotometricCalibration& photometric, const PhotometricConfig& config);
 
   /// Input size the frames must have.
   int inputWidth() const { return input_width_; }

@@ -12,7 +12,9 @@ FrameWorker::FrameWorker(Handler handler, int slots)
   thread_ = std::thread([this] { run(); });
 }
 
-FrameWorker::~FrameWorker() { stop(); }
+FrameWorker::~FrameWorker() {
+  stop();
+}
 
 void FrameWorker::push(const FrameView& frame) {
   std::unique_lock<std::mutex> lock(mutex_);

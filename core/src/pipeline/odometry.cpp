@@ -76,16 +76,16 @@ OdometryStep Odometry::initializeStep(std::unique_ptr<ImagePyramid> pyr, std::in
   const InitializationResult& r = initializer_.result();
   MapperFrame last{index, timestamp, exposure, r.T_frame_ref * world_anchor_, r.affine_frame};
   KeyframeInsertion ins;
-  const bool ok = mapper_.initialize(r, init_reference_info_, std::move(init_reference_),
-                                     last, std::move(pyr), &ins);
+  const bool ok = mapper_.initialize(r, init_reference_info_, std::move(init_reference_), last,
+                                     std::move(pyr), &ins);
   initializer_.reset();
   if (!ok) return step;
   status_ = TrackingStatus::Tracking;
   ++initializations_;
   keyframes_ += 2;
   const WindowKeyframe& newest = mapper_.newestKeyframe();
-  store_.addFrame({init_reference_info_.frame_index, init_reference_info_.timestamp,
-                   newest.id() - 1, SE3d()});
+  store_.addFrame(
+      {init_reference_info_.frame_index, init_reference_info_.timestamp, newest.id() - 1, SE3d()});
   store_.addFrame({index, timestamp, newest.id(), SE3d()});
   updateTrackerReference();
   tracker_.resetMotion(newest.T_c_w, newest.aff);
@@ -93,8 +93,8 @@ OdometryStep Odometry::initializeStep(std::unique_ptr<ImagePyramid> pyr, std::in
   step.frame.has_pose = true;
   step.frame.is_keyframe = true;
   step.frame.pose = newest.T_c_w.inverse().toPose();
-  step.keyframe = KeyframeEvent{newest.id(), index, timestamp, step.frame.pose,
-                                mapper_.activePointCount()};
+  step.keyframe =
+      KeyframeEvent{newest.id(), index, timestamp, step.frame.pose, mapper_.activePointCount()};
   spdlog::info("frame {}: initialised with {} points", index, mapper_.activePointCount());
   return step;
 }
@@ -115,8 +115,8 @@ OdometryStep Odometry::trackStep(std::unique_ptr<ImagePyramid> pyr, std::int64_t
     return step;
   }
   const SE3d T_ref_w = tracker_.referencePose();
-  store_.addFrame({index, timestamp, tracker_.referenceKeyframeId(),
-                   T_ref_w * outcome.T_c_w.inverse()});
+  store_.addFrame(
+      {index, timestamp, tracker_.referenceKeyframeId(), T_ref_w * outcome.T_c_w.inverse()});
   MapperFrame info{index, timestamp, exposure, outcome.T_c_w, outcome.aff};
   {
     StageTimer::Scope t(timer_, kTrace);
@@ -160,7 +160,9 @@ void Odometry::loseTracking(OdometryStep& step, const std::string& reason) {
   status_ = TrackingStatus::Lost;
 }
 
-void Odometry::flush() { mapper_.publishPoses(); }
+void Odometry::flush() {
+  mapper_.publishPoses();
+}
 
 std::vector<MapPoint> Odometry::mapPoints() const {
   std::vector<MapPoint> pts = store_.points();

@@ -39,7 +39,8 @@ std::vector<StageTiming> StageTimer::summary() const {
       std::vector<double> v = s.samples;
       std::sort(v.begin(), v.end());
       t.p50_ms = v[v.size() / 2];
-      t.p99_ms = v[std::min(v.size() - 1, static_cast<size_t>(0.99 * static_cast<double>(v.size())))];
+      t.p99_ms =
+          v[std::min(v.size() - 1, static_cast<size_t>(0.99 * static_cast<double>(v.size())))];
     }
     out.push_back(t);
   }

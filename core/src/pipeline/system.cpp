@@ -13,9 +13,12 @@ namespace ldsm {
 
 const char* toString(TrackingStatus status) {
   switch (status) {
-    case TrackingStatus::Initializing: return "initializing";
-    case TrackingStatus::Tracking: return "tracking";
-    case TrackingStatus::Lost: return "lost";
+    case TrackingStatus::Initializing:
+      return "initializing";
+    case TrackingStatus::Tracking:
+      return "tracking";
+    case TrackingStatus::Lost:
+      return "lost";
   }
   return "unknown";
 }
@@ -106,16 +109,17 @@ System::~System() {
   if (impl_ && impl_->worker) impl_->worker->stop();
 }
 
-void System::setListener(SystemListener* listener) { impl_->listener = listener; }
+void System::setListener(SystemListener* listener) {
+  impl_->listener = listener;
+}
 
 void System::submit(const FrameView& frame) {
   if (frame.image.empty()) throw InputError("submitted frame has no image data");
   const int w = impl_->input_width, h = impl_->input_height;
   if (frame.image.width != w || frame.image.height != h)
     throw InputError("frame at t = " + std::to_string(frame.timestamp) + " s is " +
-                     std::to_string(frame.image.width) + "x" +
-                     std::to_string(frame.image.height) + " but the camera is " +
-                     std::to_string(w) + "x" + std::to_string(h));
+                     std::to_string(frame.image.width) + "x" + std::to_string(frame.image.height) +
+                     " but the camera is " + std::to_string(w) + "x" + std::to_string(h));
   if (impl_->worker) {
     impl_->worker->push(frame);
   } else {

@@ -16,8 +16,8 @@ DatasetCalibration loadDatasetCalibration(const DatasetDescription& dataset,
                      ": no calibration found (looked for camera.txt, sensor.yaml, calib.txt); "
                      "give one with --calib FILE");
   if (calib_file.empty() && dataset.calibration_kind == CalibrationFileKind::KittiCalib)
-    out.geometric = calib::readKittiCalib(file, dataset.calibration_camera, dataset.width,
-                                          dataset.height);
+    out.geometric =
+        calib::readKittiCalib(file, dataset.calibration_camera, dataset.width, dataset.height);
   else
     out.geometric = calib::loadGeometricCalibration(file, dataset.width, dataset.height);
   out.geometric_source = file;
@@ -27,8 +27,8 @@ DatasetCalibration loadDatasetCalibration(const DatasetDescription& dataset,
                      std::to_string(in.height) + " images but " + dataset.root + " has " +
                      std::to_string(dataset.width) + "x" + std::to_string(dataset.height));
   if (!dataset.photometric_response_file.empty() || !dataset.vignette_file.empty()) {
-    out.photometric = calib::loadPhotometricCalibration(
-        dataset.photometric_response_file, dataset.vignette_file, in.width, in.height);
+    out.photometric = calib::loadPhotometricCalibration(dataset.photometric_response_file,
+                                                        dataset.vignette_file, in.width, in.height);
     out.photometric_source = dataset.photometric_response_file +
                              (dataset.vignette_file.empty() ? "" : " " + dataset.vignette_file);
   } else {

@@ -90,7 +90,9 @@ class YamlReader {
     return nodes_.back()[key];
   }
   std::string path(const char* key) const { return prefix_ + key; }
-  static std::string scalar(const YAML::Node& n) { return n.IsScalar() ? n.Scalar() : "<not a value>"; }
+  static std::string scalar(const YAML::Node& n) {
+    return n.IsScalar() ? n.Scalar() : "<not a value>";
+  }
   template <typename T>
   static std::string toString(T v) {
     std::ostringstream os;

@@ -173,11 +173,10 @@ TEST(WindowOptimizer, MarginalisedFrameKeepsItsInformation) {
   window[0]->points.clear();
   for (auto* kf : window)
     for (auto& p : kf->points)
-      p->residuals.erase(std::remove_if(p->residuals.begin(), p->residuals.end(),
-                                        [&](const PointResidual& r) {
-                                          return r.target == window[0];
-                                        }),
-                         p->residuals.end());
+      p->residuals.erase(
+          std::remove_if(p->residuals.begin(), p->residuals.end(),
+                         [&](const PointResidual& r) { return r.target == window[0]; }),
+          p->residuals.end());
   opt.marginalizeFrame(window, *window[0], prior);
   window.erase(window.begin());
   ASSERT_EQ(prior.ids().size(), 3u);

@@ -126,13 +126,11 @@ TEST(ConfigYaml, MissingFile) {
 TEST(ConfigCli, PrintDefaultsAndCheck) {
   const std::string dir = test::scratchDir("config_cli");
   std::string out;
-  ASSERT_EQ(test::runCommand(std::string(LDSM_EXE) + " config --print-defaults --out " + dir +
-                                 "/d.yaml",
-                             &out),
+  ASSERT_EQ(test::runCommand(
+                std::string(LDSM_EXE) + " config --print-defaults --out " + dir + "/d.yaml", &out),
             0)
       << out;
-  ASSERT_EQ(test::runCommand(std::string(LDSM_EXE) + " config --check " + dir + "/d.yaml", &out),
-            0)
+  ASSERT_EQ(test::runCommand(std::string(LDSM_EXE) + " config --check " + dir + "/d.yaml", &out), 0)
       << out;
   std::ofstream(dir + "/bad.yaml") << "tracking:\n  pyramid_levels: 12\n";
   EXPECT_EQ(test::runCommand(std::string(LDSM_EXE) + " config --check " + dir + "/bad.yaml", &out),

@@ -14,15 +14,15 @@
 namespace ldsm::drivers {
 
 struct Frame {
-  std::int64_t index = -1;   ///< 0-based position in the stream
-  double timestamp = 0.0;    ///< seconds
+  std::int64_t index = -1;  ///< 0-based position in the stream
+  double timestamp = 0.0;   ///< seconds
   double exposure_ms = std::numeric_limits<double>::quiet_NaN();  ///< NaN when unknown
-  ImageU8 image;             ///< grey, reused across next() calls (no reallocation per frame)
+  ImageU8 image;  ///< grey, reused across next() calls (no reallocation per frame)
 };
 
 /// What a source knows about its stream up front.
 struct SourceInfo {
-  std::string name;        ///< e.g. "tum-mono", "euroc", "sim:loop", "v4l2:/dev/video0"
+  std::string name;  ///< e.g. "tum-mono", "euroc", "sim:loop", "v4l2:/dev/video0"
   int width = 0;
   int height = 0;
   std::int64_t frame_count = -1;  ///< -1 when unbounded (live camera)
