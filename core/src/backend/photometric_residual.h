@@ -2,7 +2,9 @@
 //   r_k = I_t[p'_k] - scale * I_h[p_k] - offset     (affineTransfer of host -> target)
 // with Huber and gradient-dependent weights, and its linearisation. Geometric Jacobians are
 // evaluated at the keyframes' first-estimate linearisation points (FEJ); residual values and image
-// gradients at the current estimate.
+// gradients at the current estimate. The pattern is evaluated as a struct of arrays by the SIMD
+// kernels of math/simd (pattern_sampling.h, pattern_accumulate.h); the (host, target) pair block
+// is summed in SIMD lanes (PairAccumulator) and reduced once per pair and linearisation.
 #pragma once
 
 #include <Eigen/Core>

@@ -21,7 +21,7 @@ constexpr double kTol = 1e-5;
 template <class V>
 class PatternKernelTest : public ::testing::Test {};
 using VecTypes = ::testing::Types<Vec4, Vec4Scalar>;
-TYPED_TEST_SUITE(PatternKernelTest, VecTypes);
+TYPED_TEST_SUITE(PatternKernelTest, VecTypes, );
 
 /// A smooth random texture with central-difference gradients, as a pyramid level holds it.
 Image<GradientPixel> randomTexture(int w, int h, std::mt19937& rng) {

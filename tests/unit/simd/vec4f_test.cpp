@@ -15,7 +15,7 @@ namespace {
 template <class V>
 class Vec4fTest : public ::testing::Test {};
 using VecTypes = ::testing::Types<Vec4, Vec4Scalar>;
-TYPED_TEST_SUITE(Vec4fTest, VecTypes);
+TYPED_TEST_SUITE(Vec4fTest, VecTypes, );
 
 template <class V>
 void toArray(const V& v, float out[4]) {

@@ -93,8 +93,9 @@ inline V bilinearPixel(const ImageView<const GradientPixel>& img, std::int32_t x
 /// unspecified) when a pattern pixel is behind the camera, outside the image minus the margin,
 /// or not finite.
 template <class V>
-inline bool samplePattern(const PatternSamplingParams& p, const PatternWeighting& pw,
-                          const PatternPoint& pt, PatternSamples& out) {
+[[gnu::always_inline]] inline bool samplePattern(const PatternSamplingParams& p,
+                                                 const PatternWeighting& pw, const PatternPoint& pt,
+                                                 PatternSamples& out) {
   const float* K = p.KRKi;
   const float d = pt.idepth;
   const V bx = V::set1(K[0] * pt.u + K[3] * pt.v + K[6] + p.Kt[0] * d);

@@ -1,11 +1,12 @@
 #!/bin/sh
-# Builds the SIMD tests for the NEON kernels with cross compilers and runs them under qemu-user:
-# AArch64 and ARMv7 (hard float, -mfpu=neon). Needs g++-aarch64-linux-gnu,
-# g++-arm-linux-gnueabihf, qemu-user and the GoogleTest sources in /usr/src/googletest.
-#   tests/unit/simd/cross_check_neon.sh [work dir, default /tmp/ldsm-neon-check]
+# Builds the SIMD tests for the kernels the host build does not use and runs them: NEON with
+# cross compilers under qemu-user (AArch64, and ARMv7 hard float with -mfpu=neon), and the plain
+# C++ fallback (LDSM_SIMD=scalar) natively. Needs g++-aarch64-linux-gnu, g++-arm-linux-gnueabihf,
+# qemu-user and the GoogleTest sources in /usr/src/googletest.
+#   tests/unit/simd/cross_check.sh [work dir, default /tmp/ldsm-simd-check]
 set -eu
 root=$(cd "$(dirname "$0")/../../.." && pwd)
-work=${1:-/tmp/ldsm-neon-check}
+work=${1:-/tmp/ldsm-simd-check}
 gtest=/usr/src/googletest/googletest
 mkdir -p "$work"
 
@@ -14,9 +15,9 @@ tests="$root/tests/unit/simd/vec4f_test.cpp $root/tests/unit/simd/pattern_kernel
 sources="$root/core/src/backend/photometric_residual.cpp $root/core/src/map/active_point.cpp
   $root/core/src/image/image_pyramid.cpp $root/core/src/frontend/coarse_residuals.cpp"
 
-check() {  # name, compiler, qemu, sysroot, extra flags
-  name=$1 cxx=$2 qemu=$3 sysroot=$4
-  shift 4
+check() {  # name, compiler, SIMD, runner ("" = native), sysroot, extra flags
+  name=$1 cxx=$2 simd=$3 runner=$4 sysroot=$5
+  shift 5
   dir="$work/$name"
   mkdir -p "$dir"
   if [ ! -f "$dir/gtest.a" ]; then
@@ -28,13 +29,18 @@ check() {  # name, compiler, qemu, sysroot, extra flags
   fi
   # shellcheck disable=SC2086
   $cxx -O2 -std=c++17 "$@" -Wall -Wextra -Wpedantic -Wshadow=local -Wcast-align -Werror \
-    -DLDSM_SIMD_NEON=1 -I"$root/core/include" -I"$root/core/src" -I"$root/tests/support" \
+    -DLDSM_SIMD_$simd=1 -I"$root/core/include" -I"$root/core/src" -I"$root/tests/support" \
     -isystem /usr/include/eigen3 -isystem "$gtest/include" $tests $sources "$dir/gtest.a" \
     -lpthread -o "$dir/test_simd"
   echo "== $name"
-  $qemu -L "$sysroot" "$dir/test_simd" | tail -n 3
+  if [ -n "$runner" ]; then
+    $runner -L "$sysroot" "$dir/test_simd" | tail -n 3
+  else
+    "$dir/test_simd" | tail -n 3
+  fi
 }
 
-check aarch64 aarch64-linux-gnu-g++ qemu-aarch64 /usr/aarch64-linux-gnu
-check armv7 arm-linux-gnueabihf-g++ qemu-arm /usr/arm-linux-gnueabihf \
+check scalar g++ SCALAR "" ""
+check aarch64 aarch64-linux-gnu-g++ NEON qemu-aarch64 /usr/aarch64-linux-gnu
+check armv7 arm-linux-gnueabihf-g++ NEON qemu-arm /usr/arm-linux-gnueabihf \
   -march=armv7-a -mfpu=neon -mfloat-abi=hard -Wno-psabi
