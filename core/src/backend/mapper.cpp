@@ -50,7 +50,10 @@ std::unique_ptr<ImagePyramid> Mapper::acquirePyramid() {
     pyramid_pool_.pop_back();
     return p;
   }
-  return std::make_unique<ImagePyramid>(camera_[0].width, camera_[0].height, camera_.levels());
+  // Nothing in the pipeline reads |grad I|^2 from the pyramid: leave that plane out (4 of 20
+  // bytes per pixel of every keyframe).
+  return std::make_unique<ImagePyramid>(camera_[0].width, camera_[0].height, camera_.levels(),
+                                        /*with_grad_mag_sq=*/false);
 }
 
 void Mapper::releasePyramid(std::unique_ptr<ImagePyramid> pyramid) {

@@ -29,7 +29,7 @@ Odometry::Odometry(const Config& config, const GeometricCalibration& geometric,
                                     config.photometric.use_exposure)),
       tracker_(config, camera_,
                preprocessor_.photometricallyCalibrated() && config.photometric.use_exposure),
-      timer_({"preprocess", "initialize", "track", "trace", "mapping", "total"}, 100000) {}
+      timer_({"preprocess", "initialize", "track", "trace", "mapping", "total"}, 20000) {}
 
 Odometry::~Odometry() = default;
 
