@@ -143,6 +143,7 @@ KeyframeInsertion Mapper::addKeyframe(std::unique_ptr<ImagePyramid> pyramid,
   const auto t1 = Clock::now();
   ins.optimization = optimizer_.optimize(windowView(), prior_);
   const auto t2 = Clock::now();
+  ins.retired_points = retireLostPoints();
   removeBadResiduals();
   ins.marginalized_frames = marginalizeFrames();
   const auto t3 = Clock::now();

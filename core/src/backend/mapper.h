@@ -33,6 +33,7 @@ struct KeyframeInsertion {
   WindowOptimizationResult optimization;
   int activated_points = 0;
   int marginalized_frames = 0;
+  int retired_points = 0;  ///< points that left the view (marginalised or dropped)
   int active_points = 0;
   int immature_points = 0;
 };
@@ -80,6 +81,8 @@ class Mapper {
   int activatePoints();
   bool optimizeNewPointDepth(ActivePoint& point, const std::vector<FramePairPrecalc>& pairs);
   void removeBadResiduals();
+  /// Takes points the newest keyframe no longer sees out of the window (point_retirement.cpp).
+  int retireLostPoints();
   int marginalizeFrames();
   std::vector<int> framesToMarginalize() const;
   void marginalizeFrame(int window_index);

@@ -215,18 +215,27 @@ CoarseTracker::Evaluation CoarseTracker::evaluate(const ImagePyramid& frame, dou
   return ev;
 }
 
-void CoarseTracker::addAffinePrior(const AffineLight& affine, CoarseMatrix& H,
+void CoarseTracker::addAffinePrior(const AffineLight& affine, int points, CoarseMatrix& H,
                                    CoarseVector& g) const {
-  H(6, 6) += settings_.affine_prior_weight_a;
-  H(7, 7) += settings_.affine_prior_weight_b;
-  g(6) += settings_.affine_prior_weight_a * (affine.a - ref_affine_.a);
-  g(7) += settings_.affine_prior_weight_b * (affine.b - ref_affine_.b);
+  const double n = static_cast<double>(points);
+  const double wa = n * settings_.affine_change_prior_a;
+  const double wb = n * settings_.affine_change_prior_b;
+  H(6, 6) += settings_.affine_prior_weight_a + wa;
+  H(7, 7) += settings_.affine_prior_weight_b + wb;
+  g(6) += settings_.affine_prior_weight_a * (affine.a - ref_affine_.a) +
+          wa * (affine.a - predicted_affine_.a);
+  g(7) += settings_.affine_prior_weight_b * (affine.b - ref_affine_.b) +
+          wb * (affine.b - predicted_affine_.b);
 }
 
-double CoarseTracker::affinePriorEnergy(const AffineLight& affine) const {
+double CoarseTracker::affinePriorEnergy(const AffineLight& affine, int points) const {
   const double da = affine.a - ref_affine_.a;
   const double db = affine.b - ref_affine_.b;
-  return settings_.affine_prior_weight_a * da * da + settings_.affine_prior_weight_b * db * db;
+  const double pa = affine.a - predicted_affine_.a;
+  const double pb = affine.b - predicted_affine_.b;
+  return (settings_.affine_prior_weight_a * da * da + settings_.affine_prior_weight_b * db * db) /
+             std::max(points, 1) +
+         settings_.affine_change_prior_a * pa * pa + settings_.affine_change_prior_b * pb * pb;
 }
 
 CoarseTracker::Evaluation CoarseTracker::optimiseLevel(const ImagePyramid& frame, double exposure,
@@ -247,12 +256,12 @@ CoarseTracker::Evaluation CoarseTracker::optimiseLevel(const ImagePyramid& frame
   }
   // The total cost compared between steps: mean data energy plus the prior spread the same way.
   const auto cost = [&](const Evaluation& e, const AffineLight& aff) {
-    return e.meanEnergy() + affinePriorEnergy(aff) / e.in_image;
+    return e.meanEnergy() + affinePriorEnergy(aff, e.in_image);
   };
   CoarseMatrix H;
   CoarseVector g;
   accumulateNormalEquations(warped_, H, g);
-  addAffinePrior(affine, H, g);
+  addAffinePrior(affine, ev.in_image, H, g);
   double current_cost = cost(ev, affine);
   double lambda = settings_.initial_lambda;
   int rejected_in_a_row = 0;
@@ -277,7 +286,7 @@ CoarseTracker::Evaluation CoarseTracker::optimiseLevel(const ImagePyramid& frame
       ev = ev_new;
       current_cost = cost(ev, affine);
       accumulateNormalEquations(warped_, H, g);
-      addAffinePrior(affine, H, g);
+      addAffinePrior(affine, ev.in_image, H, g);
       lambda = std::max(lambda * 0.5, 1e-8);
       rejected_in_a_row = 0;
     } else {
@@ -294,6 +303,7 @@ bool CoarseTracker::track(const ImagePyramid& frame, double exposure, SE3d& T_fr
                           CoarseTrackingResult& result) {
   result = CoarseTrackingResult();
   checkExposure(exposure, "frame");
+  predicted_affine_ = affine;
   if (frame.width(0) != depth_maps_.width(0) || frame.height(0) != depth_maps_.height(0) ||
       frame.levels() < levels()) {
     throw InputError("coarse tracker: frame pyramid is " + std::to_string(frame.width(0)) + "x" +

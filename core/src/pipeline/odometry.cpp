@@ -138,9 +138,11 @@ OdometryStep Odometry::trackStep(std::unique_ptr<ImagePyramid> pyr, std::int64_t
   step.frame.is_keyframe = true;
   step.keyframe = KeyframeEvent{newest.id(), index, timestamp, newest.T_c_w.inverse().toPose(),
                                 ins.active_points};
-  spdlog::debug("keyframe {} (frame {}): {} active, {} activated, {} marginalised, rmse {:.2f}",
-                newest.id(), index, ins.active_points, ins.activated_points,
-                ins.marginalized_frames, ins.optimization.rmse);
+  spdlog::debug(
+      "keyframe {} (frame {}): {} active, {} activated, {} marginalised, rmse {:.2f}, "
+      "{} left the view",
+      newest.id(), index, ins.active_points, ins.activated_points, ins.marginalized_frames,
+      ins.optimization.rmse, ins.retired_points);
   return step;
 }
 

@@ -351,3 +351,34 @@ TEST(CoarseTrackerSettingsTest, RejectsBadThresholdsAndReadsConfig) {
 
 }  // namespace
 }  // namespace ldsm
+
+namespace ldsm {
+namespace {
+
+// A guess far from the truth invites the degenerate "solution" of flattening the contrast
+// (scale -> 0, offset -> mean), which lowers the residual without aligning anything. The
+// brightness-change prior keeps the affine parameters near the prediction in that case.
+class AffinePriorTest : public CoarseTrackerTest {
+ protected:
+  double finalAffineA(double prior_a) {
+    CoarseTrackerSettings s;
+    s.affine_change_prior_a = prior_a;
+    s.affine_change_prior_b = prior_a > 0.0 ? 0.01 : 0.0;
+    const auto tracker = makeTracker(points_, s);
+    const SE3d truth(SO3d::exp(Eigen::Vector3d(0.0, 0.25, 0.05)), Eigen::Vector3d(0.2, 0, 0));
+    SE3d T;
+    AffineLight affine;
+    CoarseTrackingResult result;
+    trackFromIdentity(*tracker, renderFrame(truth), T, affine, result);
+    return affine.a;
+  }
+};
+
+TEST_F(AffinePriorTest, WrongGuessDoesNotFlattenTheContrast) {
+  // Premise: without the prior, the wrong guess drives the contrast scale far down.
+  EXPECT_LT(finalAffineA(0.0), -0.5);
+  EXPECT_GT(finalAffineA(CoarseTrackerSettings().affine_change_prior_a), -0.2);
+}
+
+}  // namespace
+}  // namespace ldsm
