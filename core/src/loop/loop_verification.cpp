@@ -1,0 +1,170 @@
+#include "loop/loop_verification.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include <spdlog/spdlog.h>
+
+#include "ldsm/error.h"
+
+namespace ldsm::loop {
+namespace {
+
+bool hasDepth(float idepth) {
+  return idepth > 0.0f && std::isfinite(idepth);
+}
+
+Eigen::Vector3d unproject(const PinholeIntrinsics& cam, const Eigen::Vector2f& px, float idepth) {
+  return Eigen::Vector3d((px.x() - cam.cx) / cam.fx, (px.y() - cam.cy) / cam.fy, 1.0) /
+         static_cast<double>(idepth);
+}
+
+double median(std::vector<double> v) {
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+class Verifier {
+ public:
+  Verifier(const KeyframeFeatures& cur, const KeyframeFeatures& cand,
+           const LoopVerificationSettings& s, LoopVerification& out)
+      : cur_(cur), cand_(cand), s_(s), out_(out) {}
+
+  // Runs the stages; returns false with out_.reason set at the first failed test.
+  bool run() {
+    const std::vector<DescriptorMatch> all = matchDescriptors(cur_, cand_, s_.matching);
+    out_.num_matches = static_cast<int>(all.size());
+    if (out_.num_matches < s_.min_matches) {
+      return reject("only " + std::to_string(all.size()) + " ORB matches (need " +
+                    std::to_string(s_.min_matches) + ")");
+    }
+    std::vector<Eigen::Vector3d> points;
+    std::vector<Eigen::Vector2d> pixels;
+    for (const DescriptorMatch& m : all) {
+      if (!hasDepth(cand_.idepth[m.train])) continue;
+      matches_.push_back(m);
+      points.push_back(unproject(cand_.camera, cand_.pixels[m.train], cand_.idepth[m.train]));
+      pixels.push_back(cur_.pixels[m.query].cast<double>());
+    }
+    out_.num_matches_with_depth = static_cast<int>(matches_.size());
+    if (out_.num_matches_with_depth < s_.min_matches_with_depth) {
+      return reject("only " + std::to_string(matches_.size()) +
+                    " matches with candidate depth (need " +
+                    std::to_string(s_.min_matches_with_depth) + ")");
+    }
+    const PnpRansacResult pnp = solvePnpRansac(points, pixels, cur_.camera, s_.pnp);
+    out_.num_pnp_inliers = static_cast<int>(pnp.inliers.size());
+    if (!pnp.success) {
+      return reject("PnP RANSAC found " + std::to_string(pnp.inliers.size()) + " inliers (need " +
+                    std::to_string(s_.pnp.min_inliers) + ")");
+    }
+    // Relative scale: median ratio of current depth to the PnP-predicted depth.
+    std::vector<double> ratios;
+    for (const int i : pnp.inliers) {
+      const float d = cur_.idepth[matches_[i].query];
+      const double z = (pnp.T_camera_points * points[i]).z();
+      if (hasDepth(d) && z > 0.0) ratios.push_back(1.0 / (static_cast<double>(d) * z));
+    }
+    if (static_cast<int>(ratios.size()) < s_.min_inliers_3d || ratios.empty()) {
+      return reject("only " + std::to_string(ratios.size()) +
+                    " PnP inliers with depth in the current keyframe to fix the scale (need " +
+                    std::to_string(s_.min_inliers_3d) + ")");
+    }
+    const double s0 = median(std::move(ratios));
+    const Sim3d initial(pnp.T_camera_points.so3(), s0 * pnp.T_camera_points.translation(), s0);
+    std::vector<std::uint8_t> pnp_inlier(points.size(), 0);
+    for (const int i : pnp.inliers) pnp_inlier[i] = 1;
+    return refine(points, pixels, initial, pnp_inlier);
+  }
+
+ private:
+  bool refine(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector2d>& px,
+              const Sim3d& initial, const std::vector<std::uint8_t>& pnp_inlier) {
+    std::vector<Sim3Correspondence> corr(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const float d = cur_.idepth[matches_[i].query];
+      corr[i] = {points[i], px[i], hasDepth(d) ? static_cast<double>(d) : 0.0};
+    }
+    const Sim3RefinementResult ref =
+        refineSim3(corr, cur_.camera, initial, s_.refinement, &pnp_inlier);
+    out_.S_current_candidate = ref.S_current_candidate;
+    out_.num_inliers = ref.inliers_2d + ref.inliers_3d;
+    out_.num_inliers_3d = ref.inliers_3d;
+    out_.rms_reprojection_px = ref.rms_reprojection_px;
+    for (std::size_t i = 0; i < corr.size(); ++i) {
+      if (ref.inlier[i]) out_.inlier_matches.push_back(matches_[i]);
+    }
+    if (!ref.success) return reject("Sim(3) refinement failed (no consistent inliers)");
+    if (out_.num_inliers < s_.min_inliers) {
+      return reject("only " + std::to_string(out_.num_inliers) +
+                    " inliers after Sim(3) refinement (need " + std::to_string(s_.min_inliers) +
+                    ")");
+    }
+    if (out_.num_inliers_3d < s_.min_inliers_3d) {
+      return reject("only " + std::to_string(out_.num_inliers_3d) +
+                    " inliers with current depth after refinement (need " +
+                    std::to_string(s_.min_inliers_3d) + ")");
+    }
+    const double scale = ref.S_current_candidate.scale();
+    if (!(scale >= s_.min_scale && scale <= s_.max_scale)) {
+      return reject("implausible relative scale " + std::to_string(scale));
+    }
+    return true;
+  }
+
+  bool reject(std::string reason) {
+    out_.reason = std::move(reason);
+    return false;
+  }
+
+  const KeyframeFeatures& cur_;
+  const KeyframeFeatures& cand_;
+  const LoopVerificationSettings& s_;
+  LoopVerification& out_;
+  std::vector<DescriptorMatch> matches_;  // matches whose candidate feature has depth
+};
+
+void checkCamera(const KeyframeFeatures& kf, const char* what) {
+  const PinholeIntrinsics& c = kf.camera;
+  if (!(c.fx > 0 && c.fy > 0 && std::isfinite(c.fx) && std::isfinite(c.fy) && std::isfinite(c.cx) &&
+        std::isfinite(c.cy))) {
+    throw InputError(std::string(what) + " " + std::to_string(kf.keyframe_id) +
+                     ": invalid pinhole intrinsics (fx, fy must be finite and > 0)");
+  }
+}
+
+}  // namespace
+
+LoopVerification verifyLoop(const KeyframeFeatures& current, const KeyframeFeatures& candidate,
+                            const LoopVerificationSettings& settings) {
+  const auto t0 = std::chrono::steady_clock::now();
+  validateKeyframeFeatures(current, "current keyframe");
+  validateKeyframeFeatures(candidate, "candidate keyframe");
+  checkCamera(current, "current keyframe");
+  checkCamera(candidate, "candidate keyframe");
+  LoopVerification out;
+  out.current_id = current.keyframe_id;
+  out.candidate_id = candidate.keyframe_id;
+  Verifier verifier(current, candidate, settings, out);
+  out.accepted = verifier.run();
+  if (out.accepted) {
+    out.reason = "accepted";
+  } else {
+    out.inlier_matches.clear();
+  }
+  out.time_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  if (out.accepted) {
+    spdlog::debug("loop {} -> {} accepted: {} inliers ({} with depth), scale {:.4f}, {:.1f} ms",
+                  out.current_id, out.candidate_id, out.num_inliers, out.num_inliers_3d,
+                  out.S_current_candidate.scale(), out.time_ms);
+  } else {
+    spdlog::debug("loop {} -> {} rejected: {}", out.current_id, out.candidate_id, out.reason);
+  }
+  return out;
+}
+
+}  // namespace ldsm::loop

@@ -1,0 +1,61 @@
+// Geometric verification of a loop candidate and estimation of its Sim(3) constraint:
+//   1. ORB matches current -> candidate (descriptor_matcher.h),
+//   2. RANSAC PnP of the candidate's 3D points (features with inverse depth) against the current
+//      keyframe's pixels (pnp_ransac.h), scale initialised by the median depth ratio of the PnP
+//      inliers that have depth in the current keyframe,
+//   3. Sim(3) refinement with Huber norms, 3D-3D for matches with current depth, 2D otherwise
+//      (sim3_refinement.h),
+//   4. acceptance on the inlier counts after refinement.
+// Convention: S_current_candidate maps a point from the candidate keyframe's camera frame, in the
+// candidate's map scale, into the current keyframe's camera frame, in the current map scale:
+//   q_current = S_current_candidate * p_candidate.
+// With world-from-camera Sim(3) poses it is the loop edge measurement S_w_cur^-1 * S_w_cand.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "loop/descriptor_matcher.h"
+#include "loop/loop_types.h"
+#include "loop/pnp_ransac.h"
+#include "loop/sim3_refinement.h"
+
+namespace ldsm::loop {
+
+/// Thresholds of verifyLoop(). Every failed test gives a rejection with a reason.
+struct LoopVerificationSettings {
+  DescriptorMatchSettings matching;
+  int min_matches = 30;             ///< ORB matches
+  int min_matches_with_depth = 20;  ///< of which the candidate feature has an inverse depth
+  PnpRansacSettings pnp;            ///< pnp.min_inliers: RANSAC inliers needed
+  Sim3RefinementSettings refinement;
+  int min_inliers = 25;     ///< inliers after refinement (with and without depth)
+  int min_inliers_3d = 10;  ///< inliers with depth in the current keyframe (fix scale)
+  double min_scale = 0.05;  ///< plausible range of the relative scale
+  double max_scale = 20.0;
+};
+
+/// Outcome of verifyLoop().
+struct LoopVerification {
+  bool accepted = false;
+  std::string reason;  ///< why it was rejected ("accepted" otherwise)
+  int current_id = -1;
+  int candidate_id = -1;
+  int num_matches = 0;
+  int num_matches_with_depth = 0;
+  int num_pnp_inliers = 0;
+  int num_inliers = 0;     ///< after refinement
+  int num_inliers_3d = 0;  ///< of which with depth in the current keyframe
+  double rms_reprojection_px = 0.0;
+  Sim3d S_current_candidate;  ///< see the file comment; identity when rejected before PnP
+  std::vector<DescriptorMatch> inlier_matches;  ///< query = current, train = candidate
+  double time_ms = 0.0;
+};
+
+/// Verifies that `candidate` shows the same place as `current` and estimates
+/// S_current_candidate. Needs no pose prior: the odometry poses of a loop are drifted anyway.
+/// Throws InputError for inconsistent keyframe features (sizes, indices) or invalid intrinsics.
+LoopVerification verifyLoop(const KeyframeFeatures& current, const KeyframeFeatures& candidate,
+                            const LoopVerificationSettings& settings);
+
+}  // namespace ldsm::loop

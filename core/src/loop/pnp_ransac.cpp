@@ -1,0 +1,74 @@
+#include "loop/pnp_ransac.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core.hpp>
+
+#include "ldsm/error.h"
+
+namespace ldsm::loop {
+
+PnpRansacResult solvePnpRansac(const std::vector<Eigen::Vector3d>& points,
+                               const std::vector<Eigen::Vector2d>& pixels,
+                               const PinholeIntrinsics& camera, const PnpRansacSettings& settings) {
+  if (points.size() != pixels.size()) {
+    throw InputError("PnP RANSAC: " + std::to_string(points.size()) + " points but " +
+                     std::to_string(pixels.size()) + " pixels");
+  }
+  if (!(camera.fx > 0 && camera.fy > 0 && std::isfinite(camera.cx) && std::isfinite(camera.cy) &&
+        std::isfinite(camera.fx) && std::isfinite(camera.fy))) {
+    throw InputError("PnP RANSAC: invalid pinhole intrinsics (fx, fy must be finite and > 0)");
+  }
+  if (settings.max_iterations < 1 || !(settings.inlier_threshold_px > 0) ||
+      !(settings.confidence > 0 && settings.confidence < 1) || settings.min_inliers < 0) {
+    throw InputError("PnP RANSAC: settings out of range");
+  }
+  PnpRansacResult result;
+  constexpr std::size_t kMinCorrespondences = 6;
+  if (points.size() < kMinCorrespondences) return result;
+
+  std::vector<cv::Point3d> object(points.size());
+  std::vector<cv::Point2d> image(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (!points[i].allFinite() || !pixels[i].allFinite()) {
+      throw InputError("PnP RANSAC: correspondence " + std::to_string(i) + " is not finite");
+    }
+    object[i] = cv::Point3d(points[i].x(), points[i].y(), points[i].z());
+    image[i] = cv::Point2d(pixels[i].x(), pixels[i].y());
+  }
+  const cv::Matx33d K(camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1);
+  cv::Mat rvec, tvec;
+  std::vector<int> inliers;
+  bool ok = false;
+  try {
+    ok = cv::solvePnPRansac(object, image, K, cv::noArray(), rvec, tvec, false,
+                            settings.max_iterations,
+                            static_cast<float>(settings.inlier_threshold_px), settings.confidence,
+                            inliers, cv::SOLVEPNP_ITERATIVE);
+  } catch (const cv::Exception&) {
+    ok = false;  // degenerate configurations make some OpenCV solvers throw: no pose
+  }
+  if (!ok || rvec.empty() || tvec.empty() ||
+      static_cast<int>(inliers.size()) < settings.min_inliers) {
+    result.inliers = std::move(inliers);
+    return result;
+  }
+  cv::Matx33d R;
+  cv::Rodrigues(rvec, R);
+  Eigen::Matrix3d Re;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) Re(r, c) = R(r, c);
+  }
+  const Eigen::Vector3d t(tvec.at<double>(0), tvec.at<double>(1), tvec.at<double>(2));
+  if (!Re.allFinite() || !t.allFinite()) return result;
+  std::sort(inliers.begin(), inliers.end());
+  result.success = true;
+  result.T_camera_points = SE3d(Re, t);
+  result.inliers = std::move(inliers);
+  return result;
+}
+
+}  // namespace ldsm::loop

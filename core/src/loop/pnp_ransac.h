@@ -1,0 +1,37 @@
+// Robust camera pose from 3D-2D correspondences (RANSAC over minimal PnP solutions, then a
+// least-squares refinement on the inliers): the first step of the geometric loop verification.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "ldsm/camera/calibration.h"
+#include "ldsm/math/se3.h"
+
+namespace ldsm::loop {
+
+/// Settings of solvePnpRansac().
+struct PnpRansacSettings {
+  int max_iterations = 300;          ///< RANSAC iterations (adaptive: fewer when inliers abound)
+  double inlier_threshold_px = 4.0;  ///< reprojection error of an inlier
+  double confidence = 0.999;         ///< probability of drawing one outlier-free sample
+  int min_inliers = 20;              ///< fewer inliers: failure
+};
+
+/// Result of solvePnpRansac(). `T_camera_points` maps the input 3D points into the camera.
+struct PnpRansacResult {
+  bool success = false;
+  SE3d T_camera_points;
+  std::vector<int> inliers;  ///< indices into the input arrays, increasing
+};
+
+/// Finds the pose of a pinhole camera (no distortion) that projects `points` (3D, in their own
+/// frame) onto `pixels`. Deterministic (fixed RANSAC seed). Needs at least 6 correspondences;
+/// success requires settings.min_inliers inliers. Throws InputError for mismatched sizes, invalid
+/// intrinsics or non-finite input.
+PnpRansacResult solvePnpRansac(const std::vector<Eigen::Vector3d>& points,
+                               const std::vector<Eigen::Vector2d>& pixels,
+                               const PinholeIntrinsics& camera, const PnpRansacSettings& settings);
+
+}  // namespace ldsm::loop

@@ -1,0 +1,34 @@
+// Waiting pushes and pops over the rings for the offline (lossless) mode: the producer waits while
+// the ring is full, the consumer while it is empty, both with an escalating Backoff, until the
+// `stop` flag is raised. Works with SpscRing, DropOldestRing and MpmcRing.
+#pragma once
+
+#include <atomic>
+#include <utility>
+
+#include "pipeline/backoff.h"
+
+namespace ldsm::pipeline {
+
+/// Pushes `value`, waiting while the ring is full. Returns false, without pushing, when `stop`
+/// is raised before there is room.
+template <typename Ring, typename U>
+bool pushWaiting(Ring& ring, U&& value, const std::atomic<bool>& stop) {
+  for (Backoff backoff;; backoff.pause()) {
+    if (ring.tryPush(std::forward<U>(value))) return true;  // moved from only on success
+    if (stop.load(std::memory_order_acquire)) return false;
+  }
+}
+
+/// Pops into `out`, waiting while the ring is empty. When `stop` is raised, what was pushed before
+/// it is still returned; returns false once the ring is empty and `stop` is raised (the producer
+/// raises it after its last push: end of stream).
+template <typename Ring, typename T>
+bool popWaiting(Ring& ring, T& out, const std::atomic<bool>& stop) {
+  for (Backoff backoff;; backoff.pause()) {
+    if (ring.tryPop(out)) return true;
+    if (stop.load(std::memory_order_acquire)) return ring.tryPop(out);
+  }
+}
+
+}  // namespace ldsm::pipeline

@@ -1,0 +1,175 @@
+// Loop verification on synthetic keyframe pairs with a known Sim(3): accuracy of the recovered
+// transform, and a rejection (with its reason) for unrelated candidates, inconsistent geometry,
+// too few inliers and missing depth.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "ldsm/error.h"
+#include "loop/loop_verification.h"
+#include "synthetic_keyframes.h"
+
+namespace ldsm::loop {
+namespace {
+
+using test::KeyframePair;
+using test::makeKeyframePair;
+using test::rotationError;
+using test::SceneOptions;
+
+constexpr double kDeg = M_PI / 180.0;
+
+void expectAccurate(const LoopVerification& v, const Sim3d& truth, double rot_tol_deg,
+                    double trans_tol, double scale_tol) {
+  ASSERT_TRUE(v.accepted) << v.reason;
+  EXPECT_EQ(v.reason, "accepted");
+  EXPECT_LT(rotationError(v.S_current_candidate, truth), rot_tol_deg * kDeg);
+  EXPECT_LT((v.S_current_candidate.translation() - truth.translation()).norm(),
+            trans_tol * truth.translation().norm());
+  EXPECT_NEAR(v.S_current_candidate.scale() / truth.scale(), 1.0, scale_tol);
+}
+
+TEST(LoopVerification, RecoversTheSim3WithNoiseAndOutliers) {
+  for (unsigned seed : {1u, 2u, 3u}) {
+    SceneOptions o;
+    o.seed = seed;
+    const KeyframePair pair = makeKeyframePair(o);
+    const LoopVerification v = verifyLoop(pair.current, pair.candidate, {});
+    SCOPED_TRACE(seed);
+    // 0.5 px noise, 1 % inverse-depth noise, 10 % wrong pixels, 100 unrelated features each.
+    expectAccurate(v, pair.S_current_candidate, 0.15, 0.02, 0.005);
+    EXPECT_EQ(v.current_id, 90);
+    EXPECT_EQ(v.candidate_id, 3);
+    EXPECT_GE(v.num_inliers, 0.8 * pair.num_true);
+    EXPECT_LE(v.num_inliers, v.num_matches_with_depth);
+    EXPECT_GE(v.num_inliers_3d, 30);
+    EXPECT_LT(v.rms_reprojection_px, 1.5);
+    EXPECT_EQ(static_cast<int>(v.inlier_matches.size()), v.num_inliers);
+    // Every inlier is geometrically right: the candidate's true point lands near its pixel.
+    for (const DescriptorMatch& m : v.inlier_matches) {
+      const Eigen::Vector2f& u = pair.candidate.pixels[m.train];
+      const double z = 1.0 / pair.candidate.idepth[m.train];
+      const PinholeIntrinsics& c = pair.candidate.camera;
+      const Eigen::Vector3d p((u.x() - c.cx) / c.fx * z, (u.y() - c.cy) / c.fy * z, z);
+      const Eigen::Vector3d q = pair.S_current_candidate * p;
+      const PinholeIntrinsics& k = pair.current.camera;
+      const Eigen::Vector2d px(k.fx * q.x() / q.z() + k.cx, k.fy * q.y() / q.z() + k.cy);
+      EXPECT_LT((px - pair.current.pixels[m.query].cast<double>()).norm(), 5.0);
+    }
+  }
+}
+
+TEST(LoopVerification, ScaleBelowOneAndLargerRotation) {
+  SceneOptions o;
+  o.S_current_candidate =
+      Sim3d(SO3d::exp(Eigen::Vector3d(-0.1, 0.25, -0.3)), Eigen::Vector3d(-0.2, 0.1, 0.15), 0.6);
+  o.num_points = 500;
+  const KeyframePair pair = makeKeyframePair(o);
+  expectAccurate(verifyLoop(pair.current, pair.candidate, {}), pair.S_current_candidate, 0.15, 0.03,
+                 0.005);
+}
+
+TEST(LoopVerification, NoisyDepthsWithLdsoSplitStillAccurate) {
+  SceneOptions o;
+  o.idepth_noise = 0.04;
+  o.seed = 5;
+  const KeyframePair pair = makeKeyframePair(o);
+  LoopVerificationSettings s;
+  s.refinement.reprojection_for_depth_matches = false;  // 3D only where the current has depth
+  s.refinement.depth_relative_sigma = 0.08;
+  const LoopVerification ldso = verifyLoop(pair.current, pair.candidate, s);
+  expectAccurate(ldso, pair.S_current_candidate, 0.3, 0.05, 0.025);  // ~0.8 % scale std
+  s.refinement.reprojection_for_depth_matches = true;
+  const LoopVerification both = verifyLoop(pair.current, pair.candidate, s);
+  expectAccurate(both, pair.S_current_candidate, 0.3, 0.05, 0.025);
+}
+
+TEST(LoopVerification, RejectsAnUnrelatedCandidate) {
+  SceneOptions a, b;
+  a.seed = 11;
+  b.seed = 12;  // other points, other descriptors
+  const KeyframePair pa = makeKeyframePair(a), pb = makeKeyframePair(b);
+  const LoopVerification v = verifyLoop(pa.current, pb.candidate, {});
+  EXPECT_FALSE(v.accepted);
+  EXPECT_NE(v.reason.find("ORB matches"), std::string::npos) << v.reason;
+  EXPECT_LT(v.num_matches, 10);
+  EXPECT_TRUE(v.inlier_matches.empty());
+}
+
+TEST(LoopVerification, RejectsMatchingDescriptorsWithInconsistentGeometry) {
+  // The same descriptors, but the candidate's pixels and depths are permuted: matches abound, no
+  // transform explains them.
+  SceneOptions o;
+  o.seed = 13;
+  KeyframePair pair = makeKeyframePair(o);
+  auto& c = pair.candidate;
+  const std::size_t n = c.pixels.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t j = (i * 97 + 31) % n;
+    std::swap(c.pixels[i], c.pixels[j]);
+    std::swap(c.idepth[i], c.idepth[j]);
+  }
+  const LoopVerification v = verifyLoop(pair.current, c, {});
+  EXPECT_FALSE(v.accepted);
+  EXPECT_GE(v.num_matches, 100);
+  EXPECT_TRUE(v.reason.find("PnP") != std::string::npos ||
+              v.reason.find("inliers") != std::string::npos)
+      << v.reason;
+}
+
+TEST(LoopVerification, RejectsTooFewInliers) {
+  SceneOptions o;
+  o.seed = 14;
+  o.num_points = 60;
+  o.wrong_pixel_fraction = 0.5;  // about 20 true correspondences among ~45 with depth
+  const KeyframePair pair = makeKeyframePair(o);
+  ASSERT_LT(pair.num_true, 25);
+  ASSERT_GT(pair.num_true, 12);
+  const LoopVerification v = verifyLoop(pair.current, pair.candidate, {});
+  EXPECT_FALSE(v.accepted);
+  EXPECT_NE(v.reason.find("inliers"), std::string::npos) << v.reason;
+  // With a low enough threshold the same pair is accepted (the thresholds are what decides).
+  LoopVerificationSettings s;
+  s.pnp.min_inliers = 8;
+  s.min_inliers = 8;
+  s.min_inliers_3d = 4;
+  const LoopVerification low = verifyLoop(pair.current, pair.candidate, s);
+  EXPECT_TRUE(low.accepted) << low.reason;
+}
+
+TEST(LoopVerification, RejectsWhenTheCurrentKeyframeHasNoDepth) {
+  SceneOptions o;
+  o.current_depth_fraction = 0.0;
+  o.extra_outliers = 0;
+  KeyframePair pair = makeKeyframePair(o);
+  const LoopVerification v = verifyLoop(pair.current, pair.candidate, {});
+  EXPECT_FALSE(v.accepted);
+  EXPECT_NE(v.reason.find("scale"), std::string::npos) << v.reason;
+  EXPECT_GE(v.num_pnp_inliers, 100);  // the pose alone was found
+}
+
+TEST(LoopVerification, RejectsWithoutCandidateDepth) {
+  SceneOptions o;
+  o.candidate_depth_fraction = 0.0;
+  o.extra_outliers = 0;
+  const KeyframePair pair = makeKeyframePair(o);
+  const LoopVerification v = verifyLoop(pair.current, pair.candidate, {});
+  EXPECT_FALSE(v.accepted);
+  EXPECT_NE(v.reason.find("candidate depth"), std::string::npos) << v.reason;
+}
+
+TEST(LoopVerification, BadInputThrows) {
+  const KeyframePair pair = makeKeyframePair(SceneOptions{});
+  KeyframeFeatures bad = pair.candidate;
+  bad.descriptors.pop_back();
+  EXPECT_THROW(verifyLoop(pair.current, bad, {}), InputError);
+  bad = pair.current;
+  bad.camera.fx = 0.0;
+  EXPECT_THROW(verifyLoop(bad, pair.candidate, {}), InputError);
+  bad = pair.candidate;
+  bad.camera.cy = std::nan("");
+  EXPECT_THROW(verifyLoop(pair.current, bad, {}), InputError);
+}
+
+}  // namespace
+}  // namespace ldsm::loop

@@ -1,0 +1,137 @@
+// Sim(3) refinement and PnP RANSAC in isolation: convergence from a perturbed start, the role of
+// the 3D terms for the scale, outlier classification, bad input.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "ldsm/error.h"
+#include "loop/pnp_ransac.h"
+#include "loop/sim3_refinement.h"
+#include "synthetic_keyframes.h"
+
+namespace ldsm::loop {
+namespace {
+
+using test::rotationError;
+using test::testCamera;
+
+constexpr double kDeg = M_PI / 180.0;
+
+struct Correspondences {
+  std::vector<Sim3Correspondence> c;
+  std::vector<bool> outlier;
+};
+
+// Points in front of both cameras; a fraction with current depth, some gross outliers.
+Correspondences make(const Sim3d& S, const PinholeIntrinsics& cam, int n, double depth_fraction,
+                     double outlier_fraction, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  std::normal_distribution<double> N(0.0, 0.5);
+  Correspondences out;
+  while (static_cast<int>(out.c.size()) < n) {
+    const Eigen::Vector3d p(3 * U(rng), 2 * U(rng), 5 + 2 * U(rng));
+    const Eigen::Vector3d q = S * p;
+    const Eigen::Vector2d u(cam.fx * q.x() / q.z() + cam.cx, cam.fy * q.y() / q.z() + cam.cy);
+    if (!test::inImage(cam, u)) continue;
+    Sim3Correspondence c;
+    c.point_candidate = p;
+    c.pixel_current = u + Eigen::Vector2d(N(rng), N(rng));
+    c.idepth_current = (U(rng) + 1) / 2 < depth_fraction ? (1.0 + 0.005 * N(rng)) / q.z() : 0.0;
+    const bool outlier = (U(rng) + 1) / 2 < outlier_fraction;
+    if (outlier) c.pixel_current = Eigen::Vector2d(320 + 300 * U(rng), 240 + 220 * U(rng));
+    out.c.push_back(c);
+    out.outlier.push_back(outlier);
+  }
+  return out;
+}
+
+const Sim3d kTruth(SO3d::exp(Eigen::Vector3d(0.1, -0.2, 0.05)), Eigen::Vector3d(0.3, 0.2, -0.4),
+                   1.7);
+
+TEST(Sim3Refinement, ConvergesFromAPerturbedStart) {
+  const PinholeIntrinsics cam = testCamera(500.0);
+  const Correspondences data = make(kTruth, cam, 200, 0.5, 0.15, 3);
+  const Sim3d start =
+      Sim3d::exp((Sim3d::Tangent() << 0.1, -0.05, 0.08, 0.03, -0.04, 0.02, 0.2).finished()) *
+      kTruth;
+  const Sim3RefinementResult r = refineSim3(data.c, cam, start, {});
+  ASSERT_TRUE(r.success);
+  EXPECT_LT(rotationError(r.S_current_candidate, kTruth), 0.05 * kDeg);
+  EXPECT_LT((r.S_current_candidate.translation() - kTruth.translation()).norm(), 0.01);
+  EXPECT_NEAR(r.S_current_candidate.scale(), kTruth.scale(), 0.005);
+  int wrong = 0;
+  for (std::size_t i = 0; i < data.c.size(); ++i) wrong += (r.inlier[i] != 0) == data.outlier[i];
+  EXPECT_LE(wrong, 4);  // outliers rejected, (almost) every inlier kept
+  EXPECT_GT(r.inliers_3d, 60);
+  EXPECT_GT(r.inliers_2d, 60);
+  EXPECT_LT(r.rms_reprojection_px, 1.0);
+}
+
+TEST(Sim3Refinement, ScaleComesFromTheDepthTerms) {
+  // Without current depths the scale is unobservable (it trades against the translation): the
+  // reprojection stays perfect, but the scale does not move to the truth.
+  const PinholeIntrinsics cam = testCamera(500.0);
+  const Correspondences data = make(kTruth, cam, 150, 0.0, 0.0, 4);
+  const Sim3d start(kTruth.so3(), kTruth.translation(), 1.0);
+  const Sim3RefinementResult r = refineSim3(data.c, cam, start, {});
+  ASSERT_TRUE(r.success);
+  EXPECT_EQ(r.inliers_3d, 0);
+  EXPECT_GT(std::abs(r.S_current_candidate.scale() - kTruth.scale()), 0.3);
+  EXPECT_LT(r.rms_reprojection_px, 1.0);
+  // With a few depths it is recovered.
+  const Correspondences some = make(kTruth, cam, 150, 0.1, 0.0, 4);
+  const Sim3RefinementResult r2 = refineSim3(some.c, cam, start, {});
+  ASSERT_TRUE(r2.success);
+  EXPECT_NEAR(r2.S_current_candidate.scale(), kTruth.scale(), 0.01);
+}
+
+TEST(Sim3Refinement, FailsWhenNothingIsInFront) {
+  const PinholeIntrinsics cam = testCamera(500.0);
+  const Correspondences data = make(kTruth, cam, 50, 0.5, 0.0, 5);
+  const Sim3d behind = Sim3d(SO3d::exp(Eigen::Vector3d(0, M_PI, 0)), Eigen::Vector3d::Zero(), 1.0);
+  const Sim3RefinementResult r = refineSim3(data.c, cam, behind, {});
+  EXPECT_FALSE(r.success);
+}
+
+TEST(Sim3Refinement, BadInputThrows) {
+  const PinholeIntrinsics cam = testCamera(500.0);
+  Correspondences data = make(kTruth, cam, 10, 0.5, 0.0, 6);
+  PinholeIntrinsics bad_cam = cam;
+  bad_cam.fy = -1;
+  EXPECT_THROW(refineSim3(data.c, bad_cam, kTruth, {}), InputError);
+  Sim3RefinementSettings s;
+  s.pixel_sigma = 0;
+  EXPECT_THROW(refineSim3(data.c, cam, kTruth, s), InputError);
+  data.c[3].point_candidate.x() = std::nan("");
+  EXPECT_THROW(refineSim3(data.c, cam, kTruth, {}), InputError);
+}
+
+TEST(PnpRansac, FindsThePoseDespiteOutliers) {
+  const PinholeIntrinsics cam = testCamera(450.0);
+  const SE3d T(SO3d::exp(Eigen::Vector3d(0.2, 0.1, -0.1)), Eigen::Vector3d(0.5, -0.3, 0.2));
+  const Correspondences data = make(Sim3d(T), cam, 150, 0.0, 0.4, 8);
+  std::vector<Eigen::Vector3d> pts;
+  std::vector<Eigen::Vector2d> px;
+  for (const auto& c : data.c) {
+    pts.push_back(c.point_candidate);
+    px.push_back(c.pixel_current);
+  }
+  const PnpRansacResult r = solvePnpRansac(pts, px, cam, {});
+  ASSERT_TRUE(r.success);
+  EXPECT_LT((r.T_camera_points.so3().inverse() * T.so3()).log().norm(), 0.2 * kDeg);
+  EXPECT_LT((r.T_camera_points.translation() - T.translation()).norm(), 0.02);
+  int outliers_in = 0;
+  for (const int i : r.inliers) outliers_in += data.outlier[i];
+  EXPECT_LE(outliers_in, 2);
+  EXPECT_GE(r.inliers.size(), 75u);
+  // Too few correspondences: no pose, no exception.
+  pts.resize(5);
+  px.resize(5);
+  EXPECT_FALSE(solvePnpRansac(pts, px, cam, {}).success);
+  px.resize(4);
+  EXPECT_THROW(solvePnpRansac(pts, px, cam, {}), InputError);
+}
+
+}  // namespace
+}  // namespace ldsm::loop
