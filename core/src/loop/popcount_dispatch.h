@@ -1,0 +1,12 @@
+// LDSM_POPCNT_CLONES: compiles a Hamming-distance-heavy function twice on x86 Linux, once with the
+// POPCNT instruction and once for the baseline x86-64 (which has none), and picks one at load
+// time (GCC/Clang function multi-versioning). Elsewhere it expands to nothing (AArch64 has a
+// vector popcount in its baseline).
+#pragma once
+
+#if (defined(__x86_64__) || defined(__i386__)) && defined(__linux__) && \
+    (defined(__GNUC__) || defined(__clang__))
+#define LDSM_POPCNT_CLONES __attribute__((target_clones("popcnt", "default")))
+#else
+#define LDSM_POPCNT_CLONES
+#endif
