@@ -51,8 +51,10 @@ struct TrackingLostEvent {
   std::string reason;
 };
 
-/// Receives events; every method has an empty default. Called on the thread that processed the
-/// frame (the caller's in deterministic mode); keep handlers short.
+/// Receives events; every method has an empty default. In deterministic mode every call comes on
+/// the caller's thread; in threaded mode onFrame / onInitialized / onTrackingLost come from the
+/// tracking thread and onKeyframe from the mapping thread (possibly at the same time). Keep
+/// handlers short and never call back into the System from them.
 class SystemListener {
  public:
   virtual ~SystemListener() = default;

@@ -45,10 +45,13 @@ std::vector<WindowKeyframe*> Mapper::windowView() const {
 }
 
 std::unique_ptr<ImagePyramid> Mapper::acquirePyramid() {
-  if (!pyramid_pool_.empty()) {
-    auto p = std::move(pyramid_pool_.back());
-    pyramid_pool_.pop_back();
-    return p;
+  {
+    std::lock_guard<std::mutex> lock(pool_mutex_);
+    if (!pyramid_pool_.empty()) {
+      auto p = std::move(pyramid_pool_.back());
+      pyramid_pool_.pop_back();
+      return p;
+    }
   }
   // Nothing in the pipeline reads |grad I|^2 from the pyramid: leave that plane out (4 of 20
   // bytes per pixel of every keyframe).
@@ -57,7 +60,9 @@ std::unique_ptr<ImagePyramid> Mapper::acquirePyramid() {
 }
 
 void Mapper::releasePyramid(std::unique_ptr<ImagePyramid> pyramid) {
-  if (pyramid) pyramid_pool_.push_back(std::move(pyramid));
+  if (!pyramid) return;
+  std::lock_guard<std::mutex> lock(pool_mutex_);
+  pyramid_pool_.push_back(std::move(pyramid));
 }
 
 WindowKeyframe& Mapper::insertKeyframe(std::unique_ptr<ImagePyramid> pyramid,

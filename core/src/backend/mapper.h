@@ -4,6 +4,7 @@
 #pragma once
 
 #include <memory>
+#include <mutex>
 #include <vector>
 
 #include "backend/marginalization_prior.h"
@@ -66,7 +67,8 @@ class Mapper {
   int activePointCount() const;
   /// Drops the window (tracking lost); keyframes keep their last poses in the map store.
   void reset();
-  /// A pyramid for a new frame, from a pool of released ones when possible.
+  /// A pyramid for a new frame, from a pool of released ones when possible. The pool may be used
+  /// from the tracking and the mapping thread at once.
   std::unique_ptr<ImagePyramid> acquirePyramid();
   void releasePyramid(std::unique_ptr<ImagePyramid> pyramid);
   /// Writes the window keyframes' current poses to the map store.
@@ -98,6 +100,7 @@ class Mapper {
   TraceSettings trace_settings_;
   std::vector<std::unique_ptr<WindowKeyframe>> window_;
   std::vector<std::unique_ptr<ImagePyramid>> pyramid_pool_;
+  std::mutex pool_mutex_;
   std::vector<SelectedPixel> selected_;
   int next_keyframe_id_ = 0;
   std::uint64_t next_point_id_ = 0;

@@ -8,15 +8,30 @@ namespace ldsm {
 FrameTracker::FrameTracker(const Config& config, const PyramidCamera& camera, bool exposures_known)
     : kf_config_(config.keyframes),
       camera_(camera),
-      tracker_(camera[0].width, camera[0].height, camera.levels(),
-               CoarseTrackerSettings::fromConfig(config, exposures_known)) {}
+      tracker_(std::make_unique<CoarseTracker>(
+          camera[0].width, camera[0].height, camera.levels(),
+          CoarseTrackerSettings::fromConfig(config, exposures_known))) {}
 
 void FrameTracker::setReference(const WindowKeyframe& keyframe,
                                 const std::vector<DepthPoint>& points) {
-  reference_ = &keyframe;
+  has_reference_ = true;
   reference_id_ = keyframe.id();
   T_ref_w_ = keyframe.T_c_w;
-  tracker_.setReference(keyframe.pyramid(), camera_, points, keyframe.exposure(), keyframe.aff);
+  tracker_->setReference(keyframe.pyramid(), camera_, points, keyframe.exposure(), keyframe.aff);
+  first_rmse_ = -1.0;
+}
+
+std::unique_ptr<CoarseTracker> FrameTracker::makeCoarseTracker() const {
+  return std::make_unique<CoarseTracker>(camera_[0].width, camera_[0].height, camera_.levels(),
+                                         tracker_->settings());
+}
+
+void FrameTracker::adoptReference(std::unique_ptr<CoarseTracker>& prepared, int id,
+                                  const SE3d& T_ref_w) {
+  std::swap(tracker_, prepared);
+  has_reference_ = tracker_->hasReference();
+  reference_id_ = id;
+  T_ref_w_ = T_ref_w;
   first_rmse_ = -1.0;
 }
 
@@ -30,7 +45,7 @@ void FrameTracker::resetMotion(const SE3d& T_c_w_last, const AffineLight& aff_la
 
 FrameTrackingOutcome FrameTracker::track(const ImagePyramid& frame, double exposure) {
   FrameTrackingOutcome out;
-  if (!reference_) {
+  if (!has_reference_) {
     out.failure = "no reference keyframe";
     return out;
   }
@@ -41,7 +56,7 @@ FrameTrackingOutcome FrameTracker::track(const ImagePyramid& frame, double expos
   history.last_affine = last_aff_;
   history.last_rmse = last_rmse_ > 0.0 ? last_rmse_ : std::numeric_limits<double>::infinity();
   const HypothesisTrackingResult r =
-      trackWithHypotheses(tracker_, frame, exposure, history, hypotheses_);
+      trackWithHypotheses(*tracker_, frame, exposure, history, hypotheses_);
   out.hypotheses_tried = r.tried;
   if (!r.success || !std::isfinite(r.rmse)) {
     out.failure = std::string("coarse tracking failed: ") + toString(r.tracking.failure);

@@ -3,6 +3,7 @@
 // (optical flow, brightness change and residual growth, as in DSO).
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -31,24 +32,52 @@ class FrameTracker {
   /// Tracks from now on against `keyframe`, whose pyramid must stay alive, with the window's
   /// points projected into it.
   void setReference(const WindowKeyframe& keyframe, const std::vector<DepthPoint>& points);
+  /// A coarse tracker with this tracker's settings, for preparing references on another thread.
+  std::unique_ptr<CoarseTracker> makeCoarseTracker() const;
+  /// Tracks from now on with `prepared` (a coarse tracker whose reference was set elsewhere, the
+  /// keyframe `id` at world -> camera pose T_ref_w); the previous one is handed back in
+  /// `prepared` for reuse.
+  void adoptReference(std::unique_ptr<CoarseTracker>& prepared, int id, const SE3d& T_ref_w);
   /// Starts a fresh motion history at a known pose (after initialisation).
   void resetMotion(const SE3d& T_c_w_last, const AffineLight& aff_last);
   /// The last frame's pose was refined (it became a keyframe): keep the velocity, move the pose.
   void refineLastPose(const SE3d& T_c_w) { T_last_w_ = T_c_w; }
-  bool hasReference() const { return reference_ != nullptr; }
+  bool hasReference() const { return has_reference_; }
   int referenceKeyframeId() const { return reference_id_; }
   const SE3d& referencePose() const { return T_ref_w_; }
 
   FrameTrackingOutcome track(const ImagePyramid& frame, double exposure);
+
+  /// The motion history, to track a frame again (against a newer reference) as if the first
+  /// attempt had not happened.
+  struct MotionState {
+    SE3d T_last_w, T_last_prelast;
+    bool has_velocity = false, has_last = false;
+    AffineLight last_aff;
+    double last_rmse = 0.0, first_rmse = -1.0;
+  };
+  MotionState motionState() const {
+    return {T_last_w_, T_last_prelast_, has_velocity_, has_last_,
+            last_aff_, last_rmse_,      first_rmse_};
+  }
+  void restoreMotion(const MotionState& m) {
+    T_last_w_ = m.T_last_w;
+    T_last_prelast_ = m.T_last_prelast;
+    has_velocity_ = m.has_velocity;
+    has_last_ = m.has_last;
+    last_aff_ = m.last_aff;
+    last_rmse_ = m.last_rmse;
+    first_rmse_ = m.first_rmse;
+  }
 
  private:
   bool keyframeWanted(const CoarseTrackingResult& r, double rmse) const;
 
   KeyframeConfig kf_config_;
   PyramidCamera camera_;
-  CoarseTracker tracker_;
+  std::unique_ptr<CoarseTracker> tracker_;
   HypothesisSettings hypotheses_;
-  const WindowKeyframe* reference_ = nullptr;
+  bool has_reference_ = false;
   int reference_id_ = -1;
   SE3d T_ref_w_;
   SE3d T_last_w_;

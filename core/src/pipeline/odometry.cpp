@@ -4,6 +4,8 @@
 
 #include <algorithm>
 
+#include "pipeline/backoff.h"
+
 namespace ldsm {
 namespace {
 
@@ -29,9 +31,12 @@ Odometry::Odometry(const Config& config, const GeometricCalibration& geometric,
                                     config.photometric.use_exposure)),
       tracker_(config, camera_,
                preprocessor_.photometricallyCalibrated() && config.photometric.use_exposure),
-      timer_({"preprocess", "initialize", "track", "trace", "mapping", "total"}, 20000) {}
+      timer_({"preprocess", "initialize", "track", "trace", "mapping", "total"}, 20000),
+      mapping_timer_({"preprocess", "initialize", "track", "trace", "mapping", "total"}, 20000) {}
 
-Odometry::~Odometry() = default;
+Odometry::~Odometry() {
+  stopMappingThread();
+}
 
 OdometryStep Odometry::process(ImageView<const std::uint8_t> image, std::int64_t index,
                                double timestamp, double exposure) {
@@ -75,6 +80,8 @@ OdometryStep Odometry::initializeStep(std::unique_ptr<ImagePyramid> pyr, std::in
   }
   const InitializationResult& r = initializer_.result();
   MapperFrame last{index, timestamp, exposure, r.T_frame_ref * world_anchor_, r.affine_frame};
+  // The mapping thread (threaded mode) is idle until the map exists.
+  std::lock_guard<std::mutex> lock(mapper_mutex_);
   KeyframeInsertion ins;
   const bool ok = mapper_.initialize(r, init_reference_info_, std::move(init_reference_), last,
                                      std::move(pyr), &ins);
@@ -89,6 +96,7 @@ OdometryStep Odometry::initializeStep(std::unique_ptr<ImagePyramid> pyr, std::in
   store_.addFrame({index, timestamp, newest.id(), SE3d()});
   updateTrackerReference();
   tracker_.resetMotion(newest.T_c_w, newest.aff);
+  last_tracked_index_ = index;
   step.initialized = InitializedEvent{index, timestamp, mapper_.activePointCount()};
   step.frame.has_pose = true;
   step.frame.is_keyframe = true;
@@ -105,7 +113,21 @@ OdometryStep Odometry::trackStep(std::unique_ptr<ImagePyramid> pyr, std::int64_t
   step.frame.frame_index = index;
   step.frame.timestamp = timestamp;
   FrameTrackingOutcome outcome;
+  if (threaded()) adoptPreparedReference();
+  const FrameTracker::MotionState motion = tracker_.motionState();
   {
+    StageTimer::Scope t(timer_, kTrack);
+    outcome = tracker_.track(*pyr, exposure);
+  }
+  if (threaded() && (!outcome.success || outcome.wants_keyframe) &&
+      keyframe_in_flight_.load(std::memory_order_acquire)) {
+    // Tracked against the reference before the keyframe the mapping thread is integrating, and
+    // not good enough (the camera moves fast): wait for the new reference and track again.
+    for (pipeline::Backoff backoff; keyframe_in_flight_.load(std::memory_order_acquire);
+         backoff.pause()) {
+    }
+    adoptPreparedReference();
+    tracker_.restoreMotion(motion);
     StageTimer::Scope t(timer_, kTrack);
     outcome = tracker_.track(*pyr, exposure);
   }
@@ -118,6 +140,17 @@ OdometryStep Odometry::trackStep(std::unique_ptr<ImagePyramid> pyr, std::int64_t
   store_.addFrame(
       {index, timestamp, tracker_.referenceKeyframeId(), T_ref_w * outcome.T_c_w.inverse()});
   MapperFrame info{index, timestamp, exposure, outcome.T_c_w, outcome.aff};
+  last_tracked_index_ = index;
+  if (threaded()) {
+    const bool keyframe = outcome.wants_keyframe;
+    if (keyframe) keyframe_in_flight_.store(true, std::memory_order_release);
+    step.frame.has_pose = true;
+    step.frame.pose = outcome.T_c_w.inverse().toPose();
+    step.frame.residual_rmse = outcome.rmse;
+    step.frame.is_keyframe = keyframe;
+    handOverToMapping(std::move(pyr), info, keyframe);
+    return step;
+  }
   {
     StageTimer::Scope t(timer_, kTrace);
     mapper_.traceFrame(*pyr, info);
@@ -131,7 +164,7 @@ OdometryStep Odometry::trackStep(std::unique_ptr<ImagePyramid> pyr, std::int64_t
   }
   StageTimer::Scope t(timer_, kMapping);
   const KeyframeInsertion ins = mapper_.addKeyframe(std::move(pyr), info);
-  ++keyframes_;
+  keyframes_.fetch_add(1, std::memory_order_relaxed);
   const WindowKeyframe& newest = mapper_.newestKeyframe();
   tracker_.refineLastPose(newest.T_c_w);
   updateTrackerReference();
@@ -155,6 +188,14 @@ void Odometry::loseTracking(OdometryStep& step, const std::string& reason) {
   spdlog::warn("tracking lost: {}", reason);
   ++losses_;
   step.lost = TrackingLostEvent{step.frame.frame_index, step.frame.timestamp, reason};
+  if (threaded()) {
+    waitForMapping();
+    std::lock_guard<std::mutex> lock(reference_mutex_);
+    if (pending_reference_) spare_reference_ = std::move(pending_reference_);
+    has_pending_reference_.store(false);
+    keyframe_in_flight_.store(false);
+  }
+  std::lock_guard<std::mutex> lock(mapper_mutex_);
   // The next map starts where the camera was last seen.
   world_anchor_ = mapper_.newestKeyframe().T_c_w;
   mapper_.reset();
@@ -163,10 +204,12 @@ void Odometry::loseTracking(OdometryStep& step, const std::string& reason) {
 }
 
 void Odometry::flush() {
+  std::lock_guard<std::mutex> lock(mapper_mutex_);
   mapper_.publishPoses();
 }
 
 std::vector<MapPoint> Odometry::mapPoints() const {
+  std::lock_guard<std::mutex> lock(mapper_mutex_);
   std::vector<MapPoint> pts = store_.points();
   const std::vector<MapPoint> active = mapper_.activeMapPoints();
   pts.insert(pts.end(), active.begin(), active.end());

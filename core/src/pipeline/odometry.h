@@ -1,10 +1,17 @@
 // The odometry pipeline for one frame at a time: preprocessing, initialisation, tracking,
-// keyframe decisions and mapping, in order. The System runs it directly (deterministic mode) or
-// splits it over threads.
+// keyframe decisions and mapping. In deterministic mode everything runs in order on the caller's
+// thread. In threaded mode (startMappingThread) the caller's thread tracks and a mapping thread
+// traces, inserts keyframes and optimises the window; tracked frames go to it through a
+// lock-free ring, and each new keyframe comes back as a coarse tracker prepared on the mapping
+// thread, which the tracking thread swaps in before its next frame.
 #pragma once
 
+#include <atomic>
+#include <functional>
 #include <memory>
+#include <mutex>
 #include <optional>
+#include <thread>
 #include <vector>
 
 #include "backend/mapper.h"
@@ -14,6 +21,7 @@
 #include "ldsm/system.h"
 #include "map/map_store.h"
 #include "pipeline/frame_preprocessor.h"
+#include "pipeline/spsc_ring.h"
 #include "pipeline/stage_timer.h"
 
 namespace ldsm {
@@ -42,12 +50,22 @@ class Odometry {
   const MapStore& store() const { return store_; }
   const PyramidCamera& camera() const { return camera_; }
   std::vector<MapPoint> mapPoints() const;
-  std::vector<StageTiming> timings() const { return timer_.summary(); }
-  std::int64_t keyframes() const { return keyframes_; }
+  /// Per-stage timing; in threaded mode trace and mapping are measured on the mapping thread.
+  std::vector<StageTiming> timings() const;
+  std::int64_t keyframes() const { return keyframes_.load(std::memory_order_relaxed); }
   std::int64_t initializations() const { return initializations_; }
   std::int64_t losses() const { return losses_; }
   /// Publishes the current window poses to the map store (end of a run).
   void flush();
+
+  /// Threaded mode: starts the mapping thread (before the first frame). Keyframe events are then
+  /// reported through `on_keyframe`, on the mapping thread; it must not call back into the
+  /// System.
+  void startMappingThread(std::function<void(const KeyframeEvent&)> on_keyframe);
+  /// Waits until the mapping thread has integrated every frame handed to it.
+  void waitForMapping();
+  /// Frames waiting for the mapping thread (a snapshot).
+  std::size_t mappingBacklog() const;
 
  private:
   OdometryStep initializeStep(std::unique_ptr<ImagePyramid> pyr, std::int64_t index,
@@ -56,6 +74,21 @@ class Odometry {
                          double exposure);
   void loseTracking(OdometryStep& step, const std::string& reason);
   void updateTrackerReference();
+
+  // Threaded mode (odometry_mapping_thread.cpp).
+  struct MappingJob {
+    std::unique_ptr<ImagePyramid> pyramid;
+    MapperFrame info;
+    bool keyframe = false;
+  };
+  bool threaded() const { return mapping_ring_ != nullptr; }
+  void handOverToMapping(std::unique_ptr<ImagePyramid> pyramid, const MapperFrame& info,
+                         bool keyframe);
+  void mappingLoop();
+  void mapJob(MappingJob& job);
+  void publishReference();
+  void adoptPreparedReference();
+  void stopMappingThread();
 
   Config config_;
   FramePreprocessor preprocessor_;
@@ -71,7 +104,30 @@ class Odometry {
   MapperFrame init_reference_info_;
   SE3d world_anchor_;  ///< world -> camera pose given to a new map's first keyframe
   std::vector<DepthPoint> depth_points_;
-  std::int64_t keyframes_ = 0;
+  std::atomic<std::int64_t> keyframes_{0};
+  std::int64_t last_tracked_index_ = -1;
+
+  // Threaded mode. The mapper is used by the mapping thread, and by the tracking thread only
+  // while the mapping thread is idle (initialisation, reset); mapper_mutex_ also guards it
+  // against queries (flush, mapPoints).
+  mutable std::mutex mapper_mutex_;
+  std::unique_ptr<pipeline::SpscRing<MappingJob>> mapping_ring_;
+  std::thread mapping_thread_;
+  std::atomic<bool> mapping_stop_{false};
+  std::atomic<std::int64_t> jobs_pushed_{0};
+  std::atomic<std::int64_t> jobs_done_{0};
+  std::atomic<bool> keyframe_in_flight_{false};
+  std::function<void(const KeyframeEvent&)> on_keyframe_;
+  StageTimer mapping_timer_;
+  std::vector<DepthPoint> mapping_depth_points_;
+  // The coarse tracker prepared for the newest keyframe, and a spare one (reference_mutex_).
+  std::mutex reference_mutex_;
+  std::atomic<bool> has_pending_reference_{false};
+  std::unique_ptr<CoarseTracker> pending_reference_;
+  std::unique_ptr<CoarseTracker> spare_reference_;
+  int pending_id_ = -1;
+  SE3d pending_T_c_w_;
+  std::int64_t pending_frame_index_ = -1;
   std::int64_t initializations_ = 0;
   std::int64_t losses_ = 0;
 };

@@ -100,9 +100,14 @@ System::System(const Config& config, const GeometricCalibration& geometric,
                const PhotometricCalibration& photometric) {
   validateConfig(config);
   impl_ = std::make_unique<Impl>(config, geometric, photometric);
-  if (!config.system.deterministic)
+  if (!config.system.deterministic) {
+    // Tracking on the frame worker's thread, mapping on the odometry's mapping thread.
+    impl_->odometry.startMappingThread([impl = impl_.get()](const KeyframeEvent& e) {
+      if (impl->listener) impl->listener->onKeyframe(e);
+    });
     impl_->worker = std::make_unique<FrameWorker>(
         [impl = impl_.get()](const FrameView& f) { impl->process(f); });
+  }
 }
 
 System::~System() {
@@ -129,6 +134,7 @@ void System::submit(const FrameView& frame) {
 
 void System::finish() {
   if (impl_->worker) impl_->worker->drain();
+  impl_->odometry.waitForMapping();
   std::lock_guard<std::mutex> lock(impl_->mutex);
   impl_->odometry.flush();
 }
