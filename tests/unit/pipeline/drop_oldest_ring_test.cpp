@@ -4,9 +4,11 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <vector>
 
 #include "ldsm/error.h"
+#include "pipeline/ring_wait.h"
 
 namespace ldsm::pipeline {
 namespace {
@@ -93,6 +95,21 @@ TEST(DropOldestRing, SmallestRingOfTwoKeepsTheTwoNewest) {
   EXPECT_EQ(dropped, 2);
   EXPECT_EQ(drain(ring), (std::vector<int>{3, 4}));
   EXPECT_EQ(ring.droppedCount(), 2u);
+}
+
+TEST(DropOldestRing, PushWithPolicyWaitsOrDrops) {
+  DropOldestRing<int> ring(2);
+  const std::atomic<bool> stop{true};  // a waiting push gives up at once
+  int dropped = -1;
+  EXPECT_EQ(pushWithPolicy(ring, 1, OverflowPolicy::Wait, stop, dropped), PushOutcome::Pushed);
+  EXPECT_EQ(pushWithPolicy(ring, 2, OverflowPolicy::Wait, stop, dropped), PushOutcome::Pushed);
+  EXPECT_EQ(pushWithPolicy(ring, 3, OverflowPolicy::Wait, stop, dropped), PushOutcome::Stopped);
+  EXPECT_EQ(ring.droppedCount(), 0u);
+  EXPECT_EQ(pushWithPolicy(ring, 4, OverflowPolicy::DropOldest, stop, dropped),
+            PushOutcome::PushedDroppingOldest);
+  EXPECT_EQ(dropped, 1);
+  EXPECT_EQ(ring.droppedCount(), 1u);
+  EXPECT_EQ(drain(ring), (std::vector<int>{2, 4}));
 }
 
 }  // namespace
