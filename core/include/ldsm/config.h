@@ -158,6 +158,30 @@ struct InitializerConfig {
 };
 
 /// The whole configuration tree. Sections are added here as modules arrive.
+/// Loop closure: place recognition over keyframes that left the window, Sim(3) verification and
+/// pose-graph correction in a low-priority background task (inline in deterministic mode).
+struct LoopConfig {
+  bool enabled = true;
+  /// Keyframes right before the query that are never loop candidates (the recent neighbourhood).
+  int exclude_recent_keyframes = 20;
+  int max_candidates = 3;       ///< best BoW candidates verified per keyframe
+  int min_inliers = 25;         ///< inliers of the Sim(3) after refinement to accept a loop
+  double loop_edge_weight = 100.0;  ///< pose-graph weight of a loop edge (odometry edges: 1)
+
+  template <typename V>
+  void visit(V& v) {
+    v.field("enabled", enabled, "detect and close loops (true or false)");
+    v.field("exclude_recent_keyframes", exclude_recent_keyframes, Range<int>{1, 10000},
+            "recent keyframes that are never loop candidates");
+    v.field("max_candidates", max_candidates, Range<int>{1, 20},
+            "bag-of-words candidates verified per keyframe");
+    v.field("min_inliers", min_inliers, Range<int>{10, 1000},
+            "Sim(3) inliers needed to accept a loop");
+    v.field("loop_edge_weight", loop_edge_weight, Range<double>{1.0, 1e6},
+            "pose-graph weight of a loop edge relative to an odometry edge");
+  }
+};
+
 struct Config {
   SystemConfig system;
   PhotometricConfig photometric;
@@ -166,6 +190,7 @@ struct Config {
   WindowConfig window;
   KeyframeConfig keyframes;
   InitializerConfig initializer;
+  LoopConfig loop;
 
   template <typename V>
   void visit(V& v) {
@@ -176,6 +201,7 @@ struct Config {
     v.section("window", window, "sliding-window bundle adjustment");
     v.section("keyframes", keyframes, "when a frame becomes a keyframe");
     v.section("initializer", initializer, "monocular initialisation from the first frames");
+    v.section("loop", loop, "loop closure");
   }
 };
 

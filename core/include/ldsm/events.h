@@ -51,6 +51,18 @@ struct TrackingLostEvent {
   std::string reason;
 };
 
+/// A loop was closed: the keyframe `current_keyframe_id` recognised the place of
+/// `matched_keyframe_id`, the Sim(3) between them was verified, and the keyframes that had left
+/// the window (with their frames and points) were corrected by the pose graph.
+struct LoopClosureEvent {
+  int current_keyframe_id = -1;
+  int matched_keyframe_id = -1;
+  int inliers = 0;       ///< verified feature matches
+  double scale = 1.0;    ///< relative scale of the loop constraint (drift in scale)
+  double time_ms = 0.0;  ///< detection + verification + pose graph
+  int corrected_keyframes = 0;
+};
+
 /// Receives events; every method has an empty default. In deterministic mode every call comes on
 /// the caller's thread; in threaded mode onFrame / onInitialized / onTrackingLost come from the
 /// tracking thread and onKeyframe from the mapping thread (possibly at the same time). Keep
@@ -62,6 +74,8 @@ class SystemListener {
   virtual void onKeyframe(const KeyframeEvent&) {}
   virtual void onInitialized(const InitializedEvent&) {}
   virtual void onTrackingLost(const TrackingLostEvent&) {}
+  /// From the mapping thread (threaded mode), when the correction has been applied.
+  virtual void onLoopClosure(const LoopClosureEvent&) {}
 };
 
 }  // namespace ldsm

@@ -50,6 +50,7 @@ struct SystemStats {
   std::int64_t tracking_losses = 0;
   std::int64_t rejected_frames = 0;  ///< frames refused as bad input (size, timestamp, content)
   std::vector<StageTiming> stages;
+  std::vector<LoopClosureEvent> loops;  ///< loops closed, in order
 };
 
 class System {

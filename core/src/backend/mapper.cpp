@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <limits>
 #include <chrono>
 #include <cmath>
 
@@ -239,11 +240,14 @@ void Mapper::marginalizeFrame(int window_index) {
   const auto view = windowView();
   WindowKeyframe& f = *window_[window_index];
   std::vector<MapPoint> finished;
+  std::vector<int> hosts;
   std::vector<const ActivePoint*> to_prior;
   for (auto& p : f.points) {
+    recordCornerDepth(*p);
     if (p->inlier_residuals >= 1 && p->hessian_idepth > 0.f) {
       to_prior.push_back(p.get());
       finished.push_back(worldPoint(*p));
+      hosts.push_back(p->host->id());
     }
   }
   optimizer_.marginalizePoints(view, to_prior, prior_);
@@ -259,7 +263,10 @@ void Mapper::marginalizeFrame(int window_index) {
     }
     auto& pts = kf->points;
     for (auto& p : pts)
-      if (p->residuals.empty()) finished.push_back(worldPoint(*p));
+      if (p->residuals.empty()) {
+        finished.push_back(worldPoint(*p));
+        hosts.push_back(kf->id());
+      }
     pts.erase(
         std::remove_if(pts.begin(), pts.end(),
                        [](const std::unique_ptr<ActivePoint>& p) { return p->residuals.empty(); }),
@@ -267,7 +274,8 @@ void Mapper::marginalizeFrame(int window_index) {
   }
   optimizer_.marginalizeFrame(view, f, prior_);
   store_.setKeyframe({f.id(), f.frameIndex(), f.timestamp(), f.T_c_w.inverse()});
-  store_.addPoints(finished);
+  if (on_leaving_) on_leaving_(f);
+  store_.addPoints(finished, hosts);
   releasePyramid(f.releasePyramid());
   window_.erase(window_.begin() + window_index);
 }
@@ -276,9 +284,23 @@ void Mapper::makeImmaturePoints(WindowKeyframe& kf) {
   selector_.select(kf.pyramid(), 1.f, selected_);
   kf.immature.clear();
   kf.immature.reserve(selected_.size());
+  kf.corners.clear();
   const ImageView<const GradientPixel> img = kf.pyramid().gradients(0);
-  for (const SelectedPixel& s : selected_)
+  for (const SelectedPixel& s : selected_) {
     kf.immature.push_back({ImmaturePoint(img, s.u, s.v), s.is_corner});
+    if (s.is_corner) kf.corners.emplace_back(s.u, s.v);
+  }
+  kf.corner_idepth.assign(kf.corners.size(), std::numeric_limits<float>::quiet_NaN());
+}
+
+void Mapper::recordCornerDepth(const ActivePoint& p) {
+  if (!p.is_corner || p.host == nullptr || !(p.idepth > 0.f)) return;
+  WindowKeyframe& host = *p.host;
+  for (std::size_t i = 0; i < host.corners.size(); ++i)
+    if (host.corners[i].x() == p.u && host.corners[i].y() == p.v) {
+      host.corner_idepth[i] = p.idepth;
+      return;
+    }
 }
 
 void Mapper::publishPoses() const {

@@ -3,6 +3,7 @@
 // their points into the prior. Finished keyframe poses and points go to the MapStore.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <vector>
@@ -75,6 +76,11 @@ class Mapper {
   void publishPoses() const;
   /// World positions of the active points.
   std::vector<MapPoint> activeMapPoints() const;
+  /// Called with each keyframe just before it leaves the window (its pyramid, corners and final
+  /// pose still available), on the mapping thread.
+  void setKeyframeLeavingHandler(std::function<void(const WindowKeyframe&)> handler) {
+    on_leaving_ = std::move(handler);
+  }
 
  private:
   std::vector<WindowKeyframe*> windowView() const;
@@ -90,6 +96,8 @@ class Mapper {
   void marginalizeFrame(int window_index);
   void makeImmaturePoints(WindowKeyframe& kf);
   MapPoint worldPoint(const ActivePoint& p) const;
+  /// Keeps the inverse depth of a corner point in its host's corner list.
+  static void recordCornerDepth(const ActivePoint& p);
 
   Config config_;
   PyramidCamera camera_;
@@ -105,6 +113,7 @@ class Mapper {
   int next_keyframe_id_ = 0;
   std::uint64_t next_point_id_ = 0;
   float min_activation_distance_ = 2.f;
+  std::function<void(const WindowKeyframe&)> on_leaving_;
 };
 
 }  // namespace ldsm

@@ -20,6 +20,33 @@ void MapStore::addFrame(const FrameRecord& record) {
 void MapStore::addPoints(const std::vector<MapPoint>& points) {
   std::lock_guard<std::mutex> lock(mutex_);
   points_.insert(points_.end(), points.begin(), points.end());
+  point_hosts_.resize(points_.size(), -1);
+}
+
+void MapStore::addPoints(const std::vector<MapPoint>& points, const std::vector<int>& hosts) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  points_.insert(points_.end(), points.begin(), points.end());
+  point_hosts_.insert(point_hosts_.end(), hosts.begin(), hosts.end());
+  point_hosts_.resize(points_.size(), -1);
+}
+
+int MapStore::applyCorrection(const std::map<int, Sim3d>& S_world_camera) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  // Old -> new world transform of every keyframe that moves.
+  std::map<int, Sim3d> moves;
+  for (const auto& [id, S_new] : S_world_camera) {
+    if (id < 0 || id >= static_cast<int>(keyframes_.size()) || keyframes_[id].id < 0) continue;
+    KeyframeRecord& kf = keyframes_[id];
+    const Sim3d S_old(kf.T_w_c.so3(), kf.T_w_c.translation(), kf.scale);
+    moves[id] = S_new * S_old.inverse();
+    kf.T_w_c = SE3d(S_new.so3(), S_new.translation());
+    kf.scale = S_new.scale();
+  }
+  for (std::size_t i = 0; i < points_.size(); ++i) {
+    const auto it = moves.find(point_hosts_[i]);
+    if (it != moves.end()) points_[i].position = it->second * points_[i].position;
+  }
+  return static_cast<int>(moves.size());
 }
 
 Trajectory MapStore::frameTrajectory() const {
@@ -31,7 +58,8 @@ Trajectory MapStore::frameTrajectory() const {
       continue;
     const KeyframeRecord& kf = keyframes_[f.reference_keyframe];
     if (kf.id < 0) continue;
-    out.push_back({f.timestamp, (kf.T_w_c * f.T_ref_c).toPose()});
+    const SE3d T_ref_c(f.T_ref_c.so3(), kf.scale * f.T_ref_c.translation());
+    out.push_back({f.timestamp, (kf.T_w_c * T_ref_c).toPose()});
   }
   return out;
 }

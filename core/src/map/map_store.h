@@ -5,9 +5,11 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <mutex>
 #include <vector>
 
+#include "ldsm/math/sim3.h"
 #include "ldsm/math/se3.h"
 #include "ldsm/system.h"
 
@@ -18,6 +20,9 @@ struct KeyframeRecord {
   std::int64_t frame_index = 0;
   double timestamp = 0.0;
   SE3d T_w_c;  ///< camera-to-world
+  /// Scale of the keyframe's Sim(3) after a loop correction: frames tracked against it are at
+  /// T_w_c * (scale * their relative translation).
+  double scale = 1.0;
 };
 
 struct FrameRecord {
@@ -33,6 +38,11 @@ class MapStore {
   void setKeyframe(const KeyframeRecord& record);
   void addFrame(const FrameRecord& record);
   void addPoints(const std::vector<MapPoint>& points);
+  /// Points with the id of the keyframe that hosted them (they move with it on loop closure).
+  void addPoints(const std::vector<MapPoint>& points, const std::vector<int>& hosts);
+  /// Loop closure: moves the given keyframes to their corrected Sim(3) world-from-camera poses,
+  /// with their frames and the points they hosted. Returns the number of keyframes moved.
+  int applyCorrection(const std::map<int, Sim3d>& S_world_camera);
 
   /// World pose of every recorded frame, composed with the current keyframe poses.
   Trajectory frameTrajectory() const;
@@ -46,6 +56,7 @@ class MapStore {
   std::vector<KeyframeRecord> keyframes_;  ///< indexed by id
   std::vector<FrameRecord> frames_;
   std::vector<MapPoint> points_;
+  std::vector<int> point_hosts_;  ///< -1: unknown host
 };
 
 }  // namespace ldsm

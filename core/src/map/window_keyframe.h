@@ -78,6 +78,10 @@ class WindowKeyframe {
   std::vector<std::unique_ptr<ActivePoint>> points;
   std::vector<ImmatureCandidate> immature;
   int points_created = 0;  ///< active points ever hosted (for the marginalisation policy)
+  /// The corners selected in this keyframe (level-0 pixels; they carry ORB descriptors for loop
+  /// closure) and the inverse depth each got as an active point (NaN: none).
+  std::vector<Eigen::Vector2f> corners;
+  std::vector<float> corner_idepth;
 
  private:
   SE3d T_c_w_backup;

@@ -32,10 +32,50 @@ Odometry::Odometry(const Config& config, const GeometricCalibration& geometric,
       tracker_(config, camera_,
                preprocessor_.photometricallyCalibrated() && config.photometric.use_exposure),
       timer_({"preprocess", "initialize", "track", "trace", "mapping", "total"}, 20000),
-      mapping_timer_({"preprocess", "initialize", "track", "trace", "mapping", "total"}, 20000) {}
+      mapping_timer_({"preprocess", "initialize", "track", "trace", "mapping", "total"}, 20000) {
+  if (config.loop.enabled) {
+    const LevelCamera& c = camera_[0];
+    loop_closer_ = std::make_unique<loop::LoopCloser>(
+        config.loop, PinholeIntrinsics{c.fx, c.fy, c.cx, c.cy, c.width, c.height},
+        /*inline_mode=*/config.system.deterministic);
+    mapper_.setKeyframeLeavingHandler(
+        [this](const WindowKeyframe& kf) { loop_closer_->keyframeLeftWindow(kf); });
+  }
+}
 
 Odometry::~Odometry() {
   stopMappingThread();
+  loop_closer_.reset();
+}
+
+void Odometry::applyLoopCorrections() {
+  if (!loop_closer_) return;
+  for (const loop::LoopCorrection& c : loop_closer_->takeCorrections()) {
+    LoopClosureEvent e;
+    e.current_keyframe_id = c.current_keyframe_id;
+    e.matched_keyframe_id = c.candidate_keyframe_id;
+    e.inliers = c.inliers;
+    e.scale = c.scale;
+    e.time_ms = c.time_ms;
+    e.corrected_keyframes = store_.applyCorrection(c.S_world_camera);
+    {
+      std::lock_guard<std::mutex> lock(loops_mutex_);
+      loops_.push_back(e);
+    }
+    if (on_loop_) on_loop_(e);
+  }
+}
+
+void Odometry::finishLoops() {
+  if (!loop_closer_) return;
+  loop_closer_->waitIdle();
+  std::lock_guard<std::mutex> lock(mapper_mutex_);
+  applyLoopCorrections();
+}
+
+std::vector<LoopClosureEvent> Odometry::loops() const {
+  std::lock_guard<std::mutex> lock(loops_mutex_);
+  return loops_;
 }
 
 OdometryStep Odometry::process(ImageView<const std::uint8_t> image, std::int64_t index,
@@ -165,6 +205,7 @@ OdometryStep Odometry::trackStep(std::unique_ptr<ImagePyramid> pyr, std::int64_t
   StageTimer::Scope t(timer_, kMapping);
   const KeyframeInsertion ins = mapper_.addKeyframe(std::move(pyr), info);
   keyframes_.fetch_add(1, std::memory_order_relaxed);
+  applyLoopCorrections();
   const WindowKeyframe& newest = mapper_.newestKeyframe();
   tracker_.refineLastPose(newest.T_c_w);
   updateTrackerReference();
@@ -199,6 +240,7 @@ void Odometry::loseTracking(OdometryStep& step, const std::string& reason) {
   // The next map starts where the camera was last seen.
   world_anchor_ = mapper_.newestKeyframe().T_c_w;
   mapper_.reset();
+  if (loop_closer_) loop_closer_->startNewMap();
   initializer_.reset();
   status_ = TrackingStatus::Lost;
 }

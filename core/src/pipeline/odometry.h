@@ -17,6 +17,7 @@
 #include "backend/mapper.h"
 #include "frontend/coarse_initializer.h"
 #include "frontend/frame_tracker.h"
+#include "loop/loop_closer.h"
 #include "ldsm/events.h"
 #include "ldsm/system.h"
 #include "map/map_store.h"
@@ -67,6 +68,14 @@ class Odometry {
   /// Frames waiting for the mapping thread (a snapshot).
   std::size_t mappingBacklog() const;
 
+  /// Loop closures are reported through `on_loop` (on the thread that applies them).
+  void setLoopHandler(std::function<void(const LoopClosureEvent&)> on_loop) {
+    on_loop_ = std::move(on_loop);
+  }
+  /// End of a run: waits for the loop task and applies what it found (mapping thread idle).
+  void finishLoops();
+  std::vector<LoopClosureEvent> loops() const;
+
  private:
   OdometryStep initializeStep(std::unique_ptr<ImagePyramid> pyr, std::int64_t index,
                               double timestamp, double exposure);
@@ -74,6 +83,8 @@ class Odometry {
                          double exposure);
   void loseTracking(OdometryStep& step, const std::string& reason);
   void updateTrackerReference();
+  /// Applies the loop task's corrections to the map store (mapper's safe point).
+  void applyLoopCorrections();
 
   // Threaded mode (odometry_mapping_thread.cpp).
   struct MappingJob {
@@ -104,6 +115,10 @@ class Odometry {
   MapperFrame init_reference_info_;
   SE3d world_anchor_;  ///< world -> camera pose given to a new map's first keyframe
   std::vector<DepthPoint> depth_points_;
+  std::unique_ptr<loop::LoopCloser> loop_closer_;
+  std::function<void(const LoopClosureEvent&)> on_loop_;
+  mutable std::mutex loops_mutex_;
+  std::vector<LoopClosureEvent> loops_;
   std::atomic<std::int64_t> keyframes_{0};
   std::int64_t last_tracked_index_ = -1;
 

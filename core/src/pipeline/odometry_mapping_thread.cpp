@@ -83,6 +83,7 @@ void Odometry::mapJob(MappingJob& job) {
     mapper_.traceFrame(*job.pyramid, job.info);
     const KeyframeInsertion ins = mapper_.addKeyframe(std::move(job.pyramid), job.info);
     keyframes_.fetch_add(1, std::memory_order_relaxed);
+    applyLoopCorrections();
     publishReference();
     const WindowKeyframe& newest = mapper_.newestKeyframe();
     event = KeyframeEvent{newest.id(), job.info.frame_index, job.info.timestamp,

@@ -100,6 +100,9 @@ System::System(const Config& config, const GeometricCalibration& geometric,
                const PhotometricCalibration& photometric) {
   validateConfig(config);
   impl_ = std::make_unique<Impl>(config, geometric, photometric);
+  impl_->odometry.setLoopHandler([impl = impl_.get()](const LoopClosureEvent& e) {
+    if (impl->listener) impl->listener->onLoopClosure(e);
+  });
   if (!config.system.deterministic) {
     // Tracking on the frame worker's thread, mapping on the odometry's mapping thread.
     impl_->odometry.startMappingThread([impl = impl_.get()](const KeyframeEvent& e) {
@@ -135,6 +138,7 @@ void System::submit(const FrameView& frame) {
 void System::finish() {
   if (impl_->worker) impl_->worker->drain();
   impl_->odometry.waitForMapping();
+  impl_->odometry.finishLoops();
   std::lock_guard<std::mutex> lock(impl_->mutex);
   impl_->odometry.flush();
 }
@@ -171,6 +175,7 @@ SystemStats System::stats() const {
   s.tracking_losses = impl_->odometry.losses();
   s.rejected_frames = impl_->rejected;
   s.stages = impl_->odometry.timings();
+  s.loops = impl_->odometry.loops();
   return s;
 }
 
