@@ -17,5 +17,8 @@ void addInfoCommand(CLI::App& app, CommandResult& result);
 void addSimCommand(CLI::App& app, CommandResult& result);
 void addEvalCommand(CLI::App& app, CommandResult& result);
 void addRunCommand(CLI::App& app, CommandResult& result);
+void addRecordCommand(CLI::App& app, CommandResult& result);
+void addCalibCommand(CLI::App& app, CommandResult& result);
+void addVocabCommand(CLI::App& app, CommandResult& result);
 
 }  // namespace ldsm::app

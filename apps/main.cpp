@@ -26,6 +26,9 @@ int main(int argc, char** argv) {
   ldsm::app::addSimCommand(app, result);
   ldsm::app::addEvalCommand(app, result);
   ldsm::app::addRunCommand(app, result);
+  ldsm::app::addRecordCommand(app, result);
+  ldsm::app::addCalibCommand(app, result);
+  ldsm::app::addVocabCommand(app, result);
 
   try {
     app.parse(argc, argv);

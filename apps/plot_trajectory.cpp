@@ -5,12 +5,10 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <opencv2/core.hpp>
-#include <opencv2/imgproc.hpp>
 
-#include "ldsm/calib/image_file.h"
 #include "ldsm/drivers/atomic_file.h"
 #include "ldsm/error.h"
+#include "plot_canvas.h"
 
 namespace ldsm::app {
 
@@ -56,15 +54,6 @@ struct Layout {
     return buf;
   }
 };
-
-// 1, 2 or 5 times a power of ten, at least `raw`.
-double niceStep(double raw) {
-  const double p = std::pow(10.0, std::floor(std::log10(raw)));
-  for (double m : {1.0, 2.0, 5.0, 10.0}) {
-    if (m * p >= raw) return m * p;
-  }
-  return 10.0 * p;
-}
 
 // Puts the legend in the plot corner that hides the fewest points.
 void placeLegend(Layout& L, const std::vector<PlotSeries>& series) {
@@ -153,96 +142,57 @@ std::string axisLabel(int axis) {
   return std::string(kAxisNames[axis]) + " [m]";
 }
 
-// ---- PNG (OpenCV) --------------------------------------------------------------------------
-
-constexpr int kShift = 4;  // sub-pixel bits for anti-aliased drawing
-cv::Point sub(double x, double y) {
-  return {static_cast<int>(std::lround(x * (1 << kShift))),
-          static_cast<int>(std::lround(y * (1 << kShift)))};
-}
-cv::Scalar bgr(const std::array<std::uint8_t, 3>& rgb) {
-  return cv::Scalar(rgb[2], rgb[1], rgb[0]);
-}
-
-void text(cv::Mat& img, const std::string& s, double x, double y, double align, double size = 0.45,
-          const cv::Scalar& colour = cv::Scalar(0, 0, 0)) {
-  int baseline = 0;
-  const cv::Size ts = cv::getTextSize(s, cv::FONT_HERSHEY_SIMPLEX, size, 1, &baseline);
-  cv::putText(img, s, cv::Point(static_cast<int>(x - align * ts.width), static_cast<int>(y)),
-              cv::FONT_HERSHEY_SIMPLEX, size, colour, 1, cv::LINE_AA);
-}
-
-void marker(cv::Mat& img, double x, double y, bool square, const cv::Scalar& colour) {
-  const cv::Scalar white(255, 255, 255);
-  if (square) {
-    cv::rectangle(img, sub(x - 7, y - 7), sub(x + 7, y + 7), white, cv::FILLED, cv::LINE_AA,
-                  kShift);
-    cv::rectangle(img, sub(x - 5, y - 5), sub(x + 5, y + 5), colour, cv::FILLED, cv::LINE_AA,
-                  kShift);
-  } else {
-    cv::circle(img, sub(x, y), 8 << kShift, white, cv::FILLED, cv::LINE_AA, kShift);
-    cv::circle(img, sub(x, y), 6 << kShift, colour, cv::FILLED, cv::LINE_AA, kShift);
-  }
-}
+// ---- PNG -----------------------------------------------------------------------------------
 
 std::string renderPng(const Layout& L, const std::vector<PlotSeries>& series,
                       const std::string& title) {
-  cv::Mat img(L.height, L.width, CV_8UC3, cv::Scalar(255, 255, 255));
-  const cv::Scalar grid(225, 225, 225), black(0, 0, 0);
+  PlotCanvas c(L.width, L.height);
   const double x0 = L.left, x1 = L.left + L.plotWidth(), y0 = L.top, y1 = L.top + L.plotHeight();
   for (double t : L.ticks(L.h_min, L.h_max)) {
     const double x = L.hToPx(t);
-    cv::line(img, sub(x, y0), sub(x, y1), grid, 1, cv::LINE_AA, kShift);
-    cv::line(img, sub(x, y1), sub(x, y1 + 5), black, 1, cv::LINE_AA, kShift);
-    text(img, L.label(t), x, y1 + 20, 0.5);
+    c.line(x, y0, x, y1, kGrid);
+    c.line(x, y1, x, y1 + 5, kBlack);
+    c.text(L.label(t), x, y1 + 20, 0.5);
   }
   for (double t : L.ticks(L.v_min, L.v_max)) {
     const double y = L.vToPx(t);
-    cv::line(img, sub(x0, y), sub(x1, y), grid, 1, cv::LINE_AA, kShift);
-    cv::line(img, sub(x0 - 5, y), sub(x0, y), black, 1, cv::LINE_AA, kShift);
-    text(img, L.label(t), x0 - 8, y + 5, 1.0);
+    c.line(x0, y, x1, y, kGrid);
+    c.line(x0 - 5, y, x0, y, kBlack);
+    c.text(L.label(t), x0 - 8, y + 5, 1.0);
   }
-  cv::rectangle(img, cv::Point(L.left, L.top), cv::Point(L.left + L.plotWidth(), y1), black, 1);
-  text(img, axisLabel(L.axis_h), 0.5 * (x0 + x1), L.height - 15, 0.5, 0.55);
-  text(img, axisLabel(L.axis_v), x0, y0 - 10, 0.5, 0.55);
-  text(img, title, 0.5 * (x0 + x1), 28, 0.5, 0.6);
+  c.rectangle(x0, y0, x1, y1, kBlack, false);
+  c.text(axisLabel(L.axis_h), 0.5 * (x0 + x1), L.height - 15, 0.5, 0.55);
+  c.text(axisLabel(L.axis_v), x0, y0 - 10, 0.5, 0.55);
+  c.text(title, 0.5 * (x0 + x1), 28, 0.5, 0.6);
 
   for (std::size_t i = 0; i < series.size(); ++i) {
-    std::vector<cv::Point> pts;
-    for (const auto& p : finitePoints(series[i])) pts.push_back(sub(L.px(p), L.py(p)));
-    cv::polylines(img, pts, false, bgr(series[i].rgb), lineWidth(i), cv::LINE_AA, kShift);
+    std::vector<Eigen::Vector2d> pts;
+    for (const auto& p : finitePoints(series[i])) pts.emplace_back(L.px(p), L.py(p));
+    c.polyline(pts, series[i].rgb, lineWidth(i));
   }
   for (const auto& s : series) {
     const auto pts = finitePoints(s);
     if (pts.empty()) continue;
-    marker(img, L.px(pts.front()), L.py(pts.front()), false, bgr(s.rgb));
-    marker(img, L.px(pts.back()), L.py(pts.back()), true, bgr(s.rgb));
+    c.marker(L.px(pts.front()), L.py(pts.front()), false, s.rgb);
+    c.marker(L.px(pts.back()), L.py(pts.back()), true, s.rgb);
   }
 
-  // Legend, top right inside the plot.
+  // Legend in the corner that hides the fewest points.
   const double lx = L.legend_x, ly = L.legend_y;
-  const cv::Rect box(static_cast<int>(lx), static_cast<int>(ly), static_cast<int>(L.legend_w),
-                     static_cast<int>(L.legend_h));
-  cv::rectangle(img, box, cv::Scalar(255, 255, 255), cv::FILLED);
-  cv::rectangle(img, box, cv::Scalar(160, 160, 160), 1);
+  c.rectangle(lx, ly, lx + L.legend_w, ly + L.legend_h, kWhite, true);
+  c.rectangle(lx, ly, lx + L.legend_w, ly + L.legend_h, Rgb{160, 160, 160}, false);
   for (std::size_t i = 0; i < series.size(); ++i) {
     const double y = ly + 19 + 22 * static_cast<double>(i);
-    cv::line(img, sub(lx + 10, y - 4), sub(lx + 40, y - 4), bgr(series[i].rgb), lineWidth(i),
-             cv::LINE_AA, kShift);
-    text(img, series[i].label, lx + 50, y, 0.0);
+    c.line(lx + 10, y - 4, lx + 40, y - 4, series[i].rgb, lineWidth(i));
+    c.text(series[i].label, lx + 50, y, 0.0);
   }
   const double ys = ly + 19 + 22 * static_cast<double>(series.size());
-  marker(img, lx + 25, ys - 4, false, cv::Scalar(90, 90, 90));
-  text(img, "start", lx + 50, ys, 0.0);
-  marker(img, lx + 25, ys + 18, true, cv::Scalar(90, 90, 90));
-  text(img, "end", lx + 50, ys + 22, 0.0);
-
-  // Drawn in OpenCV's BGR order; the PNG encoder takes RGB.
-  cv::cvtColor(img, img, cv::COLOR_BGR2RGB);
-  const ImageView<const calib::Rgb8> rgb(reinterpret_cast<const calib::Rgb8*>(img.ptr()), img.cols,
-                                         img.rows, static_cast<std::ptrdiff_t>(img.step1() / 3));
-  const std::vector<unsigned char> buf = calib::encodePng(rgb);
-  return std::string(buf.begin(), buf.end());
+  const Rgb grey{90, 90, 90};
+  c.marker(lx + 25, ys - 4, false, grey);
+  c.text("start", lx + 50, ys, 0.0);
+  c.marker(lx + 25, ys + 18, true, grey);
+  c.text("end", lx + 50, ys + 22, 0.0);
+  return c.encodePng();
 }
 
 // ---- SVG -----------------------------------------------------------------------------------

@@ -6,7 +6,7 @@ set -euo pipefail
 PACKAGES=(
   build-essential cmake ninja-build pkg-config ccache git
   libeigen3-dev
-  libopencv-dev
+  libopencv-dev libopencv-contrib-dev
   libceres-dev libsuitesparse-dev
   libspdlog-dev libfmt-dev
   libyaml-cpp-dev libcli11-dev

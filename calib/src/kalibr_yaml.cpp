@@ -175,4 +175,42 @@ GeometricCalibration readKalibrCameraYaml(const std::string& path, const std::st
   return parseKalibrCameraYaml(detail::readTextFile(path), path, camera);
 }
 
+std::string formatKalibrCameraYaml(const GeometricCalibration& calibration,
+                                   const std::string& camera) {
+  const CameraIntrinsics& in = calibration.input;
+  validateIntrinsics(in);
+  using detail::formatNumber;
+  const char* model = "none";
+  switch (in.model) {
+    case CameraModelType::Pinhole:
+      break;
+    case CameraModelType::RadTan:
+      model = "radtan";
+      break;
+    case CameraModelType::Equidistant:
+      model = "equidistant";
+      break;
+    case CameraModelType::Fov:
+      model = "fov";
+      break;
+  }
+  std::string coeffs;
+  for (const double d : in.distortion) coeffs += (coeffs.empty() ? "" : ", ") + formatNumber(d);
+  return camera + ":\n  camera_model: pinhole\n  intrinsics: [" + formatNumber(in.fx) + ", " +
+         formatNumber(in.fy) + ", " + formatNumber(in.cx) + ", " + formatNumber(in.cy) +
+         "]\n  distortion_model: " + model + "\n  distortion_coeffs: [" + coeffs +
+         "]\n  resolution: [" + std::to_string(in.width) + ", " + std::to_string(in.height) + "]\n";
+}
+
+void writeKalibrCameraYaml(const std::string& path, const GeometricCalibration& calibration,
+                           const std::string& camera) {
+  std::string text;
+  try {
+    text = formatKalibrCameraYaml(calibration, camera);
+  } catch (const InputError& e) {
+    throw InputError(path + ": not written: " + e.what());
+  }
+  detail::writeTextFile(path, text);
+}
+
 }  // namespace ldsm::calib
