@@ -35,6 +35,7 @@ struct RunOptions {
   std::string config;
   std::string out = "ldsm_out";
   bool deterministic = false;
+  bool no_loop = false;
   std::int64_t max_frames = 0;
   bool no_eval = false;
 };
@@ -70,6 +71,7 @@ int run(const RunOptions& o) {
   const drivers::DatasetCalibration calib = drivers::loadDatasetCalibration(desc, o.calib);
   Config config = o.config.empty() ? Config{} : drivers::loadConfigYaml(o.config);
   if (o.deterministic) config.system.deterministic = true;
+  if (o.no_loop) config.loop.enabled = false;
   auto source = drivers::openDataset(desc);
   System system(config, calib.geometric, calib.photometric);
   ProgressListener listener;
@@ -150,6 +152,7 @@ void addRunCommand(CLI::App& app, CommandResult& result) {
   cmd->add_option("--config", o->config, "Configuration YAML (see ldsm config --print-defaults)");
   cmd->add_option("--out", o->out, "Output folder")->capture_default_str();
   cmd->add_flag("--deterministic", o->deterministic, "One thread, bit-identical results");
+  cmd->add_flag("--no-loop", o->no_loop, "Turn loop closure off");
   cmd->add_option("--max-frames", o->max_frames, "Stop after N frames");
   cmd->add_flag("--no-eval", o->no_eval, "Do not evaluate against the dataset's ground truth");
   cmd->callback([o, &result]() { result.exit_code = run(*o); });

@@ -64,6 +64,18 @@ void writeRunOutputs(const std::string& dir, const System& system, const RunSumm
     j.endObject();
   }
   j.endObject();
+  j.key("loops").beginArray();
+  for (const LoopClosureEvent& l : s.loops) {
+    j.beginObject();
+    j.key("keyframe").value(static_cast<std::int64_t>(l.current_keyframe_id));
+    j.key("matched_keyframe").value(static_cast<std::int64_t>(l.matched_keyframe_id));
+    j.key("inliers").value(static_cast<std::int64_t>(l.inliers));
+    j.key("scale").value(l.scale);
+    j.key("time_ms").value(l.time_ms);
+    j.key("corrected_keyframes").value(static_cast<std::int64_t>(l.corrected_keyframes));
+    j.endObject();
+  }
+  j.endArray();
   if (summary.ate) {
     j.key("ate").beginObject();
     j.key("rmse_m").value(summary.ate->rmse);

@@ -164,8 +164,8 @@ struct LoopConfig {
   bool enabled = true;
   /// Keyframes right before the query that are never loop candidates (the recent neighbourhood).
   int exclude_recent_keyframes = 20;
-  int max_candidates = 3;       ///< best BoW candidates verified per keyframe
-  int min_inliers = 25;         ///< inliers of the Sim(3) after refinement to accept a loop
+  int max_candidates = 3;           ///< best BoW candidates verified per keyframe
+  int min_inliers = 25;             ///< inliers of the Sim(3) after refinement to accept a loop
   double loop_edge_weight = 100.0;  ///< pose-graph weight of a loop edge (odometry edges: 1)
 
   template <typename V>

@@ -52,7 +52,7 @@ int Mapper::retireLostPoints() {
         to_prior.push_back(p.get());
         finished.push_back(worldPoint(*p));
         hosts.push_back(p->host->id());
-      hosts.push_back(p->host->id());
+        hosts.push_back(p->host->id());
       }
   optimizer_.marginalizePoints(windowView(), to_prior, prior_);
   int retired = 0;

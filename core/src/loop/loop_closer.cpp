@@ -7,8 +7,7 @@
 
 namespace ldsm::loop {
 
-LoopCloser::LoopCloser(const LoopConfig& config, const PinholeIntrinsics& camera,
-                       bool inline_mode)
+LoopCloser::LoopCloser(const LoopConfig& config, const PinholeIntrinsics& camera, bool inline_mode)
     : config_(config), camera_(camera), orb_(camera.width, camera.height) {
   verification_.min_inliers = config.min_inliers;
   LoopTaskOptions options;
@@ -19,7 +18,9 @@ LoopCloser::LoopCloser(const LoopConfig& config, const PinholeIntrinsics& camera
       options);
 }
 
-LoopCloser::~LoopCloser() { task_->stop(); }
+LoopCloser::~LoopCloser() {
+  task_->stop();
+}
 
 void LoopCloser::keyframeLeftWindow(const WindowKeyframe& kf) {
   LoopJob job;

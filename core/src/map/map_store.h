@@ -9,8 +9,8 @@
 #include <mutex>
 #include <vector>
 
-#include "ldsm/math/sim3.h"
 #include "ldsm/math/se3.h"
+#include "ldsm/math/sim3.h"
 #include "ldsm/system.h"
 
 namespace ldsm {
