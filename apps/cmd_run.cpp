@@ -1,5 +1,7 @@
-// `ldsm run`: SLAM on a recorded sequence, with a progress line, writing the trajectory, the
-// keyframes, the map and statistics; evaluates against ground truth when the dataset has one.
+// `ldsm run`: SLAM on a recorded sequence (offline, or replayed in real time through the live
+// pipeline with --realtime) or on a V4L2 camera (--live), with a progress line, writing the
+// trajectory, the keyframes, the map and statistics; evaluates against ground truth when the
+// dataset has one. Ctrl-C, a device error or a bad file stop the run and keep what was computed.
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
@@ -8,17 +10,25 @@
 #include <csignal>
 #include <cstdio>
 #include <memory>
+#include <optional>
+#include <sstream>
 
 #include "commands.h"
+#include "ldsm/calib/calibration_loader.h"
+#include "ldsm/calib/photometric_files.h"
 #include "ldsm/drivers/config_yaml.h"
 #include "ldsm/drivers/dataset_calibration.h"
 #include "ldsm/drivers/dataset_description.h"
 #include "ldsm/drivers/dataset_source.h"
+#include "ldsm/drivers/realtime_replay_source.h"
 #include "ldsm/drivers/trajectory_io.h"
 #include "ldsm/error.h"
 #include "ldsm/eval/ate.h"
 #include "ldsm/system.h"
 #include "run_outputs.h"
+#if defined(LDSM_HAVE_V4L2)
+#include "ldsm/drivers/v4l2_source.h"
+#endif
 
 namespace ldsm::app {
 namespace {
@@ -38,6 +48,34 @@ struct RunOptions {
   bool no_loop = false;
   std::int64_t max_frames = 0;
   bool no_eval = false;
+  // Real-time replay of the dataset through the live pipeline.
+  bool realtime = false;
+  double speed = 1.0;
+  // Live camera.
+  std::string live;  ///< V4L2 device
+  std::string pcalib;
+  std::string vignette;
+  int width = 0;
+  int height = 0;
+  double fps = 0.0;
+  std::string pixel_formats;
+  double exposure_ms = 0.0;
+  double gain = -1.0;
+  bool lock_exposure = false;
+  int timeout_ms = 2000;
+};
+
+/// Where the frames come from, with the calibration that goes with them.
+struct RunInput {
+  std::unique_ptr<drivers::FrameSource> source;
+  GeometricCalibration geometric;
+  PhotometricCalibration photometric;
+  std::string name;  ///< dataset path or device
+  std::string geometric_source;
+  std::string photometric_source = "none";
+  std::int64_t frame_count = -1;  ///< -1: unbounded (camera)
+  std::optional<drivers::DatasetDescription> dataset;
+  const drivers::RealtimeReplaySource* replay = nullptr;
 };
 
 /// Counts events for the progress line.
@@ -65,32 +103,134 @@ std::optional<eval::AteResult> evaluate(const drivers::DatasetDescription& d,
   }
 }
 
+RunInput openDatasetInput(const RunOptions& o) {
+  RunInput in;
+  in.dataset = drivers::describeDataset(o.dataset, drivers::parseDatasetFormat(o.format));
+  const drivers::DatasetCalibration calib = drivers::loadDatasetCalibration(*in.dataset, o.calib);
+  in.geometric = calib.geometric;
+  in.photometric = calib.photometric;
+  in.geometric_source = calib.geometric_source;
+  in.photometric_source = calib.photometric_source;
+  in.name = o.dataset;
+  in.frame_count = in.dataset->frame_count;
+  in.source = drivers::openDataset(*in.dataset);
+  if (o.realtime) {
+    auto replay = std::make_unique<drivers::RealtimeReplaySource>(std::move(in.source), o.speed);
+    in.replay = replay.get();
+    in.source = std::move(replay);
+  }
+  return in;
+}
+
+#if defined(LDSM_HAVE_V4L2)
+std::vector<drivers::V4l2PixelFormat> parsePixelFormats(const std::string& list) {
+  std::vector<drivers::V4l2PixelFormat> formats;
+  std::stringstream ss(list);
+  std::string name;
+  while (std::getline(ss, name, ','))
+    if (!name.empty()) formats.push_back(drivers::parseV4l2PixelFormat(name));
+  return formats;
+}
+#endif
+
+RunInput openLiveInput(const RunOptions& o) {
+  if (o.calib.empty())
+    throw ConfigError("run --live: give the camera's calibration with --calib FILE");
+#if defined(LDSM_HAVE_V4L2)
+  RunInput in;
+  in.geometric = calib::loadGeometricCalibration(o.calib, o.width, o.height);
+  in.geometric_source = o.calib;
+  const CameraIntrinsics& k = in.geometric.input;
+  drivers::V4l2Options camera;
+  camera.device = o.live;
+  if (!o.pixel_formats.empty()) camera.formats = parsePixelFormats(o.pixel_formats);
+  camera.width = o.width > 0 ? o.width : k.width;  // the calibrated size unless told otherwise
+  camera.height = o.height > 0 ? o.height : k.height;
+  camera.fps = o.fps;
+  camera.exposure_ms = o.exposure_ms;
+  camera.gain = o.gain;
+  camera.lock_auto_exposure = o.lock_exposure;
+  camera.poll_timeout_ms = o.timeout_ms;
+  auto source = std::make_unique<drivers::V4l2Source>(camera);
+  const drivers::SourceInfo info = source->info();
+  if (info.width != k.width || info.height != k.height)
+    throw InputError(o.calib + ": calibration is for " + std::to_string(k.width) + "x" +
+                     std::to_string(k.height) + " images but " + o.live + " delivers " +
+                     std::to_string(info.width) + "x" + std::to_string(info.height));
+  if (!o.pcalib.empty() || !o.vignette.empty()) {
+    in.photometric = calib::loadPhotometricCalibration(o.pcalib, o.vignette, k.width, k.height);
+    in.photometric_source = o.pcalib + (o.vignette.empty() ? "" : " " + o.vignette);
+  }
+  in.name = o.live;
+  in.source = std::move(source);
+  return in;
+#else
+  throw DeviceError("run --live: this ldsm was built without the V4L2 source (Linux only)");
+#endif
+}
+
+const StageTiming* findStage(const std::vector<StageTiming>& stages, const std::string& name) {
+  for (const StageTiming& t : stages)
+    if (t.stage == name) return &t;
+  return nullptr;
+}
+
+/// ", dropped 3 (1.2 %), latency 12.3 / 40.1 ms (mean / p99)" for the live modes.
+std::string pipelineProgress(const SystemStats& s) {
+  char buf[160];
+  const StageTiming* lat = findStage(s.latency, "submit_to_tracked");
+  std::snprintf(buf, sizeof(buf), ", dropped %lld (%.1f %%), latency %.1f / %.1f ms (mean / p99)",
+                static_cast<long long>(s.dropped_frames),
+                s.submitted_frames > 0 ? 100.0 * static_cast<double>(s.dropped_frames) /
+                                             static_cast<double>(s.submitted_frames)
+                                       : 0.0,
+                lat ? lat->mean_ms : 0.0, lat ? lat->p99_ms : 0.0);
+  return buf;
+}
+
 int run(const RunOptions& o) {
-  const drivers::DatasetDescription desc =
-      drivers::describeDataset(o.dataset, drivers::parseDatasetFormat(o.format));
-  const drivers::DatasetCalibration calib = drivers::loadDatasetCalibration(desc, o.calib);
+  const bool live_input = !o.live.empty() || o.realtime;
+  if (o.live.empty() == o.dataset.empty())
+    throw ConfigError("run: give either --dataset PATH or --live DEVICE");
+  if (live_input && o.deterministic)
+    throw ConfigError(
+        "run: --deterministic cannot be combined with --realtime or --live (the live pipeline "
+        "runs tracking and mapping on their own threads and drops frames when behind)");
+  RunInput in = o.live.empty() ? openDatasetInput(o) : openLiveInput(o);
   Config config = o.config.empty() ? Config{} : drivers::loadConfigYaml(o.config);
   if (o.deterministic) config.system.deterministic = true;
   if (o.no_loop) config.loop.enabled = false;
-  auto source = drivers::openDataset(desc);
-  System system(config, calib.geometric, calib.photometric);
+  if (live_input) {
+    config.system.deterministic = false;
+    config.system.live = true;
+  }
+  System system(config, in.geometric, in.photometric);
   ProgressListener listener;
   system.setListener(&listener);
-  spdlog::info("{}: {} frames, calibration {}, photometric {}", o.dataset, desc.frame_count,
-               calib.geometric_source, calib.photometric_source);
+  spdlog::info("{}: {} frames, calibration {}, photometric {}", in.name,
+               in.frame_count >= 0 ? std::to_string(in.frame_count) : "live", in.geometric_source,
+               in.photometric_source);
+  if (o.realtime)
+    std::fprintf(stderr, "%s: real-time replay at %gx (Ctrl-C stops and keeps the results)\n",
+                 in.name.c_str(), o.speed);
+  else if (live_input)
+    std::fprintf(stderr, "%s: live camera (Ctrl-C stops and keeps the results)\n", in.name.c_str());
 
+  g_interrupted = false;
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);
   const bool tty = isatty(fileno(stderr)) != 0;
-  const std::int64_t total =
-      o.max_frames > 0 ? std::min<std::int64_t>(o.max_frames, desc.frame_count) : desc.frame_count;
+  const std::int64_t total = in.frame_count < 0 ? o.max_frames
+                             : o.max_frames > 0
+                                 ? std::min<std::int64_t>(o.max_frames, in.frame_count)
+                                 : in.frame_count;
   const auto start = std::chrono::steady_clock::now();
   auto last_print = start;
   std::string status = "finished";
   drivers::Frame frame;
   std::int64_t n = 0;
   try {
-    while ((o.max_frames <= 0 || n < o.max_frames) && source->next(frame)) {
+    while ((o.max_frames <= 0 || n < o.max_frames) && in.source->next(frame)) {
       if (g_interrupted) {
         status = "stopped: interrupted";
         break;
@@ -99,15 +239,20 @@ int run(const RunOptions& o) {
       ++n;
       const auto now = std::chrono::steady_clock::now();
       const double since = std::chrono::duration<double>(now - last_print).count();
-      const bool milestone = total > 0 && (n * 10 / total) != ((n - 1) * 10 / total);
-      if ((tty && since > 0.25) || (!tty && milestone) || n == total) {
+      const bool milestone = total > 0 ? (n * 10 / total) != ((n - 1) * 10 / total) : since >= 5.0;
+      // Live: stats() briefly holds the lock the tracking thread needs: refresh once a second.
+      const double refresh_s = live_input ? 1.0 : 0.25;
+      if ((tty && since > refresh_s) || (!tty && milestone) || n == total) {
         const double el = std::chrono::duration<double, std::milli>(now - start).count();
-        std::fprintf(stderr, "%s[%lld/%lld] %.1f ms/frame, %d keyframes, %s%s", tty ? "\r" : "",
-                     static_cast<long long>(n), static_cast<long long>(total), el / n,
-                     listener.keyframes.load(), toString(system.status()), tty ? "   " : "\n");
+        const std::string extra = live_input ? pipelineProgress(system.stats()) : std::string();
+        std::fprintf(stderr, "%s[%lld/%s] %.1f ms/frame, %d keyframes, %s%s%s", tty ? "\r" : "",
+                     static_cast<long long>(n), total > 0 ? std::to_string(total).c_str() : "live",
+                     el / n, listener.keyframes.load(), toString(system.status()), extra.c_str(),
+                     tty ? "   " : "\n");
         last_print = now;
       }
     }
+    if (g_interrupted && status == "finished") status = "stopped: interrupted";
   } catch (const Error& e) {
     status = std::string("stopped: ") + e.what();
     spdlog::error("{}", e.what());
@@ -115,37 +260,57 @@ int run(const RunOptions& o) {
   if (tty) std::fputc('\n', stderr);
   system.finish();
   RunSummary summary;
-  summary.dataset = o.dataset;
+  summary.dataset = in.name;
   summary.status = status;
+  summary.mode = live_input ? "live" : config.system.deterministic ? "deterministic" : "offline";
+  if (in.replay) {
+    summary.realtime_speed = in.replay->speed();
+    summary.max_source_lateness_ms = in.replay->maxLatenessMs();
+  }
   summary.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const SystemStats stats = system.stats();
-  for (const StageTiming& t : stats.stages)
-    if (t.stage == "total") summary.ms_per_frame = t.mean_ms;
+  if (const StageTiming* t = findStage(stats.stages, "total")) summary.ms_per_frame = t->mean_ms;
   summary.peak_rss_mb = peakRssMb();
   const Trajectory traj = system.trajectory();
-  if (!o.no_eval) summary.ate = evaluate(desc, traj);
+  if (!o.no_eval && in.dataset) summary.ate = evaluate(*in.dataset, traj);
   writeRunOutputs(o.out, system, summary);
 
   std::printf("%s: %lld frames, %lld tracked, %lld keyframes, %.1f ms/frame, peak %.0f MB\n",
               status.c_str(), static_cast<long long>(stats.frames),
               static_cast<long long>(stats.tracked_frames), static_cast<long long>(stats.keyframes),
               summary.ms_per_frame, summary.peak_rss_mb);
+  if (live_input) {
+    const StageTiming* lat = findStage(stats.latency, "submit_to_tracked");
+    std::printf(
+        "pipeline: %lld submitted, %lld dropped, queue depth max %d of %d (mean %.2f), latency "
+        "submit->tracked mean %.1f p50 %.1f p99 %.1f ms\n",
+        static_cast<long long>(stats.submitted_frames),
+        static_cast<long long>(stats.dropped_frames), stats.max_queue_depth, stats.queue_capacity,
+        stats.mean_queue_depth, lat ? lat->mean_ms : 0.0, lat ? lat->p50_ms : 0.0,
+        lat ? lat->p99_ms : 0.0);
+  }
   if (summary.ate)
     std::printf("ATE %.4f m (%.2f %% of %.2f m path) over %zu poses\n", summary.ate->rmse,
                 100.0 * summary.ate->rmse / std::max(summary.ate->gt_path_length, 1e-9),
                 summary.ate->gt_path_length, summary.ate->matched);
   std::printf("outputs in %s (trajectory.txt, keyframes.txt, points.ply, stats.json)\n",
               o.out.c_str());
-  return status == "finished" ? 0 : 1;
+  // A camera runs until Ctrl-C: that is its normal end.
+  const bool ok = status == "finished" || (!o.live.empty() && status == "stopped: interrupted");
+  return ok ? 0 : 1;
 }
 
 }  // namespace
 
 void addRunCommand(CLI::App& app, CommandResult& result) {
-  auto* cmd = app.add_subcommand("run", "Run SLAM on a recorded sequence");
+  auto* cmd = app.add_subcommand("run", "Run SLAM on a recorded sequence or a live camera");
   auto o = std::make_shared<RunOptions>();
-  cmd->add_option("--dataset", o->dataset, "Sequence folder or video file")->required();
+  auto* dataset = cmd->add_option("--dataset", o->dataset, "Sequence folder or video file");
+  auto* live = cmd->add_option("--live", o->live,
+                               "Run on a V4L2 camera, e.g. /dev/video0 "
+                               "(needs --calib)");
+  dataset->excludes(live);
   cmd->add_option("--format", o->format, "auto, tum-mono, euroc, kitti, tum-rgbd, folder, video")
       ->capture_default_str();
   cmd->add_option("--calib", o->calib, "Calibration file (default: the dataset's own)");
@@ -155,6 +320,32 @@ void addRunCommand(CLI::App& app, CommandResult& result) {
   cmd->add_flag("--no-loop", o->no_loop, "Turn loop closure off");
   cmd->add_option("--max-frames", o->max_frames, "Stop after N frames");
   cmd->add_flag("--no-eval", o->no_eval, "Do not evaluate against the dataset's ground truth");
+  auto* realtime = cmd->add_flag("--realtime", o->realtime,
+                                 "Replay the dataset at its own timestamps through the live "
+                                 "pipeline (frames dropped when tracking falls behind)");
+  realtime->needs(dataset);
+  cmd->add_option("--speed", o->speed, "Replay speed with --realtime (1: recorded rate)")
+      ->needs(realtime)
+      ->check(CLI::Range(0.001, 1000.0))
+      ->capture_default_str();
+  const char* cam = "Live camera";
+  cmd->add_option("--pcalib", o->pcalib, "Inverse response file (pcalib.txt) with --live")
+      ->group(cam);
+  cmd->add_option("--vignette", o->vignette, "Vignette image with --live")->group(cam);
+  cmd->add_option("--width", o->width, "Camera width (default: the calibration's)")->group(cam);
+  cmd->add_option("--height", o->height, "Camera height (default: the calibration's)")->group(cam);
+  cmd->add_option("--fps", o->fps, "Camera frame rate (default: the device's)")->group(cam);
+  cmd->add_option("--pixel-format", o->pixel_formats,
+                  "Pixel formats in order of preference: GREY, Y10, Y16, YUYV, MJPEG")
+      ->group(cam);
+  cmd->add_option("--exposure-ms", o->exposure_ms, "Manual exposure time (auto exposure off)")
+      ->group(cam);
+  cmd->add_option("--gain", o->gain, "Manual gain in the device's units")->group(cam);
+  cmd->add_flag("--lock-exposure", o->lock_exposure, "Freeze the auto exposure at start")
+      ->group(cam);
+  cmd->add_option("--timeout-ms", o->timeout_ms, "Longest wait for a camera frame")
+      ->capture_default_str()
+      ->group(cam);
   cmd->callback([o, &result]() { result.exit_code = run(*o); });
 }
 

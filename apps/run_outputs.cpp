@@ -17,6 +17,25 @@ double peakRssMb() {
   return static_cast<double>(usage.ru_maxrss) / 1024.0;  // KB on Linux
 }
 
+namespace {
+
+/// {"stage": {"count", "mean_ms", "p50_ms", "p99_ms", "max_ms"}, ...}
+void writeTimings(drivers::JsonWriter& j, const std::vector<StageTiming>& timings) {
+  j.beginObject();
+  for (const StageTiming& t : timings) {
+    j.key(t.stage).beginObject();
+    j.key("count").value(t.count);
+    j.key("mean_ms").value(t.mean_ms);
+    j.key("p50_ms").value(t.p50_ms);
+    j.key("p99_ms").value(t.p99_ms);
+    j.key("max_ms").value(t.max_ms);
+    j.endObject();
+  }
+  j.endObject();
+}
+
+}  // namespace
+
 void writeRunOutputs(const std::string& dir, const System& system, const RunSummary& summary) {
   std::filesystem::create_directories(dir);
   const std::string base = (std::filesystem::path(dir) / "").string();
@@ -53,15 +72,23 @@ void writeRunOutputs(const std::string& dir, const System& system, const RunSumm
   j.key("wall_seconds").value(summary.wall_seconds);
   j.key("ms_per_frame").value(summary.ms_per_frame);
   j.key("peak_rss_mb").value(summary.peak_rss_mb);
-  j.key("stages").beginObject();
-  for (const StageTiming& t : s.stages) {
-    j.key(t.stage).beginObject();
-    j.key("count").value(t.count);
-    j.key("mean_ms").value(t.mean_ms);
-    j.key("p50_ms").value(t.p50_ms);
-    j.key("p99_ms").value(t.p99_ms);
-    j.key("max_ms").value(t.max_ms);
-    j.endObject();
+  j.key("stages");
+  writeTimings(j, s.stages);
+  j.key("pipeline").beginObject();
+  j.key("mode").value(summary.mode);
+  j.key("submitted_frames").value(s.submitted_frames);
+  j.key("received_frames").value(s.frames);
+  j.key("dropped_frames").value(s.dropped_frames);
+  j.key("queue_capacity").value(static_cast<std::int64_t>(s.queue_capacity));
+  j.key("max_queue_depth").value(static_cast<std::int64_t>(s.max_queue_depth));
+  j.key("mean_queue_depth").value(s.mean_queue_depth);
+  j.key("max_mapping_backlog").value(static_cast<std::int64_t>(s.max_mapping_backlog));
+  j.key("mean_mapping_backlog").value(s.mean_mapping_backlog);
+  j.key("latency");
+  writeTimings(j, s.latency);
+  if (summary.realtime_speed > 0.0) {
+    j.key("realtime_speed").value(summary.realtime_speed);
+    j.key("max_source_lateness_ms").value(summary.max_source_lateness_ms);
   }
   j.endObject();
   j.key("loops").beginArray();

@@ -1,5 +1,6 @@
 // What `ldsm run` writes to its output folder: trajectory.txt and keyframes.txt (TUM format),
-// points.ply (the map) and stats.json (counts, per-stage timing, memory, status, accuracy).
+// points.ply (the map) and stats.json (counts, per-stage timing, the frame pipeline's drops,
+// queue depths and latencies, memory, status, accuracy).
 #pragma once
 
 #include <optional>
@@ -11,8 +12,11 @@
 namespace ldsm::app {
 
 struct RunSummary {
-  std::string dataset;
-  std::string status;  ///< "finished", "stopped: <reason>", ...
+  std::string dataset;          ///< dataset path or camera device
+  std::string status;           ///< "finished", "stopped: <reason>", ...
+  std::string mode;             ///< "deterministic", "offline" or "live" (camera, real-time replay)
+  double realtime_speed = 0.0;  ///< replay speed with --realtime, 0 otherwise
+  double max_source_lateness_ms = 0.0;  ///< --realtime: latest a frame was released
   double wall_seconds = 0.0;
   double ms_per_frame = 0.0;  ///< mean processing time per frame
   double peak_rss_mb = 0.0;

@@ -19,11 +19,31 @@ struct Range {
 struct SystemConfig {
   /// One thread, every stage in order: identical output for identical input.
   bool deterministic = false;
+  /// Live input (camera, real-time replay): when tracking falls behind, the oldest queued frame
+  /// is dropped and counted. Off (offline): submit() waits for room and nothing is dropped.
+  bool live = false;
+  /// Frame buffers preallocated at start-up for the threaded pipeline. The tracking queue holds
+  /// the largest power of two <= frame_pool_size - 2 frames (one buffer is being filled, one
+  /// tracked).
+  int frame_pool_size = 6;
+  /// CPU the tracking thread is pinned to (-1: any).
+  int tracking_cpu = -1;
+  /// CPU the mapping thread is pinned to (-1: any).
+  int mapping_cpu = -1;
 
   template <typename V>
   void visit(V& v) {
     v.field("deterministic", deterministic,
             "run every stage on one thread in order (bit-identical results)");
+    v.field("live", live,
+            "live input: drop the oldest queued frame when tracking falls behind (off: wait)");
+    v.field("frame_pool_size", frame_pool_size, Range<int>{4, 1024},
+            "frame buffers allocated at start-up; the tracking queue holds the largest power of "
+            "two <= frame_pool_size - 2");
+    v.field("tracking_cpu", tracking_cpu, Range<int>{-1, 1023},
+            "CPU to pin the tracking thread to (-1: any)");
+    v.field("mapping_cpu", mapping_cpu, Range<int>{-1, 1023},
+            "CPU to pin the mapping thread to (-1: any)");
   }
 };
 

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -51,6 +52,23 @@ struct SystemStats {
   std::int64_t rejected_frames = 0;  ///< frames refused as bad input (size, timestamp, content)
   std::vector<StageTiming> stages;
   std::vector<LoopClosureEvent> loops;  ///< loops closed, in order
+
+  // The frame pipeline between submit() and tracking. `frames` above counts the frames the
+  // tracking received; submitted_frames == frames + dropped_frames once finish() returned.
+  std::int64_t submitted_frames = 0;  ///< frames accepted by submit() (right size)
+  std::int64_t dropped_frames = 0;    ///< live mode: oldest queued frames dropped (tracking behind)
+  int queue_capacity = 0;             ///< frames the tracking queue holds (0: deterministic mode)
+  int max_queue_depth = 0;            ///< frames waiting for tracking, sampled after each submit()
+  double mean_queue_depth = 0.0;
+  /// Latency per stage, measured from submit(): "queue_wait" (until tracking starts on the
+  /// frame) and "submit_to_tracked" (until its pose is known and published). In deterministic
+  /// mode only the latter (the time submit() took).
+  std::vector<StageTiming> latency;
+  /// Frames tracked but not yet integrated by the mapping thread, sampled after each tracked
+  /// frame (0 in deterministic mode), and at the time of the call.
+  int max_mapping_backlog = 0;
+  double mean_mapping_backlog = 0.0;
+  int mapping_backlog = 0;
 };
 
 class System {
@@ -68,12 +86,21 @@ class System {
   /// Processes (deterministic mode) or queues (threaded mode) one frame. A frame of the wrong
   /// size throws InputError; a frame with a NaN/zero exposure, a duplicated or backwards
   /// timestamp, or an all-black/saturated image is rejected with a warning and counted.
+  /// Threaded mode copies the frame into a buffer of a pool allocated at start-up and queues it
+  /// for the tracking thread; when the queue is full, submit() waits (offline) or drops the
+  /// oldest queued frame (system.live). Call it from one thread.
   void submit(const FrameView& frame);
 
   /// Waits until every submitted frame is processed and the last optimisation has finished.
   void finish();
 
+  /// The status after the last processed frame (lock-free).
   TrackingStatus status() const;
+  /// The pose of the most recently tracked frame (camera-to-world, as tracked: before the
+  /// window optimisation refines it), or nothing before the first pose. Lock-free and
+  /// wait-free (a triple buffer written by the tracking thread): call it from one thread at a
+  /// time, e.g. the application's control loop.
+  std::optional<StampedPose> latestPose() const;
   /// The final estimate of every processed frame that has a pose (camera-to-world, TUM order).
   Trajectory trajectory() const;
   /// The keyframes' poses (final estimates).

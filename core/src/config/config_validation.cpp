@@ -52,6 +52,10 @@ std::vector<std::string> configProblems(const Config& config) {
                        std::to_string(config.initializer.min_rotation_free_parallax_px) +
                        ") must not exceed initializer.min_parallax_px (" +
                        std::to_string(config.initializer.min_parallax_px) + ")");
+  if (config.system.live && config.system.deterministic)
+    problems.push_back(
+        "system.live = true needs system.deterministic = false (deterministic mode processes "
+        "each frame inside submit(): there is no queue to drop frames from)");
   return problems;
 }
 

@@ -4,8 +4,10 @@
 // vector popcount in its baseline).
 #pragma once
 
-#if (defined(__x86_64__) || defined(__i386__)) && defined(__linux__) && \
-    (defined(__GNUC__) || defined(__clang__))
+#if (defined(__x86_64__) || defined(__i386__)) && defined(__linux__) &&           \
+    (defined(__GNUC__) || defined(__clang__)) && !defined(__SANITIZE_THREAD__) && \
+    !defined(__SANITIZE_ADDRESS__)
+// (Sanitizer runtimes start after ifunc resolvers run: no function clones under TSan/ASan.)
 #define LDSM_POPCNT_CLONES __attribute__((target_clones("popcnt", "default")))
 #else
 #define LDSM_POPCNT_CLONES

@@ -1,6 +1,16 @@
 #include "map/map_store.h"
 
+#include <algorithm>
+
 namespace ldsm {
+namespace {
+
+/// Frame records the store can take without reallocating, ensured whenever a keyframe is recorded
+/// (mapping work), so that addFrame (tracking, every frame) does not allocate as long as a
+/// keyframe comes at least every kFrameHeadroom frames.
+constexpr std::size_t kFrameHeadroom = 1024;
+
+}  // namespace
 
 void MapStore::setKeyframe(const KeyframeRecord& record) {
   std::lock_guard<std::mutex> lock(mutex_);
@@ -10,6 +20,8 @@ void MapStore::setKeyframe(const KeyframeRecord& record) {
     keyframes_.resize(static_cast<size_t>(record.id) + 1, empty);
   }
   keyframes_[record.id] = record;
+  if (frames_.capacity() - frames_.size() < kFrameHeadroom)
+    frames_.reserve(std::max(2 * frames_.capacity(), frames_.size() + kFrameHeadroom));
 }
 
 void MapStore::addFrame(const FrameRecord& record) {

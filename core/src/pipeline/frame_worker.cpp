@@ -2,13 +2,83 @@
 
 #include <spdlog/spdlog.h>
 
+#if defined(__linux__)
+#include <pthread.h>
+#include <sched.h>
+#endif
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
 #include <exception>
+#include <string>
+
+#include "ldsm/error.h"
+#include "pipeline/backoff.h"
 
 namespace ldsm {
+namespace {
 
-FrameWorker::FrameWorker(Handler handler, int slots)
-    : handler_(std::move(handler)), slots_(static_cast<size_t>(slots)) {
-  for (int i = 0; i < slots; ++i) free_.push_back(i);
+/// The queue's capacity for a pool of `pool_size` buffers: the largest power of two that leaves
+/// one buffer to the producer and one to the tracking thread.
+std::size_t queueCapacityFor(int pool_size) {
+  if (pool_size < 4)
+    throw ConfigError("system.frame_pool_size = " + std::to_string(pool_size) +
+                      " is outside the allowed range [4, 1024]");
+  std::size_t capacity = 2;
+  while (capacity * 2 + 2 <= static_cast<std::size_t>(pool_size)) capacity *= 2;
+  return capacity;
+}
+
+}  // namespace
+
+std::int64_t steadyNowNs() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+bool pinThreadToCpu(std::thread::native_handle_type thread, int cpu, const char* what) {
+  if (cpu < 0) return true;
+#if defined(__linux__)
+  if (cpu >= CPU_SETSIZE) {
+    spdlog::warn("{} thread: cannot pin to CPU {} (beyond {}); it runs on any CPU", what, cpu,
+                 CPU_SETSIZE - 1);
+    return false;
+  }
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  CPU_SET(cpu, &set);
+  const int err = pthread_setaffinity_np(thread, sizeof(set), &set);
+  if (err != 0) {
+    spdlog::warn("{} thread: pinning to CPU {} refused ({}); it runs on any CPU", what, cpu,
+                 std::strerror(err));
+    return false;
+  }
+  spdlog::debug("{} thread pinned to CPU {}", what, cpu);
+  return true;
+#else
+  (void)thread;
+  spdlog::warn("{} thread: CPU affinity is not supported on this system; it runs on any CPU", what);
+  return false;
+#endif
+}
+
+bool pinCurrentThreadToCpu(int cpu, const char* what) {
+#if defined(__linux__)
+  return pinThreadToCpu(pthread_self(), cpu, what);
+#else
+  return pinThreadToCpu(std::thread::native_handle_type{}, cpu, what);
+#endif
+}
+
+FrameWorker::FrameWorker(Handler handler, const FrameWorkerOptions& options)
+    : handler_(std::move(handler)),
+      pool_(static_cast<std::size_t>(std::max(options.pool_size, 0)), options.width,
+            options.height),
+      queue_(queueCapacityFor(options.pool_size)),
+      policy_(options.live ? pipeline::OverflowPolicy::DropOldest : pipeline::OverflowPolicy::Wait),
+      cpu_(options.cpu) {
   thread_ = std::thread([this] { run(); });
 }
 
@@ -16,56 +86,87 @@ FrameWorker::~FrameWorker() {
   stop();
 }
 
+void FrameWorker::acquire(pipeline::FrameTicket& ticket) {
+  // Live mode never waits here (the pool outnumbers the queue by two); offline the producer
+  // waits for the tracking thread to give a buffer back.
+  for (pipeline::Backoff backoff; (ticket.buffer = pool_.tryAcquire()) < 0; backoff.pause())
+    if (stop_.load(std::memory_order_acquire)) return;
+}
+
 void FrameWorker::push(const FrameView& frame) {
-  std::unique_lock<std::mutex> lock(mutex_);
-  changed_.wait(lock, [&] { return !free_.empty() || stopping_; });
-  if (stopping_) return;
-  const int s = free_.front();
-  free_.pop_front();
-  lock.unlock();
-  Slot& slot = slots_[static_cast<size_t>(s)];
-  slot.image.copyFrom(frame.image);
-  slot.timestamp = frame.timestamp;
-  slot.exposure_ms = frame.exposure_ms;
-  lock.lock();
-  queued_.push_back(s);
-  changed_.notify_all();
+  if (stop_.load(std::memory_order_acquire)) return;
+  pipeline::FrameTicket ticket;
+  ticket.enqueued_ns = steadyNowNs();
+  acquire(ticket);
+  if (ticket.buffer < 0) return;  // stopped while waiting
+  ImageU8& image = pool_.image(ticket.buffer);
+  image.copyFrom(frame.image);  // same size as the pool's buffers: no allocation
+  const std::int64_t index = submitted_.load(std::memory_order_relaxed);
+  ticket.index = index;
+  ticket.timestamp = frame.timestamp;
+  ticket.exposure_ms = frame.exposure_ms;
+  submitted_.store(index + 1, std::memory_order_release);
+  pipeline::FrameTicket dropped;
+  switch (pipeline::pushWithPolicy(queue_, ticket, policy_, stop_, dropped)) {
+    case pipeline::PushOutcome::Pushed:
+      break;
+    case pipeline::PushOutcome::PushedDroppingOldest:
+      pool_.release(dropped.buffer);
+      dropped_.store(dropped_.load(std::memory_order_relaxed) + 1, std::memory_order_release);
+      break;
+    case pipeline::PushOutcome::Stopped:
+      pool_.release(ticket.buffer);
+      submitted_.store(index, std::memory_order_release);
+      return;
+  }
+  const int depth = static_cast<int>(queue_.size());
+  depth_sum_.store(depth_sum_.load(std::memory_order_relaxed) + depth, std::memory_order_relaxed);
+  if (depth > max_depth_.load(std::memory_order_relaxed))
+    max_depth_.store(depth, std::memory_order_relaxed);
 }
 
 void FrameWorker::drain() {
-  std::unique_lock<std::mutex> lock(mutex_);
-  changed_.wait(lock, [&] { return queued_.empty() && !busy_; });
+  for (pipeline::Backoff backoff;; backoff.pause()) {
+    const std::int64_t done =
+        processed_.load(std::memory_order_acquire) + dropped_.load(std::memory_order_acquire);
+    if (done >= submitted_.load(std::memory_order_acquire)) return;
+    if (!thread_.joinable()) return;
+  }
 }
 
 void FrameWorker::stop() {
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    if (!thread_.joinable()) return;
-    stopping_ = true;
-    changed_.notify_all();
-  }
+  if (!thread_.joinable()) return;
+  stop_.store(true, std::memory_order_release);
   thread_.join();
 }
 
+FrameWorkerCounts FrameWorker::counts() const {
+  FrameWorkerCounts c;
+  c.submitted = submitted_.load(std::memory_order_acquire);
+  c.dropped = dropped_.load(std::memory_order_acquire);
+  c.processed = processed_.load(std::memory_order_acquire);
+  c.queue_capacity = static_cast<int>(queue_.capacity());
+  c.max_queue_depth = max_depth_.load(std::memory_order_relaxed);
+  const std::int64_t pushed = c.submitted;
+  c.mean_queue_depth = pushed > 0
+                           ? static_cast<double>(depth_sum_.load(std::memory_order_relaxed)) /
+                                 static_cast<double>(pushed)
+                           : 0.0;
+  return c;
+}
+
 void FrameWorker::run() {
-  for (;;) {
-    std::unique_lock<std::mutex> lock(mutex_);
-    changed_.wait(lock, [&] { return !queued_.empty() || stopping_; });
-    if (queued_.empty()) return;  // stopping and nothing left
-    const int s = queued_.front();
-    queued_.pop_front();
-    busy_ = true;
-    lock.unlock();
-    const Slot& slot = slots_[static_cast<size_t>(s)];
+  pinCurrentThreadToCpu(cpu_, "tracking");
+  pipeline::FrameTicket ticket;
+  while (pipeline::popWaiting(queue_, ticket, stop_)) {
+    const ImageU8& image = pool_.image(ticket.buffer);
     try {
-      handler_(FrameView{slot.image.view(), slot.timestamp, slot.exposure_ms});
+      handler_(FrameView{image.view(), ticket.timestamp, ticket.exposure_ms}, ticket.enqueued_ns);
     } catch (const std::exception& e) {
-      spdlog::error("frame at t = {} s failed: {}", slot.timestamp, e.what());
+      spdlog::error("frame at t = {} s failed: {}", ticket.timestamp, e.what());
     }
-    lock.lock();
-    busy_ = false;
-    free_.push_back(s);
-    changed_.notify_all();
+    pool_.release(ticket.buffer);
+    processed_.store(processed_.load(std::memory_order_relaxed) + 1, std::memory_order_release);
   }
 }
 

@@ -1,49 +1,102 @@
-// Runs frame processing on a background thread for the System's threaded mode: submit() copies
-// the frame into one of a fixed number of preallocated slots and returns; the worker processes
-// slots in order. In offline use the producer waits when all slots are full (nothing is dropped).
+// The input side of the threaded System: submit() copies each frame into a buffer of a FramePool
+// allocated at start-up and queues a FrameTicket (buffer index + metadata) in a lock-free
+// DropOldestRing; the tracking thread owned here pops tickets in order, runs the handler on the
+// buffer and releases it. Nothing is allocated per frame.
+//
+//   producer (submit) --FrameTicket, DropOldestRing(queue_capacity)--> tracking thread
+//        ^                                                                  |
+//        +------------------- FramePool (free buffer indices) <-------------+
+//
+// Offline (the default) the producer waits while the queue is full, so nothing is lost. Live
+// (system.live), it drops the oldest queued frame instead, releases its buffer and counts it, so
+// that tracking always works on the newest frames. The pool holds queue_capacity + 2 buffers or
+// more (one being filled by the producer, one being tracked), so the producer never waits for a
+// buffer in live mode.
 #pragma once
 
-#include <condition_variable>
-#include <deque>
+#include <atomic>
+#include <cstdint>
 #include <functional>
-#include <mutex>
 #include <thread>
-#include <vector>
 
 #include "ldsm/system.h"
+#include "pipeline/drop_oldest_ring.h"
+#include "pipeline/frame_pool.h"
+#include "pipeline/ring_wait.h"
 
 namespace ldsm {
 
+/// Pins `thread` to CPU `cpu`; does nothing for cpu < 0. Returns false and logs a warning naming
+/// `what` when the operating system refuses (no such CPU, not permitted, not Linux).
+bool pinThreadToCpu(std::thread::native_handle_type thread, int cpu, const char* what);
+/// The same for the calling thread.
+bool pinCurrentThreadToCpu(int cpu, const char* what);
+
+/// Nanoseconds on std::chrono::steady_clock (the clock of FrameTicket::enqueued_ns).
+std::int64_t steadyNowNs();
+
+struct FrameWorkerOptions {
+  int pool_size = 6;  ///< frame buffers (>= 4)
+  int width = 0;      ///< frame size
+  int height = 0;
+  bool live = false;  ///< drop the oldest queued frame instead of waiting
+  int cpu = -1;       ///< CPU of the tracking thread (-1: any)
+};
+
+/// Counters of the queue (values, safe to read from any thread).
+struct FrameWorkerCounts {
+  std::int64_t submitted = 0;  ///< frames pushed
+  std::int64_t dropped = 0;    ///< frames dropped from the queue (live mode)
+  std::int64_t processed = 0;  ///< frames the handler has finished
+  int queue_capacity = 0;
+  int max_queue_depth = 0;  ///< after each push
+  double mean_queue_depth = 0.0;
+};
+
 class FrameWorker {
  public:
-  using Handler = std::function<void(const FrameView&)>;
+  /// Called on the tracking thread for every frame, in order, with the steady_clock time (ns)
+  /// at which the frame was pushed. Exceptions are logged and the next frame is processed.
+  using Handler = std::function<void(const FrameView&, std::int64_t enqueued_ns)>;
 
-  explicit FrameWorker(Handler handler, int slots = 4);
+  /// Allocates the pool and the queue (ldsm::ConfigError for a pool smaller than 4) and starts
+  /// the tracking thread.
+  FrameWorker(Handler handler, const FrameWorkerOptions& options);
   ~FrameWorker();
+  FrameWorker(const FrameWorker&) = delete;
+  FrameWorker& operator=(const FrameWorker&) = delete;
 
-  /// Copies the frame into a free slot (waits for one) and queues it.
+  /// Producer only (one thread). Copies `frame` (of the pool's size) into a free buffer and
+  /// queues it: waits while the queue is full (offline) or drops the oldest queued frame (live).
+  /// Does nothing once stop() was called.
   void push(const FrameView& frame);
-  /// Waits until every queued frame has been processed.
+  /// Producer only. Waits until every pushed frame has been processed or dropped.
   void drain();
   /// Processes what is queued, then ends the thread.
   void stop();
 
+  FrameWorkerCounts counts() const;
+  std::size_t queueCapacity() const { return queue_.capacity(); }
+  /// The tracking thread, e.g. to query its CPU affinity.
+  std::thread::native_handle_type threadHandle() { return thread_.native_handle(); }
+
  private:
-  struct Slot {
-    ImageU8 image;
-    double timestamp = 0.0;
-    double exposure_ms = 0.0;
-  };
   void run();
+  void acquire(pipeline::FrameTicket& ticket);
 
   Handler handler_;
-  std::vector<Slot> slots_;
-  std::deque<int> free_;
-  std::deque<int> queued_;
-  bool busy_ = false;
-  bool stopping_ = false;
-  std::mutex mutex_;
-  std::condition_variable changed_;
+  pipeline::FramePool pool_;
+  pipeline::DropOldestRing<pipeline::FrameTicket> queue_;
+  pipeline::OverflowPolicy policy_;
+  int cpu_;
+  std::atomic<bool> stop_{false};
+  // Written by the producer only (relaxed; read by counts()).
+  std::atomic<std::int64_t> submitted_{0};
+  std::atomic<std::int64_t> dropped_{0};
+  std::atomic<std::int64_t> depth_sum_{0};
+  std::atomic<int> max_depth_{0};
+  // Written by the tracking thread only.
+  std::atomic<std::int64_t> processed_{0};
   std::thread thread_;
 };
 

@@ -67,6 +67,8 @@ class Odometry {
   void waitForMapping();
   /// Frames waiting for the mapping thread (a snapshot).
   std::size_t mappingBacklog() const;
+  /// The mapping thread (after startMappingThread), e.g. to pin it to a CPU.
+  std::thread::native_handle_type mappingThreadHandle() { return mapping_thread_.native_handle(); }
 
   /// Loop closures are reported through `on_loop` (on the thread that applies them).
   void setLoopHandler(std::function<void(const LoopClosureEvent&)> on_loop) {

@@ -2,12 +2,16 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <mutex>
 
 #include "ldsm/error.h"
 #include "pipeline/frame_worker.h"
+#include "pipeline/latest_value.h"
 #include "pipeline/odometry.h"
+#include "pipeline/stage_timer.h"
 
 namespace ldsm {
 
@@ -24,8 +28,14 @@ const char* toString(TrackingStatus status) {
 }
 
 struct System::Impl {
+  enum LatencyStage { kQueueWait, kSubmitToTracked };
+
   Impl(const Config& c, const GeometricCalibration& g, const PhotometricCalibration& p)
-      : config(c), odometry(c, g, p), input_width(g.input.width), input_height(g.input.height) {}
+      : config(c),
+        odometry(c, g, p),
+        input_width(g.input.width),
+        input_height(g.input.height),
+        latency({"queue_wait", "submit_to_tracked"}, 20000) {}
 
   /// Checks a frame's metadata and content; returns an empty string when it can be used.
   std::string rejectReason(const FrameView& f) {
@@ -55,8 +65,14 @@ struct System::Impl {
     return {};
   }
 
-  void process(const FrameView& f) {
+  static double msSince(std::int64_t start_ns) {
+    return static_cast<double>(steadyNowNs() - start_ns) * 1e-6;
+  }
+
+  /// Runs on the tracking thread (threaded mode) or in submit() (deterministic mode).
+  void process(const FrameView& f, std::int64_t submitted_ns) {
     std::lock_guard<std::mutex> lock(mutex);
+    if (worker) latency.record(kQueueWait, msSince(submitted_ns));
     const std::string reason = rejectReason(f);
     const std::int64_t index = frames++;
     if (!reason.empty()) {
@@ -72,7 +88,18 @@ struct System::Impl {
     const bool use_exposure = exposures_known && config.photometric.use_exposure;
     const OdometryStep step =
         odometry.process(f.image, index, f.timestamp, use_exposure ? f.exposure_ms : 1.0);
-    if (step.frame.has_pose) ++tracked;
+    if (step.frame.has_pose) {
+      ++tracked;
+      latest_pose.publish(StampedPose{f.timestamp, step.frame.pose});
+    }
+    status.store(odometry.status(), std::memory_order_release);
+    if (worker) {
+      const auto backlog = static_cast<int>(odometry.mappingBacklog());
+      backlog_sum += backlog;
+      ++backlog_samples;
+      max_backlog = std::max(max_backlog, backlog);
+    }
+    latency.record(kSubmitToTracked, msSince(submitted_ns));
     if (listener) {
       if (step.lost) listener->onTrackingLost(*step.lost);
       if (step.initialized) listener->onInitialized(*step.initialized);
@@ -84,7 +111,7 @@ struct System::Impl {
   Config config;
   Odometry odometry;
   SystemListener* listener = nullptr;
-  mutable std::mutex mutex;
+  mutable std::mutex mutex;  ///< processing vs. queries of the results
   std::int64_t frames = 0;
   std::int64_t tracked = 0;
   std::int64_t rejected = 0;
@@ -93,6 +120,12 @@ struct System::Impl {
   bool exposure_decided = false;
   int input_width;
   int input_height;
+  std::atomic<TrackingStatus> status{TrackingStatus::Initializing};
+  mutable pipeline::LatestValue<StampedPose> latest_pose;
+  StageTimer latency;
+  std::int64_t backlog_sum = 0;
+  std::int64_t backlog_samples = 0;
+  int max_backlog = 0;
   std::unique_ptr<FrameWorker> worker;
 };
 
@@ -103,14 +136,30 @@ System::System(const Config& config, const GeometricCalibration& geometric,
   impl_->odometry.setLoopHandler([impl = impl_.get()](const LoopClosureEvent& e) {
     if (impl->listener) impl->listener->onLoopClosure(e);
   });
-  if (!config.system.deterministic) {
-    // Tracking on the frame worker's thread, mapping on the odometry's mapping thread.
-    impl_->odometry.startMappingThread([impl = impl_.get()](const KeyframeEvent& e) {
-      if (impl->listener) impl->listener->onKeyframe(e);
-    });
-    impl_->worker = std::make_unique<FrameWorker>(
-        [impl = impl_.get()](const FrameView& f) { impl->process(f); });
+  const SystemConfig& sc = config.system;
+  if (sc.deterministic) {
+    if (sc.tracking_cpu >= 0 || sc.mapping_cpu >= 0)
+      spdlog::warn(
+          "system.tracking_cpu / system.mapping_cpu are ignored in deterministic mode (every "
+          "stage runs on the caller's thread)");
+    return;
   }
+  // Tracking on the frame worker's thread, mapping on the odometry's mapping thread.
+  impl_->odometry.startMappingThread([impl = impl_.get()](const KeyframeEvent& e) {
+    if (impl->listener) impl->listener->onKeyframe(e);
+  });
+  pinThreadToCpu(impl_->odometry.mappingThreadHandle(), sc.mapping_cpu, "mapping");
+  FrameWorkerOptions options;
+  options.pool_size = sc.frame_pool_size;
+  options.width = impl_->input_width;
+  options.height = impl_->input_height;
+  options.live = sc.live;
+  options.cpu = sc.tracking_cpu;
+  impl_->worker = std::make_unique<FrameWorker>(
+      [impl = impl_.get()](const FrameView& f, std::int64_t submitted_ns) {
+        impl->process(f, submitted_ns);
+      },
+      options);
 }
 
 System::~System() {
@@ -131,7 +180,7 @@ void System::submit(const FrameView& frame) {
   if (impl_->worker) {
     impl_->worker->push(frame);
   } else {
-    impl_->process(frame);
+    impl_->process(frame, steadyNowNs());
   }
 }
 
@@ -144,8 +193,13 @@ void System::finish() {
 }
 
 TrackingStatus System::status() const {
-  std::lock_guard<std::mutex> lock(impl_->mutex);
-  return impl_->odometry.status();
+  return impl_->status.load(std::memory_order_acquire);
+}
+
+std::optional<StampedPose> System::latestPose() const {
+  StampedPose pose;
+  if (!impl_->latest_pose.readLatest(pose)) return std::nullopt;
+  return pose;
 }
 
 Trajectory System::trajectory() const {
@@ -166,16 +220,39 @@ std::vector<MapPoint> System::mapPoints() const {
 }
 
 SystemStats System::stats() const {
-  std::lock_guard<std::mutex> lock(impl_->mutex);
   SystemStats s;
-  s.frames = impl_->frames;
-  s.tracked_frames = impl_->tracked;
-  s.keyframes = impl_->odometry.keyframes();
-  s.initializations = impl_->odometry.initializations();
-  s.tracking_losses = impl_->odometry.losses();
-  s.rejected_frames = impl_->rejected;
-  s.stages = impl_->odometry.timings();
-  s.loops = impl_->odometry.loops();
+  StageTimer latency({}, 0);
+  {
+    std::lock_guard<std::mutex> lock(impl_->mutex);
+    s.frames = impl_->frames;
+    s.tracked_frames = impl_->tracked;
+    s.keyframes = impl_->odometry.keyframes();
+    s.initializations = impl_->odometry.initializations();
+    s.tracking_losses = impl_->odometry.losses();
+    s.rejected_frames = impl_->rejected;
+    s.stages = impl_->odometry.timings();
+    s.loops = impl_->odometry.loops();
+    latency = impl_->latency;  // copied under the lock, summarised outside it
+    s.max_mapping_backlog = impl_->max_backlog;
+    s.mean_mapping_backlog =
+        impl_->backlog_samples > 0
+            ? static_cast<double>(impl_->backlog_sum) / static_cast<double>(impl_->backlog_samples)
+            : 0.0;
+  }
+  // Read after `frames`: submitted >= frames + dropped holds in every snapshot.
+  if (impl_->worker) {
+    const FrameWorkerCounts c = impl_->worker->counts();
+    s.submitted_frames = c.submitted;
+    s.dropped_frames = c.dropped;
+    s.queue_capacity = c.queue_capacity;
+    s.max_queue_depth = c.max_queue_depth;
+    s.mean_queue_depth = c.mean_queue_depth;
+  } else {
+    s.submitted_frames = s.frames;
+  }
+  s.mapping_backlog = static_cast<int>(impl_->odometry.mappingBacklog());
+  for (StageTiming& t : latency.summary())
+    if (impl_->worker || t.stage != "queue_wait") s.latency.push_back(std::move(t));
   return s;
 }
 
