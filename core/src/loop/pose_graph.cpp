@@ -33,6 +33,9 @@ void packSim3(const Sim3d& S, double* p) {
   p[7] = std::log(S.scale());
 }
 
+constexpr double kMaxRotationStep = 3.14159265358979;  // radians per manifold step
+constexpr double kMaxLogScaleStep = 10.0;              // log scale per manifold step
+
 // Left perturbation S <- exp(d) * S on the 8-number storage. The Jacobians of the cost function
 // are given directly in the tangent space (7 columns, the 8th zero), so the plus Jacobian is the
 // lifting [I; 0] (and the minus Jacobian its transpose).
@@ -41,10 +44,20 @@ class Sim3LeftManifold final : public ceres::Manifold {
   int AmbientSize() const override { return 8; }
   int TangentSize() const override { return 7; }
   bool Plus(const double* x, const double* delta, double* x_plus_delta) const override {
-    const Eigen::Map<const Vector7d> d(delta);
+    // A trial step can be huge (Ceres evaluates Plus(x, -gradient) to test convergence):
+    // exp() of it would overflow the scale or wrap the rotation, and inf/NaN is carried on
+    // differently by different platforms' arithmetic (it stopped the solver on AArch64). The
+    // step is shortened along its direction to at most pi of rotation and e^10 of scale.
+    Vector7d d = Eigen::Map<const Vector7d>(delta);
+    for (int i = 0; i < 7; ++i)
+      if (!std::isfinite(d[i])) d[i] = 0.0;
+    const double excess = std::max(
+        {d.segment<3>(3).norm() / kMaxRotationStep, std::abs(d[6]) / kMaxLogScaleStep, 1.0});
+    d /= excess;
     packSim3(Sim3d::exp(d) * unpackSim3(x), x_plus_delta);
     return true;
   }
+
   bool PlusJacobian(const double* /*x*/, double* jacobian) const override {
     Eigen::Map<Eigen::Matrix<double, 8, 7, Eigen::RowMajor>> J(jacobian);
     J.setZero();

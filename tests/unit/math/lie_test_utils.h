@@ -14,6 +14,15 @@ namespace ldsm::test {
 inline constexpr double kNumericStep = 1e-6;
 inline constexpr double kJacobianTolerance = 1e-7;
 
+/// Factor on the float-vs-double tolerances: Eigen's ARMv7 NEON float division and square root
+/// are refined reciprocal estimates (measured up to ~2e-5 off in 4x4 matrices, against ~1e-7
+/// for IEEE float elsewhere).
+#if defined(__arm__) && !defined(__aarch64__) && defined(__ARM_NEON)
+inline constexpr double kFloatSlack = 20.0;
+#else
+inline constexpr double kFloatSlack = 1.0;
+#endif
+
 /// J(i, j) = (f(x + h e_j) - f(x - h e_j))_i / 2h.
 inline Eigen::MatrixXd numericJacobian(
     const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& f, const Eigen::VectorXd& x,

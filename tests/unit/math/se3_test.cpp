@@ -149,13 +149,13 @@ TEST(SE3, FloatAgreesWithDouble) {
     const SE3d Td = SE3d::exp(x);
     const SE3f Tf = SE3f::exp(x.cast<float>());
     const Vector3d p = rnd.vector<3>(2.0);
-    EXPECT_LT(maxAbsDiff(Tf.matrix(), Td.matrix()), 2e-6) << angle;
-    EXPECT_LT(maxAbsDiff(Tf.log(), Td.log()), 1e-5) << angle;
-    EXPECT_LT(maxAbsDiff(Tf * p.cast<float>(), Td * p), 1e-5) << angle;
+    EXPECT_LT(maxAbsDiff(Tf.matrix(), Td.matrix()), test::kFloatSlack * 2e-6) << angle;
+    EXPECT_LT(maxAbsDiff(Tf.log(), Td.log()), test::kFloatSlack * 1e-5) << angle;
+    EXPECT_LT(maxAbsDiff(Tf * p.cast<float>(), Td * p), test::kFloatSlack * 1e-5) << angle;
     EXPECT_LT(maxAbsDiff(SE3f::leftJacobianInverse(x.cast<float>()), SE3d::leftJacobianInverse(x)),
-              1e-5)
+              test::kFloatSlack * 1e-5)
         << angle;
-    EXPECT_LT(maxAbsDiff(Td.cast<float>().matrix(), Td.matrix()), 1e-6);
+    EXPECT_LT(maxAbsDiff(Td.cast<float>().matrix(), Td.matrix()), test::kFloatSlack * 1e-6);
   }
 }
 

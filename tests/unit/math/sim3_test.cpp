@@ -212,10 +212,12 @@ TEST(Sim3, FloatAgreesWithDouble) {
       const Sim3d Td = Sim3d::exp(x);
       const Sim3f Tf = Sim3f::exp(x.cast<float>());
       const Vector3d p = rnd.vector<3>(2.0);
-      EXPECT_LT(maxAbsDiff(Tf.matrix(), Td.matrix()), 5e-6) << angle << " " << sigma;
-      EXPECT_LT(maxAbsDiff(Tf.log(), Td.log()), 2e-5) << angle << " " << sigma;
-      EXPECT_LT(maxAbsDiff(Tf * p.cast<float>(), Td * p), 2e-5) << angle << " " << sigma;
-      EXPECT_LT(maxAbsDiff(Td.cast<float>().matrix(), Td.matrix()), 2e-6);
+      EXPECT_LT(maxAbsDiff(Tf.matrix(), Td.matrix()), test::kFloatSlack * 5e-6)
+          << angle << " " << sigma;
+      EXPECT_LT(maxAbsDiff(Tf.log(), Td.log()), test::kFloatSlack * 2e-5) << angle << " " << sigma;
+      EXPECT_LT(maxAbsDiff(Tf * p.cast<float>(), Td * p), test::kFloatSlack * 2e-5)
+          << angle << " " << sigma;
+      EXPECT_LT(maxAbsDiff(Td.cast<float>().matrix(), Td.matrix()), test::kFloatSlack * 2e-6);
     }
   }
 }

@@ -156,14 +156,15 @@ TEST(SO3, FloatAgreesWithDouble) {
     const Vector3d w = rnd.rotationVector(angle, angle);
     const SO3d Rd = SO3d::exp(w);
     const SO3f Rf = SO3f::exp(w.cast<float>());
-    EXPECT_LT(maxAbsDiff(Rf.matrix(), Rd.matrix()), 1e-6) << angle;
-    EXPECT_LT(maxAbsDiff(Rf.log(), Rd.log()), 2e-6) << angle;
+    EXPECT_LT(maxAbsDiff(Rf.matrix(), Rd.matrix()), test::kFloatSlack * 1e-6) << angle;
+    EXPECT_LT(maxAbsDiff(Rf.log(), Rd.log()), test::kFloatSlack * 2e-6) << angle;
     EXPECT_LT(maxAbsDiff(SO3f::leftJacobianInverse(w.cast<float>()), SO3d::leftJacobianInverse(w)),
-              2e-6)
+              test::kFloatSlack * 2e-6)
         << angle;
-    EXPECT_LT(maxAbsDiff(SO3f::rightJacobian(w.cast<float>()), SO3d::rightJacobian(w)), 2e-6)
+    EXPECT_LT(maxAbsDiff(SO3f::rightJacobian(w.cast<float>()), SO3d::rightJacobian(w)),
+              test::kFloatSlack * 2e-6)
         << angle;
-    EXPECT_LT(maxAbsDiff(Rd.cast<float>().matrix(), Rd.matrix()), 1e-6);
+    EXPECT_LT(maxAbsDiff(Rd.cast<float>().matrix(), Rd.matrix()), test::kFloatSlack * 1e-6);
   }
 }
 
