@@ -1,0 +1,66 @@
+#!/usr/bin/env bash
+# Cross-builds ldsm for an ARM target and runs its tests under qemu-user, from a fresh Debian 12
+# x86-64 machine (root or sudo):
+#
+#   bash scripts/cross-test.sh aarch64     # everything: libraries, loop closure, ldsm tool, all tests
+#   bash scripts/cross-test.sh armhf       # ARMv7 + NEON: everything built, the unit tests run
+#
+# Steps: installs the host packages and makes the target sysroot (toolchains/prepare-sysroot.sh,
+# cached in ${LDSM_CROSS_CACHE:-$HOME/.cache/ldsm-cross}/<arch>), configures with
+# toolchains/<triplet>.cmake into build-<arch>, builds, runs ctest (every test executable runs
+# under qemu-<arch>-static; see docs/arm.md).
+#
+# Environment: BUILD_DIR (default build-<arch>), JOBS (default: nproc), NICE (default 0: niceness
+# of the build and tests), LDSM_CROSS_BENCH=1 also builds the benchmarks, LDSM_CROSS_SKIP_LABELS (a
+# ctest -LE regex of test labels, i.e. tests/ folders, not to run; armhf default: see below),
+# LDSM_CROSS_EXCLUDE (a ctest -E regex of tests not to run; default: the known ARM failures below).
+# Extra arguments go to ctest.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+[ $# -ge 1 ] || { echo "usage: $0 aarch64|armhf [ctest arguments...]" >&2; exit 2; }
+arch=$1
+shift
+case $arch in
+  aarch64 | arm64) arch=aarch64 toolchain=toolchains/aarch64-linux-gnu.cmake
+    default_skip="" ;;
+  armhf | armv7) arch=armhf toolchain=toolchains/arm-linux-gnueabihf.cmake
+    # Under qemu-arm: the unit tests (every tests/unit folder) and the package test; the system
+    # tests (whole SLAM runs, label "system") are left to aarch64, which runs the same kernels.
+    default_skip="^system$" ;;
+  *) echo "usage: $0 aarch64|armhf [ctest arguments...]" >&2; exit 2 ;;
+esac
+
+# Not run under emulation, on every ARM target (see docs/arm.md):
+#  * RealtimeReplay.{One,Four}TimesRealTime...: need the machine's real speed (qemu is ~10x slower;
+#    most frames are dropped, as they should be). They run natively on a board.
+known_arm_failures='^RealtimeReplay\.(One|Four)TimesRealTimeMatchesOffline$'
+exclude=${LDSM_CROSS_EXCLUDE-$known_arm_failures}
+
+BUILD_DIR=${BUILD_DIR:-build-$arch}
+JOBS=${JOBS:-$(nproc)}
+NICE=${NICE:-0}
+skip_labels=${LDSM_CROSS_SKIP_LABELS-$default_skip}
+bench=OFF
+[ "${LDSM_CROSS_BENCH:-0}" = 1 ] && bench=ON
+
+start=$(date +%s)
+stamp() { echo "cross-test.sh: $1 ($(( $(date +%s) - start )) s)"; }
+
+sysroot=$(bash toolchains/prepare-sysroot.sh "$arch" | tail -n 1)
+stamp "sysroot $sysroot ready"
+
+nice -n "$NICE" cmake -S . -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE=Release \
+  -DCMAKE_TOOLCHAIN_FILE="$PWD/$toolchain" -DLDSM_SYSROOT="$sysroot" -DLDSM_WERROR=ON \
+  -DLDSM_BUILD_BENCH="$bench"
+nice -n "$NICE" cmake --build "$BUILD_DIR" -j "$JOBS"
+stamp "built $BUILD_DIR"
+
+ctest_args=(--test-dir "$BUILD_DIR" --output-on-failure -j "$JOBS" --timeout 1800)
+[ -n "$skip_labels" ] && ctest_args+=(-LE "$skip_labels")
+if [ -n "$exclude" ]; then
+  ctest_args+=(-E "$exclude")
+  echo "cross-test.sh: NOT RUN (known ARM failures, LDSM_CROSS_EXCLUDE): $exclude"
+fi
+nice -n "$NICE" ctest "${ctest_args[@]}" "$@"
+stamp "ctest passed under qemu ($arch)"
