@@ -6,10 +6,6 @@
 //   bench_sequences [--data DIR] [--only NAME[,NAME...]] [--check]
 //
 // Deterministic mode, one thread. --check exits non-zero when a target is missed.
-#include <sys/resource.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <spdlog/spdlog.h>
 
 #include <cmath>
@@ -27,6 +23,7 @@
 #include "ldsm/error.h"
 #include "ldsm/eval/ate.h"
 #include "ldsm/system.h"
+#include "run_in_child.h"
 
 namespace {
 
@@ -142,35 +139,16 @@ int main(int argc, char** argv) {
                   s.folder.c_str());
       continue;
     }
-    std::fflush(stdout);
-    int fd[2];
-    if (pipe(fd) != 0) return 2;
-    const pid_t pid = fork();
-    if (pid == 0) {
-      close(fd[0]);
-      Result r;
-      try {
-        r = runSequence(s, data);
-      } catch (const std::exception& e) {
-        std::snprintf(r.error, sizeof(r.error), "%s", e.what());
-      }
-      if (write(fd[1], &r, sizeof(r)) != static_cast<ssize_t>(sizeof(r))) _exit(3);
-      _exit(0);
-    }
-    close(fd[1]);
     Result r;
-    const bool got = read(fd[0], &r, sizeof(r)) == static_cast<ssize_t>(sizeof(r));
-    close(fd[0]);
-    int status = 0;
-    rusage usage{};
-    wait4(pid, &status, 0, &usage);
-    const double rss = static_cast<double>(usage.ru_maxrss) / 1024.0;
-    if (!got) {
-      std::printf("%-20s crashed (status %d)\n", s.name.c_str(), status);
+    double rss = 0.0;
+    const ldsm::bench::ChildStatus status =
+        ldsm::bench::runInChild([&](Result& out) { out = runSequence(s, data); }, r, rss);
+    if (status == ldsm::bench::ChildStatus::kCrashed) {
+      std::printf("%-20s crashed\n", s.name.c_str());
       all_ok = false;
       continue;
     }
-    if (r.error[0]) {
+    if (status == ldsm::bench::ChildStatus::kError) {
       std::printf("%-20s error: %s\n", s.name.c_str(), r.error);
       all_ok = false;
       continue;

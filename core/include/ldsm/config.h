@@ -161,6 +161,9 @@ struct InitializerConfig {
   double min_rotation_free_parallax_px = 1.5;
   int confirm_frames = 5;      ///< frames the parallax must hold before the map is accepted
   double point_density = 2.0;  ///< initializer points per points.points_per_keyframe
+  /// Motion hypotheses tracked from the reference (at rest, small +-x, +-y, +-z translations);
+  /// the one with the lowest photometric error wins. 1: start at rest only.
+  int hypotheses = 7;
 
   template <typename V>
   void visit(V& v) {
@@ -174,6 +177,9 @@ struct InitializerConfig {
             "frames the parallax must hold before the initial map is accepted");
     v.field("point_density", point_density, Range<double>{0.1, 20.0},
             "points of the initializer's reference, per points.points_per_keyframe");
+    v.field("hypotheses", hypotheses, Range<int>{1, 7},
+            "motion hypotheses tracked during initialisation (at rest, +-x, +-y, +-z); the one "
+            "with the lowest photometric error wins");
   }
 };
 

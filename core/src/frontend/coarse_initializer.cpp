@@ -153,8 +153,8 @@ void CoarseInitializer::checkFrame(const ImagePyramid& pyramid, double exposure)
                                                  std::to_string(pyramid.height(0))) +
                      ", the camera is " + std::to_string(width_) + "x" + std::to_string(height_));
   }
-  const bool tracking =
-      status_ == InitStatus::kWaitingForParallax || status_ == InitStatus::kConfirming;
+  const bool tracking = status_ == InitStatus::kWaitingForParallax ||
+                        status_ == InitStatus::kConfirming || status_ == InitStatus::kComplete;
   if (tracking && pyramid.levels() < levels_) {
     throw InputError("coarse initializer: frame pyramid has " + std::to_string(pyramid.levels()) +
                      " levels, the reference had " + std::to_string(levels_));
@@ -167,7 +167,8 @@ void CoarseInitializer::checkFrame(const ImagePyramid& pyramid, double exposure)
 
 bool CoarseInitializer::addFrame(const ImagePyramid& pyramid, double exposure) {
   checkFrame(pyramid, exposure);
-  if (status_ != InitStatus::kWaitingForParallax && status_ != InitStatus::kConfirming) {
+  if (status_ != InitStatus::kWaitingForParallax && status_ != InitStatus::kConfirming &&
+      status_ != InitStatus::kComplete) {
     setReference(pyramid, exposure);
     return false;
   }
@@ -175,6 +176,32 @@ bool CoarseInitializer::addFrame(const ImagePyramid& pyramid, double exposure) {
   ++frames_;
   decide();
   return status_ == InitStatus::kComplete;
+}
+
+void CoarseInitializer::releaseMemory() {
+  reset();
+  for (Level& L : levels_data_) L = Level{};
+  levels_ = 0;
+  std::vector<float>().swap(sort_scratch_);
+  std::vector<InitializedPoint>().swap(result_.points);
+}
+
+void CoarseInitializer::adoptReference(const CoarseInitializer& primary,
+                                       const Eigen::Vector3d& seed) {
+  if (&primary == this) return;
+  if (primary.width_ != width_ || primary.height_ != height_ || primary.frames_ != 0 ||
+      primary.status_ != InitStatus::kWaitingForParallax || !seed.allFinite()) {
+    throw InputError("coarse initializer: can only adopt a fresh reference of the same size");
+  }
+  reset();
+  levels_ = primary.levels_;
+  for (int lvl = 0; lvl < levels_; ++lvl) levels_data_[lvl] = primary.levels_data_[lvl];
+  exposure_ref_ = primary.exposure_ref_;
+  T_ = SE3d(SO3d(), seed);
+  affine_ = AffineLight{};
+  sort_scratch_.reserve(levels_data_[0].u.size());
+  result_.points.reserve(levels_data_[0].u.size());
+  status_ = InitStatus::kWaitingForParallax;
 }
 
 void CoarseInitializer::fail(InitFailure failure) {
@@ -295,8 +322,8 @@ void CoarseInitializer::trackFrame(const ImagePyramid& pyramid, double exposure)
   frame_ = &pyramid;
   exposure_frame_ = exposure;
   exposure_ratio_ = static_cast<float>(exposure / exposure_ref_);
-  smoothness_weight_ = status_ == InitStatus::kConfirming ? settings_.smoothness_weight_parallax
-                                                          : settings_.smoothness_weight;
+  const bool waiting = status_ == InitStatus::kWaitingForParallax;
+  smoothness_weight_ = waiting ? settings_.smoothness_weight : settings_.smoothness_weight_parallax;
   // The previous frame's estimate is the initial guess (no constant-velocity extrapolation:
   // before the parallax is real, the estimated motion is mostly noise and would be amplified).
   stats_.iterations = 0;

@@ -61,12 +61,24 @@ class CoarseInitializer {
 
   /// Feeds one frame (exposure time `exposure`, 1 when unknown). The first frame (and the first
   /// after a failure or reset()) becomes the reference. Returns true when the initialisation is
-  /// complete: result() is then valid. Throws InputError when the pyramid does not match the
+  /// complete: result() is then valid. Frames fed after completion are tracked too (the result
+  /// follows them) until reset(). Throws InputError when the pyramid does not match the
   /// camera's size, has too few levels, or the exposure is not a positive finite number.
   bool addFrame(const ImagePyramid& pyramid, double exposure);
 
   /// Starts over: the next frame becomes the reference.
   void reset();
+
+  /// Takes `primary`'s reference (its points, levels and exposure; `primary` must have just set
+  /// it, i.e. framesTracked() == 0) and starts tracking from the motion guess (identity rotation,
+  /// translation `seed` in units of the mean inverse depth), so that several hypotheses can
+  /// explore different basins of the same reference (InitializerHypotheses).
+  void adoptReference(const CoarseInitializer& primary, const Eigen::Vector3d& seed);
+  /// reset() and give the reference's memory back (it is allocated again with the next one).
+  void releaseMemory();
+  /// Photometric cost of every level-0 point in the last frame (outliers at the cap): comparable
+  /// between initializers that share a reference and saw the same frame.
+  double photometricEnergy() const { return eval_.photo_all; }
 
   InitStatus status() const { return status_; }
   InitFailure failure() const { return failure_; }
@@ -102,6 +114,7 @@ class CoarseInitializer {
     Eigen::Matrix<double, 8, 1> b;
     double energy = 0;       ///< total: photometric (capped) + priors
     double photo_good = 0;   ///< Huber cost of inlier points
+    double photo_all = 0;    ///< photometric cost of all points (outliers at the cap)
     int good = 0;            ///< inlier points
     double flow_sq_sum = 0;  ///< sum over inliers of squared translation flow (level-0 pixels)
     bool finite = true;

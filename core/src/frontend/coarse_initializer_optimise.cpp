@@ -60,6 +60,7 @@ void CoarseInitializer::evaluate(int lvl, const SE3d& T, const AffineLight& affi
   out.b.setZero();
   out.energy = 0;
   out.photo_good = 0;
+  out.photo_all = 0;
   out.good = 0;
   out.flow_sq_sum = 0;
   out.finite = true;
@@ -128,10 +129,12 @@ void CoarseInitializer::evaluate(int lvl, const SE3d& T, const AffineLight& affi
     if (ok && !std::isfinite(e)) out.finite = false;
     if (!ok || !(e <= cap)) {
       out.energy += cap;
+      out.photo_all += cap;
       continue;
     }
     out.energy += e;
     out.photo_good += e;
+    out.photo_all += e;
     ++out.good;
     good[i] = 1;
     P.energy = e;

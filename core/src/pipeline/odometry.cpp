@@ -28,7 +28,8 @@ Odometry::Odometry(const Config& config, const GeometricCalibration& geometric,
       initializer_(camera_, CoarseInitializerSettings::fromConfig(
                                 config, camera_.levels(),
                                 preprocessor_.photometricallyCalibrated() &&
-                                    config.photometric.use_exposure)),
+                                    config.photometric.use_exposure),
+                   config.initializer.hypotheses),
       tracker_(config, camera_,
                preprocessor_.photometricallyCalibrated() && config.photometric.use_exposure),
       timer_({"preprocess", "initialize", "track", "trace", "mapping", "total"}, 20000),

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "backend/mapper.h"
-#include "frontend/coarse_initializer.h"
+#include "frontend/initializer_hypotheses.h"
 #include "frontend/frame_tracker.h"
 #include "ldsm/events.h"
 #include "ldsm/system.h"
@@ -108,7 +108,7 @@ class Odometry {
   PyramidCamera camera_;
   MapStore store_;
   Mapper mapper_;
-  CoarseInitializer initializer_;
+  InitializerHypotheses initializer_;
   FrameTracker tracker_;
   StageTimer timer_;
   TrackingStatus status_ = TrackingStatus::Initializing;

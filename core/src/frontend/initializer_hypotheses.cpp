@@ -1,0 +1,188 @@
+#include "frontend/initializer_hypotheses.h"
+
+#include <spdlog/spdlog.h>
+
+#include <cmath>
+#include <string>
+
+#include "ldsm/error.h"
+
+namespace ldsm {
+
+namespace {
+
+constexpr double kRadToDeg = 57.29577951308232;
+
+double angleBetweenDeg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const double na = a.norm(), nb = b.norm();
+  if (!(na > 0.0) || !(nb > 0.0)) return 180.0;
+  return std::acos(std::clamp(a.dot(b) / (na * nb), -1.0, 1.0)) * kRadToDeg;
+}
+
+bool seesParallax(const CoarseInitializer& h) {
+  return h.status() == InitStatus::kConfirming || h.status() == InitStatus::kComplete;
+}
+
+}  // namespace
+
+Eigen::Vector3d InitializerHypotheses::seed(int i) {
+  if (i <= 0 || i >= kMaxHypotheses) return Eigen::Vector3d::Zero();
+  Eigen::Vector3d s = Eigen::Vector3d::Zero();
+  s((i - 1) / 2) = (i % 2 == 1 ? 1.0 : -1.0) * kSeedLength;
+  return s;
+}
+
+InitializerHypotheses::InitializerHypotheses(const PyramidCamera& camera,
+                                             const CoarseInitializerSettings& settings,
+                                             int hypotheses) {
+  if (hypotheses < 1 || hypotheses > kMaxHypotheses) {
+    throw ConfigError("initializer.hypotheses must be in [1, " + std::to_string(kMaxHypotheses) +
+                      "] (got " + std::to_string(hypotheses) + ")");
+  }
+  members_.resize(static_cast<std::size_t>(hypotheses));
+  // Only the first selects reference points; the others adopt them.
+  CoarseInitializerSettings follower = settings;
+  follower.use_pixel_selector = false;
+  for (int i = 0; i < hypotheses; ++i) {
+    members_[static_cast<std::size_t>(i)].initializer =
+        std::make_unique<CoarseInitializer>(camera, i == 0 ? settings : follower);
+  }
+}
+
+void InitializerHypotheses::reset() {
+  for (std::size_t i = 0; i < members_.size(); ++i) {
+    // The followers' copies of the reference are big (about 2 MB each at 1232x368); the map
+    // needs that memory more once it exists.
+    if (i == 0) {
+      members_[i].initializer->reset();
+    } else {
+      members_[i].initializer->releaseMemory();
+    }
+    members_[i].alive = false;
+  }
+  status_ = InitStatus::kNoReference;
+  failure_ = InitFailure::kNone;
+  frames_ = 0;
+  leader_ = 0;
+}
+
+int InitializerHypotheses::alive() const {
+  int n = 0;
+  for (const Member& m : members_) n += m.alive ? 1 : 0;
+  return n;
+}
+
+const InitFrameStats& InitializerHypotheses::lastFrameStats() const {
+  return members_[static_cast<std::size_t>(leader_)].initializer->lastFrameStats();
+}
+
+const InitializationResult& InitializerHypotheses::result() const {
+  return members_[static_cast<std::size_t>(leader_)].initializer->result();
+}
+
+void InitializerHypotheses::startReference(const ImagePyramid& pyramid, double exposure) {
+  reset();
+  CoarseInitializer& primary = *members_.front().initializer;
+  primary.addFrame(pyramid, exposure);  // becomes the reference (or fails: too few points)
+  status_ = primary.status();
+  failure_ = primary.failure();
+  if (primary.failed()) return;
+  members_.front().alive = true;
+  for (std::size_t i = 1; i < members_.size(); ++i) {
+    members_[i].initializer->adoptReference(primary, seed(static_cast<int>(i)));
+    members_[i].alive = true;
+  }
+}
+
+int InitializerHypotheses::bestAlive() const {
+  int best = -1;
+  for (std::size_t i = 0; i < members_.size(); ++i) {
+    if (!members_[i].alive) continue;
+    if (best < 0 || members_[i].initializer->photometricEnergy() <
+                        members_[static_cast<std::size_t>(best)].initializer->photometricEnergy())
+      best = static_cast<int>(i);
+  }
+  return best;
+}
+
+void InitializerHypotheses::dropDuplicates() {
+  for (std::size_t i = 0; i < members_.size(); ++i) {
+    for (std::size_t j = i + 1; j < members_.size(); ++j) {
+      if (!members_[i].alive || !members_[j].alive) continue;
+      const CoarseInitializer& a = *members_[i].initializer;
+      const CoarseInitializer& b = *members_[j].initializer;
+      const double rot =
+          (a.currentPose().so3().inverse() * b.currentPose().so3()).log().norm() * kRadToDeg;
+      const double dir =
+          angleBetweenDeg(a.currentPose().translation(), b.currentPose().translation());
+      if (rot > kSameRotationDeg || dir > kSameDirectionDeg) continue;
+      const std::size_t worse = a.photometricEnergy() <= b.photometricEnergy() ? j : i;
+      members_[worse].alive = false;
+      spdlog::trace("initializer hypothesis {} joins another one: dropped", worse);
+    }
+  }
+}
+
+void InitializerHypotheses::dropHopeless() {
+  const int best = bestAlive();
+  if (best < 0) return;
+  const CoarseInitializer& b = *members_[static_cast<std::size_t>(best)].initializer;
+  if (!seesParallax(b)) return;
+  for (std::size_t i = 0; i < members_.size(); ++i) {
+    const CoarseInitializer& h = *members_[i].initializer;
+    if (!members_[i].alive || static_cast<int>(i) == best || !seesParallax(h)) continue;
+    if (h.photometricEnergy() > kDropEnergyRatio * b.photometricEnergy()) {
+      members_[i].alive = false;
+      spdlog::trace("initializer hypothesis {}: energy {:.0f} against {:.0f}: dropped", i,
+                    h.photometricEnergy(), b.photometricEnergy());
+    }
+  }
+}
+
+bool InitializerHypotheses::addFrame(const ImagePyramid& pyramid, double exposure) {
+  const bool tracking = status_ == InitStatus::kWaitingForParallax ||
+                        status_ == InitStatus::kConfirming || status_ == InitStatus::kComplete;
+  if (!tracking) {
+    startReference(pyramid, exposure);
+    return false;
+  }
+  ++frames_;
+  for (std::size_t i = 0; i < members_.size(); ++i) {
+    Member& m = members_[i];
+    if (!m.alive) continue;
+    m.initializer->addFrame(pyramid, exposure);
+    if (m.initializer->failed()) {
+      m.alive = false;
+      if (i == 0 || failure_ == InitFailure::kNone) failure_ = m.initializer->failure();
+    }
+    if (spdlog::should_log(spdlog::level::trace)) {
+      const CoarseInitializer& h = *m.initializer;
+      const Eigen::Vector3d w = h.currentPose().so3().log() * kRadToDeg;
+      const Eigen::Vector3d t = h.currentPose().translation().normalized();
+      const InitFrameStats& s = h.lastFrameStats();
+      spdlog::trace(
+          "initializer frame {} hypothesis {}: {}, energy {:.0f}, flow {:.2f}, parallax {:.2f}, "
+          "rms {:.2f}, rotation [{:.3f} {:.3f} {:.3f}] deg, direction [{:.2f} {:.2f} {:.2f}]",
+          frames_, i, toString(h.status()), h.photometricEnergy(), s.flow_translation, s.parallax,
+          s.rms_residual, w.x(), w.y(), w.z(), t.x(), t.y(), t.z());
+    }
+  }
+  dropDuplicates();
+  dropHopeless();
+  const int best = bestAlive();
+  if (best < 0) {
+    status_ = InitStatus::kFailed;
+    if (failure_ == InitFailure::kNone) failure_ = InitFailure::kLostTrack;
+    return false;
+  }
+  leader_ = best;
+  status_ = members_[static_cast<std::size_t>(best)].initializer->status();
+  failure_ = InitFailure::kNone;
+  if (status_ == InitStatus::kComplete && leader_ != 0) {
+    spdlog::debug("initializer: motion hypothesis {} (seed [{} {} {}]) wins", leader_,
+                  seed(leader_).x(), seed(leader_).y(), seed(leader_).z());
+  }
+  return status_ == InitStatus::kComplete;
+}
+
+}  // namespace ldsm
