@@ -7,6 +7,8 @@
 #include <cmath>
 #include <limits>
 
+#include "backend/corner_depths.h"
+
 namespace ldsm {
 namespace {
 
@@ -249,6 +251,24 @@ void Mapper::marginalizeFrame(int window_index) {
       finished.push_back(worldPoint(*p));
       hosts.push_back(p->host->id());
     }
+  }
+  if (on_leaving_) {
+    // Loop closure describes the keyframe: more corners than the odometry's (weaker ones too),
+    // then depths for as many as possible.
+    selector_.detectCorners(f.pyramid(), kLoopCorners, kLoopCornerMinScore, loop_corners_);
+    const std::size_t own = f.corners.size();
+    for (const Corner& c : loop_corners_) {
+      bool taken = false;
+      for (std::size_t i = 0; i < own && !taken; ++i)
+        taken = (f.corners[i] - Eigen::Vector2f(c.u, c.v)).squaredNorm() < 16.f;
+      if (!taken) f.corners.emplace_back(c.u, c.v);
+    }
+    const CornerDepthFill fill = fillCornerDepths(f, window_, camera_[0]);
+    spdlog::debug(
+        "keyframe {} leaves: {} odometry + {} more corners ({} detected); depths: {} own, {} "
+        "immature, {} nearby, {} none",
+        f.id(), own, f.corners.size() - own, loop_corners_.size(), fill.from_points,
+        fill.from_immature, fill.from_neighbours, fill.without);
   }
   optimizer_.marginalizePoints(view, to_prior, prior_);
   f.points.clear();

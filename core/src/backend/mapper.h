@@ -114,6 +114,11 @@ class Mapper {
   std::uint64_t next_point_id_ = 0;
   float min_activation_distance_ = 2.f;
   std::function<void(const WindowKeyframe&)> on_leaving_;
+  /// Corners detected on a keyframe leaving the window, for loop closure (at most kLoopCorners,
+  /// Shi-Tomasi score >= kLoopCornerMinScore, i.e. a gradient of 3 grey levels per pixel).
+  static constexpr int kLoopCorners = 400;
+  static constexpr float kLoopCornerMinScore = 9.f;
+  std::vector<Corner> loop_corners_;
 };
 
 }  // namespace ldsm

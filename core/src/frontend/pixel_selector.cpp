@@ -291,4 +291,16 @@ bool PixelSelector::pickCoarse(int level, int x0, int x1, int y0, int y1, unsign
   return true;
 }
 
+int PixelSelector::detectCorners(const ImagePyramid& pyramid, int max_corners, float min_score,
+                                 std::vector<Corner>& out) {
+  if (pyramid.levels() < 1 || pyramid.width(0) != width_ || pyramid.height(0) != height_)
+    throw InputError("pixel selector: pyramid size differs from the selector's");
+  CornerParams params;
+  params.max_corners = max_corners;
+  params.min_score = min_score;
+  params.min_distance = kCornerMinDistance;
+  params.border = kCornerBorder;
+  return corner_detector_.detect(pyramid.gradients(0), params, out);
+}
+
 }  // namespace ldsm

@@ -62,6 +62,13 @@ class PixelSelector {
   /// density_factor is not a positive finite number.
   int select(const ImagePyramid& pyramid, float density_factor, std::vector<SelectedPixel>& out);
 
+  /// More corners than the odometry wants, for place recognition: up to `max_corners` Shi-Tomasi
+  /// corners of the pyramid's level 0 with score >= min_score (same spacing and border as the
+  /// selection's corners), strongest first, into `out`. Reuses the selector's detector buffers;
+  /// does not change the last select()'s results.
+  int detectCorners(const ImagePyramid& pyramid, int max_corners, float min_score,
+                    std::vector<Corner>& out);
+
   /// Cell size d (level-0 pixels) of the pass that was used by the last select().
   float lastCellSize() const { return last_cell_size_; }
   /// Number of corners in the last select().
