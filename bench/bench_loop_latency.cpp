@@ -18,17 +18,14 @@
 #include <string>
 #include <vector>
 
-#include "ldsm/drivers/dataset_calibration.h"
-#include "ldsm/drivers/dataset_description.h"
-#include "ldsm/drivers/dataset_source.h"
+#include "bench_input.h"
 #include "ldsm/drivers/realtime_replay_source.h"
-#include "ldsm/drivers/sim/sim_source.h"
-#include "ldsm/drivers/trajectory_io.h"
 #include "ldsm/eval/ate.h"
-#include "ldsm/system.h"
 #include "run_in_child.h"
 
 namespace {
+
+using ldsm::bench::cell;
 
 struct Sequence {
   std::string name;
@@ -55,27 +52,11 @@ Result runOnce(const Sequence& s, const std::string& data, bool loop, double spe
   config.system.deterministic = false;
   config.system.live = true;
   config.loop.enabled = loop;
-  std::unique_ptr<ldsm::drivers::FrameSource> inner;
-  std::unique_ptr<ldsm::System> system;
-  ldsm::Trajectory gt;
-  if (!s.scene.empty()) {
-    auto sim = std::make_unique<ldsm::drivers::sim::SimSource>(s.scene);
-    ldsm::GeometricCalibration told = sim->geometricCalibration();
-    told.input.fx *= 1.0 + s.focal_error;
-    told.input.fy *= 1.0 + s.focal_error;
-    gt = sim->groundTruth();
-    system = std::make_unique<ldsm::System>(config, told, sim->photometricCalibration());
-    inner = std::move(sim);
-  } else {
-    const auto desc = ldsm::drivers::describeDataset(data + "/" + s.folder);
-    const auto calib = ldsm::drivers::loadDatasetCalibration(desc);
-    system = std::make_unique<ldsm::System>(config, calib.geometric, calib.photometric);
-    if (!desc.groundtruth_file.empty())
-      gt = ldsm::drivers::readTrajectory(desc.groundtruth_file, desc.groundtruth_format,
-                                         &desc.timestamps);
-    inner = ldsm::drivers::openDataset(desc);
-  }
-  ldsm::drivers::RealtimeReplaySource source(std::move(inner), speed);
+  ldsm::bench::BenchInput in = ldsm::bench::openBenchInput(config, data + "/" + s.folder, s.scene,
+                                                           0, s.focal_error);
+  std::unique_ptr<ldsm::System>& system = in.system;
+  const ldsm::Trajectory& gt = in.ground_truth;
+  ldsm::drivers::RealtimeReplaySource source(std::move(in.source), speed);
   ldsm::drivers::Frame f;
   while (source.next(f)) system->submit({f.image.view(), f.timestamp, f.exposure_ms});
   system->finish();
@@ -92,13 +73,6 @@ Result runOnce(const Sequence& s, const std::string& data, bool loop, double spe
   const ldsm::Trajectory est = system->trajectory();
   if (!gt.empty() && est.size() >= 3) r.ate = ldsm::eval::computeAte(gt, est).rmse;
   return r;
-}
-
-std::string cell(double v, const char* f) {
-  if (std::isnan(v)) return "-";
-  char b[32];
-  std::snprintf(b, sizeof(b), f, v);
-  return b;
 }
 
 }  // namespace

@@ -15,17 +15,15 @@
 #include <string>
 #include <vector>
 
-#include "ldsm/drivers/dataset_calibration.h"
-#include "ldsm/drivers/dataset_description.h"
-#include "ldsm/drivers/dataset_source.h"
-#include "ldsm/drivers/sim/sim_source.h"
-#include "ldsm/drivers/trajectory_io.h"
+#include "bench_input.h"
 #include "ldsm/error.h"
 #include "ldsm/eval/ate.h"
 #include "ldsm/system.h"
 #include "run_in_child.h"
 
 namespace {
+
+using ldsm::bench::cell;
 
 struct Target {
   double ate_m = NAN;
@@ -53,26 +51,11 @@ Result runSequence(const Sequence& s, const std::string& data) {
   config.system.deterministic = true;
   // The odometry targets (issue 3) are measured without loop closure; loops have their own bench.
   config.loop.enabled = false;
-  std::unique_ptr<ldsm::drivers::FrameSource> source;
-  std::unique_ptr<ldsm::System> system;
-  ldsm::Trajectory gt;
-  if (!s.scene.empty()) {
-    ldsm::drivers::sim::SimOptions opt;
-    opt.frames = s.frames;
-    auto sim = std::make_unique<ldsm::drivers::sim::SimSource>(s.scene, opt);
-    gt = sim->groundTruth();
-    system = std::make_unique<ldsm::System>(config, sim->geometricCalibration(),
-                                            sim->photometricCalibration());
-    source = std::move(sim);
-  } else {
-    const auto desc = ldsm::drivers::describeDataset(data + "/" + s.folder);
-    const auto calib = ldsm::drivers::loadDatasetCalibration(desc);
-    system = std::make_unique<ldsm::System>(config, calib.geometric, calib.photometric);
-    if (!desc.groundtruth_file.empty())
-      gt = ldsm::drivers::readTrajectory(desc.groundtruth_file, desc.groundtruth_format,
-                                         &desc.timestamps);
-    source = ldsm::drivers::openDataset(desc);
-  }
+  ldsm::bench::BenchInput in =
+      ldsm::bench::openBenchInput(config, data + "/" + s.folder, s.scene, s.frames);
+  std::unique_ptr<ldsm::drivers::FrameSource>& source = in.source;
+  std::unique_ptr<ldsm::System>& system = in.system;
+  const ldsm::Trajectory& gt = in.ground_truth;
   ldsm::drivers::Frame f;
   while (source->next(f)) system->submit({f.image.view(), f.timestamp, f.exposure_ms});
   system->finish();
@@ -92,13 +75,6 @@ Result runSequence(const Sequence& s, const std::string& data) {
     r.path = ate.gt_path_length;
   }
   return r;
-}
-
-std::string cell(double v, const char* f) {
-  if (std::isnan(v)) return "-";
-  char b[32];
-  std::snprintf(b, sizeof(b), f, v);
-  return b;
 }
 
 }  // namespace
