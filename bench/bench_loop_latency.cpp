@@ -52,8 +52,8 @@ Result runOnce(const Sequence& s, const std::string& data, bool loop, double spe
   config.system.deterministic = false;
   config.system.live = true;
   config.loop.enabled = loop;
-  ldsm::bench::BenchInput in = ldsm::bench::openBenchInput(config, data + "/" + s.folder, s.scene,
-                                                           0, s.focal_error);
+  ldsm::bench::BenchInput in =
+      ldsm::bench::openBenchInput(config, data + "/" + s.folder, s.scene, 0, s.focal_error);
   std::unique_ptr<ldsm::System>& system = in.system;
   const ldsm::Trajectory& gt = in.ground_truth;
   ldsm::drivers::RealtimeReplaySource source(std::move(in.source), speed);

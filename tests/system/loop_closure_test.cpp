@@ -22,8 +22,7 @@ class LoopListener : public SystemListener {
 };
 
 struct Run {
-  explicit Run(const Config& config, const GeometricCalibration& g,
-               const PhotometricCalibration& p)
+  explicit Run(const Config& config, const GeometricCalibration& g, const PhotometricCalibration& p)
       : system(config, g, p) {
     system.setListener(&listener);
   }
@@ -73,11 +72,11 @@ Outcome runBoth(const std::string& scene, std::int64_t frames, double focal_erro
   o.stats = on.system.stats();
   o.loops = on.listener.loops;
   o.poses = t_on.size();
-  std::printf("%s (focal error %+.1f %%): %zu loops, ATE %.4f m with loop closure, %.4f m without "
-              "(%.1f %%), path %.1f m\n",
-              scene.c_str(), 100.0 * focal_error, o.loops.size(), o.with_loop.rmse,
-              o.without_loop.rmse, 100.0 * o.with_loop.rmse / o.without_loop.rmse,
-              o.with_loop.gt_path_length);
+  std::printf(
+      "%s (focal error %+.1f %%): %zu loops, ATE %.4f m with loop closure, %.4f m without "
+      "(%.1f %%), path %.1f m\n",
+      scene.c_str(), 100.0 * focal_error, o.loops.size(), o.with_loop.rmse, o.without_loop.rmse,
+      100.0 * o.with_loop.rmse / o.without_loop.rmse, o.with_loop.gt_path_length);
   return o;
 }
 

@@ -70,8 +70,8 @@ CornerDepthFill fillCornerDepths(WindowKeyframe& kf,
   std::size_t corner = 0;
   for (const ImmatureCandidate& c : kf.immature) {
     if (!c.is_corner) continue;
-    while (corner < n && (kf.corners[corner].x() != c.point.u() ||
-                          kf.corners[corner].y() != c.point.v()))
+    while (corner < n &&
+           (kf.corners[corner].x() != c.point.u() || kf.corners[corner].y() != c.point.v()))
       ++corner;
     if (corner >= n) break;
     float& d = kf.corner_idepth[corner];

@@ -24,10 +24,10 @@ struct CornerDepthFill {
   static constexpr int kMinNeighbours = 3;
   static constexpr float kMaxSpread = 1.25f;
 
-  int from_points = 0;     ///< corners that were active points
-  int from_immature = 0;   ///< from a converged immature point
-  int from_neighbours = 0; ///< from projected active points nearby
-  int without = 0;         ///< left without depth
+  int from_points = 0;      ///< corners that were active points
+  int from_immature = 0;    ///< from a converged immature point
+  int from_neighbours = 0;  ///< from projected active points nearby
+  int without = 0;          ///< left without depth
 };
 
 /// Fills the NaN entries of kf.corner_idepth (kf must be in `window`, its immature points and

@@ -10,8 +10,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
-#include <optional>
 #include <opencv2/imgcodecs.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -100,9 +100,10 @@ TEST(InitializerHypotheses, CorridorStartFindsTheTrueMotion) {
   int multi_frames = 0;
   const std::optional<MotionError> chosen = initialiseOnLoopCorridor(multi, &multi_frames);
   ASSERT_TRUE(chosen.has_value());
-  std::printf("7 hypotheses: frame %d, leader %d, rotation error %.3f deg, direction error %.2f "
-              "deg\n",
-              multi_frames, multi.leader(), chosen->rotation_deg, chosen->direction_deg);
+  std::printf(
+      "7 hypotheses: frame %d, leader %d, rotation error %.3f deg, direction error %.2f "
+      "deg\n",
+      multi_frames, multi.leader(), chosen->rotation_deg, chosen->direction_deg);
   EXPECT_NE(multi.leader(), 0);
   EXPECT_LT(chosen->rotation_deg, 0.1);
   EXPECT_LT(chosen->direction_deg, 2.0);
