@@ -35,8 +35,14 @@ esac
 #  * RealtimeReplay.{One,Four}TimesRealTime... and RunLiveCli.RealtimeReplayReports...: real-time
 #    replay needs the machine's real speed (qemu is ~10x slower: most frames are dropped, as they
 #    should be, and a 2-second clip never initialises). They run natively on a board.
-known_arm_failures='^(RealtimeReplay\.(One|Four)TimesRealTimeMatchesOffline|RunLiveCli\.RealtimeReplayReportsDropsAndLatencyInStatsJson)$'
-exclude=${LDSM_CROSS_EXCLUDE-$known_arm_failures}
+#  * LoopClosure.* and SimOdometry.LoopSceneFirstCornerTracks: whole-SLAM runs over 700-1800
+#    frames that take 15-95 s natively and 6-35 minutes each under qemu (the drifting-loop test
+#    hit ctest's 30-minute limit on CI). They would push the CI job past its time limit and test
+#    nothing ARM-specific that SimOdometry.ForwardCorridorIsAccurate (the end-to-end run kept under
+#    qemu), the SIMD agreement tests and the PoseGraph tests do not; they run natively.
+known_arm_failures='RealtimeReplay\.(One|Four)TimesRealTimeMatchesOffline|RunLiveCli\.RealtimeReplayReportsDropsAndLatencyInStatsJson'
+too_slow_under_emulation='LoopClosure\..*|SimOdometry\.LoopSceneFirstCornerTracks'
+exclude=${LDSM_CROSS_EXCLUDE-^($known_arm_failures|$too_slow_under_emulation)$}
 
 BUILD_DIR=${BUILD_DIR:-build-$arch}
 JOBS=${JOBS:-$(nproc)}
@@ -61,7 +67,7 @@ ctest_args=(--test-dir "$BUILD_DIR" --output-on-failure -j "$JOBS" --timeout 180
 [ -n "$skip_labels" ] && ctest_args+=(-LE "$skip_labels")
 if [ -n "$exclude" ]; then
   ctest_args+=(-E "$exclude")
-  echo "cross-test.sh: NOT RUN (known ARM failures, LDSM_CROSS_EXCLUDE): $exclude"
+  echo "cross-test.sh: NOT RUN under emulation (LDSM_CROSS_EXCLUDE): $exclude"
 fi
 nice -n "$NICE" ctest "${ctest_args[@]}" "$@"
 stamp "ctest passed under qemu ($arch)"
