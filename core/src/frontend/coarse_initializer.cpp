@@ -131,9 +131,6 @@ CoarseInitializer::CoarseInitializer(const PyramidCamera& camera,
   }
   width_ = camera[0].width;
   height_ = camera[0].height;
-  if (settings_.use_pixel_selector) {
-    selector_ = std::make_unique<PixelSelector>(width_, height_, settings_.selection);
-  }
 }
 
 void CoarseInitializer::reset() {
@@ -183,6 +180,8 @@ void CoarseInitializer::releaseMemory() {
   for (Level& L : levels_data_) L = Level{};
   levels_ = 0;
   std::vector<float>().swap(sort_scratch_);
+  selector_.reset();
+  std::vector<SelectedPixel>().swap(selected_);
   std::vector<InitializedPoint>().swap(result_.points);
 }
 
@@ -294,7 +293,10 @@ void CoarseInitializer::setReference(const ImagePyramid& pyramid, double exposur
 
 float CoarseInitializer::selectPoints(const ImagePyramid& pyramid, int lvl) {
   Level& L = levels_data_[lvl];
-  if (lvl == 0 && selector_) {
+  if (lvl == 0 && settings_.use_pixel_selector) {
+    // Made with the first reference after construction or releaseMemory() (about 9 MB of
+    // selection and corner buffers at 1232x368).
+    if (!selector_) selector_ = std::make_unique<PixelSelector>(width_, height_, settings_.selection);
     selector_->select(pyramid, settings_.selector_density, selected_);
     L.u.clear();
     L.is_corner.clear();

@@ -29,7 +29,7 @@ struct WarpedResiduals {
   std::vector<float> weight;    ///< robust (Huber) times gradient-dependent weight
   int count = 0;
 
-  /// Sizes every array for n points (the only allocation).
+  /// Sizes every array for n points (done when the tracking reference changes, never per frame).
   void allocate(std::size_t n);
 };
 

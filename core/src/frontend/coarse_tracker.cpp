@@ -131,7 +131,6 @@ CoarseTracker::CoarseTracker(int width, int height, int levels,
   if (!(settings.outlier_threshold > 0.f) || !std::isfinite(settings.outlier_threshold)) {
     throw ConfigError("coarse tracker: outlier_threshold must be finite and > 0");
   }
-  warped_.allocate(static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
 }
 
 void CoarseTracker::setReference(const ImagePyramid& reference, const PyramidCamera& camera,
@@ -147,6 +146,12 @@ void CoarseTracker::setReference(const ImagePyramid& reference, const PyramidCam
                      std::to_string(levels()) + " levels");
   }
   depth_maps_.build(points, count, reference);
+  // The residual buffer holds one level's points at a time: it grows (here, never while tracking)
+  // to the largest level seen, with a quarter of slack.
+  std::size_t most = 0;
+  for (int l = 0; l < levels(); ++l)
+    most = std::max(most, static_cast<std::size_t>(depth_maps_.points(l).count));
+  if (warped_.dx_fx.size() < most) warped_.allocate(most + most / 4);
   camera_ = camera;
   ref_exposure_ = exposure;
   ref_affine_ = affine;

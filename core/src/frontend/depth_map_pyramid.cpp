@@ -43,14 +43,7 @@ DepthMapPyramid::DepthMapPyramid(int width, int height, int levels, float max_id
     weight_sum_[l].resize(width, height);
     clear(idepth_sum_[l]);
     clear(weight_sum_[l]);
-    const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
-    LevelPoints& p = points_[l];
-    p.x.resize(n);
-    p.y.resize(n);
-    p.idepth.resize(n);
-    p.intensity.resize(n);
-    p.grad_sq.resize(n);
-    p.count = 0;
+    points_[l].count = 0;
     width /= 2;
     height /= 2;
   }
@@ -169,6 +162,20 @@ void DepthMapPyramid::extract(int level, const ImagePyramid& reference) {
   const ImageF& weight = weight_sum_[level];
   const ImageView<const GradientPixel> grad = reference.gradients(level);
   LevelPoints& out = points_[level];
+  // The point lists grow to the largest count seen (with a quarter of slack) instead of being
+  // sized for every pixel: a window's points cover a few percent of a level-0 image, and a
+  // 1232x368 pyramid of full-size lists would take 12 MB.
+  std::size_t known = 0;
+  for (int y = 0; y < weight.height(); ++y) {
+    const float* w = weight.row(y);
+    for (int x = 0; x < weight.width(); ++x) known += w[x] > 0.f ? 1 : 0;
+  }
+  if (out.x.size() < known) {
+    const std::size_t capacity =
+        std::min(known + known / 4, static_cast<std::size_t>(sum.width()) * sum.height());
+    for (std::vector<float>* v : {&out.x, &out.y, &out.idepth, &out.intensity, &out.grad_sq})
+      v->resize(capacity);
+  }
   int n = 0;
   for (int y = 0; y < sum.height(); ++y) {
     const float* s = sum.row(y);

@@ -27,8 +27,8 @@ struct DepthPoint {
   float weight = 1;  ///< confidence (e.g. inverse variance of the inverse depth), > 0
 };
 
-/// The reference points of one level as a struct of arrays. The arrays are allocated once for the
-/// level's pixel count; only the first `count` entries are valid.
+/// The reference points of one level as a struct of arrays. The arrays grow to the largest point
+/// count seen so far; only the first `count` entries are valid.
 struct LevelPoints {
   std::vector<float> x;          ///< pixel column at this level (integer valued)
   std::vector<float> y;          ///< pixel row at this level (integer valued)
@@ -49,7 +49,7 @@ class DepthMapPyramid {
   /// Rebuilds every level from `count` points and the reference pyramid (which must have at
   /// least levels() levels of the constructed size; InputError otherwise). Points outside the
   /// image or with a non-finite or non-positive inverse depth or weight are skipped. Returns the
-  /// number of points used. Allocates nothing.
+  /// number of points used. Allocates only when a level gets more points than ever before.
   int build(const DepthPoint* points, std::size_t count, const ImagePyramid& reference);
 
   int levels() const { return static_cast<int>(points_.size()); }

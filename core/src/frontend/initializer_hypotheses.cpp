@@ -66,6 +66,11 @@ void InitializerHypotheses::reset() {
   leader_ = 0;
 }
 
+void InitializerHypotheses::releaseMemory() {
+  reset();
+  members_[0].initializer->releaseMemory();
+}
+
 int InitializerHypotheses::alive() const {
   int n = 0;
   for (const Member& m : members_) n += m.alive ? 1 : 0;

@@ -51,6 +51,10 @@ class InitializerHypotheses {
   /// becomes the reference; returns true when the initialisation is complete.
   bool addFrame(const ImagePyramid& pyramid, double exposure);
   void reset();
+  /// reset() and give back every hypothesis' memory, the primary's point selector included
+  /// (about 10 MB at 1232x368); it is allocated again with the next reference. For after a
+  /// successful initialisation, when the map needs the memory more.
+  void releaseMemory();
 
   /// Status of the leading (lowest-energy) hypothesis; kFailed when all of them failed.
   InitStatus status() const { return status_; }

@@ -126,7 +126,11 @@ OdometryStep Odometry::initializeStep(std::unique_ptr<ImagePyramid> pyr, std::in
   KeyframeInsertion ins;
   const bool ok = mapper_.initialize(r, init_reference_info_, std::move(init_reference_), last,
                                      std::move(pyr), &ins);
-  initializer_.reset();
+  if (ok) {
+    initializer_.releaseMemory();
+  } else {
+    initializer_.reset();
+  }
   if (!ok) return step;
   status_ = TrackingStatus::Tracking;
   ++initializations_;

@@ -58,6 +58,9 @@ TEST(CoarseTrackerAllocation, TrackingAllocatesNothing) {
   HypothesisSettings settings;
   settings.rotation_angle_count = 1;
 
+  // The first reference sizes the point lists and residual buffers (they grow to the largest
+  // reference seen); after that, neither a new reference of that size nor tracking allocates.
+  tracker.setReference(ref, camera, points, 1.0, AffineLight());
   const AllocationScope scope;
   tracker.setReference(ref, camera, points, 1.0, AffineLight());
   SE3d T;
