@@ -99,6 +99,7 @@ void writeRunOutputs(const std::string& dir, const System& system, const RunSumm
     j.key("inliers").value(static_cast<std::int64_t>(l.inliers));
     j.key("scale").value(l.scale);
     j.key("time_ms").value(l.time_ms);
+    j.key("drift_chi2").value(l.drift_chi2);
     j.key("corrected_keyframes").value(static_cast<std::int64_t>(l.corrected_keyframes));
     j.endObject();
   }

@@ -191,8 +191,12 @@ struct LoopConfig {
   /// Keyframes right before the query that are never loop candidates (the recent neighbourhood).
   int exclude_recent_keyframes = 20;
   int max_candidates = 3;           ///< best BoW candidates verified per keyframe
-  int min_inliers = 25;             ///< inliers of the Sim(3) after refinement to accept a loop
+  int min_inliers = 20;             ///< inliers of the Sim(3) after refinement to accept a loop
   double loop_edge_weight = 100.0;  ///< pose-graph weight of a loop edge (odometry edges: 1)
+  /// A verified loop corrects the trajectory only when its measured Sim(3) disagrees with the
+  /// current estimate by more than this squared Mahalanobis distance under the measurement's own
+  /// covariance (7 DoF; 18.48 = chi-square 99 %). Smaller drift is within the loop's accuracy.
+  double correction_chi2 = 18.48;
 
   template <typename V>
   void visit(V& v) {
@@ -205,6 +209,9 @@ struct LoopConfig {
             "Sim(3) inliers needed to accept a loop");
     v.field("loop_edge_weight", loop_edge_weight, Range<double>{1.0, 1e6},
             "pose-graph weight of a loop edge relative to an odometry edge");
+    v.field("correction_chi2", correction_chi2, Range<double>{0.0, 1e9},
+            "squared Mahalanobis distance (7 DoF) of the loop's disagreement with the estimate "
+            "above which the pose graph corrects the trajectory; 0 corrects every loop");
   }
 };
 

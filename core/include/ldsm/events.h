@@ -60,7 +60,11 @@ struct LoopClosureEvent {
   int inliers = 0;       ///< verified feature matches
   double scale = 1.0;    ///< relative scale of the loop constraint (drift in scale)
   double time_ms = 0.0;  ///< detection + verification + pose graph
-  int corrected_keyframes = 0;
+  /// Disagreement between the loop's measured Sim(3) and the trajectory before the loop, as a
+  /// squared Mahalanobis distance under the measurement's covariance (7 DoF). Below
+  /// loop.correction_chi2 the drift is within the measurement's accuracy and nothing is moved.
+  double drift_chi2 = 0.0;
+  int corrected_keyframes = 0;  ///< 0 when the drift was not significant
 };
 
 /// Receives events; every method has an empty default. In deterministic mode every call comes on

@@ -296,7 +296,8 @@ float CoarseInitializer::selectPoints(const ImagePyramid& pyramid, int lvl) {
   if (lvl == 0 && settings_.use_pixel_selector) {
     // Made with the first reference after construction or releaseMemory() (about 9 MB of
     // selection and corner buffers at 1232x368).
-    if (!selector_) selector_ = std::make_unique<PixelSelector>(width_, height_, settings_.selection);
+    if (!selector_)
+      selector_ = std::make_unique<PixelSelector>(width_, height_, settings_.selection);
     selector_->select(pyramid, settings_.selector_density, selected_);
     L.u.clear();
     L.is_corner.clear();

@@ -88,9 +88,34 @@ std::optional<LoopCorrection> LoopCloser::closeLoop(int id, const std::atomic<bo
                     v.reason);
       continue;
     }
+    // How far the measurement is from what the graph already says, in units of its own
+    // uncertainty (Mahalanobis distance squared, 7 DoF, left perturbation of S_current_candidate).
+    const double drift_chi2 = loopDisagreementChi2(graph_.vertex(id), graph_.vertex(c.keyframe_id),
+                                                   v.S_current_candidate, v.information);
     // Loop edge candidate -> current: S_cand_cur = S_w_cand^-1 S_w_cur.
     graph_.addEdge(c.keyframe_id, id, v.S_current_candidate.inverse(), config_.loop_edge_weight,
                    PoseGraphEdgeKind::kLoop);
+    LoopCorrection out;
+    out.current_keyframe_id = id;
+    out.candidate_keyframe_id = c.keyframe_id;
+    out.inliers = v.num_inliers;
+    out.scale = v.S_current_candidate.scale();
+    out.drift_chi2 = drift_chi2;
+    auto elapsed = [&] {
+      return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+          .count();
+    };
+    if (drift_chi2 < config_.correction_chi2) {
+      // The odometry already agrees with the loop within the loop's own accuracy: a correction
+      // would only move the trajectory by the measurement's noise. The edge stays in the graph
+      // for later corrections.
+      out.time_ms = elapsed();
+      spdlog::info(
+          "loop found: keyframe {} -> {} ({} inliers, scale {:.3f}); drift not significant "
+          "(chi2 {:.1f} < {:.1f}), nothing to correct",
+          id, c.keyframe_id, out.inliers, out.scale, drift_chi2, config_.correction_chi2);
+      return out;
+    }
     if (fixed_id_ >= 0) graph_.setFixed(fixed_id_, false);
     graph_.setFixed(id, true);
     fixed_id_ = id;
@@ -102,16 +127,11 @@ std::optional<LoopCorrection> LoopCloser::closeLoop(int id, const std::atomic<bo
                    summary.aborted ? "aborted" : "solver failed");
       return std::nullopt;
     }
-    LoopCorrection out;
-    out.current_keyframe_id = id;
-    out.candidate_keyframe_id = c.keyframe_id;
-    out.inliers = v.num_inliers;
-    out.scale = v.S_current_candidate.scale();
     out.S_world_camera = graph_.vertices();
-    out.time_ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    spdlog::info("loop closed: keyframe {} -> {} ({} inliers, scale {:.3f}, {:.1f} ms)", id,
-                 c.keyframe_id, out.inliers, out.scale, out.time_ms);
+    out.time_ms = elapsed();
+    spdlog::info(
+        "loop closed: keyframe {} -> {} ({} inliers, scale {:.3f}, chi2 {:.1f}, {:.1f} ms)", id,
+        c.keyframe_id, out.inliers, out.scale, drift_chi2, out.time_ms);
     return out;
   }
   return std::nullopt;

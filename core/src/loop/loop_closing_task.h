@@ -41,7 +41,8 @@ struct LoopCorrection {
   double scale = 1.0;  ///< of S_current_candidate
   /// Corrected world-from-camera poses by keyframe id (the keyframes outside the active window;
   /// the mapper moves their points with them and must not overwrite the active window).
-  std::map<int, Sim3d> S_world_camera;
+  std::map<int, Sim3d> S_world_camera;  ///< empty when the drift was not significant
+  double drift_chi2 = 0.0;              ///< see LoopClosureEvent::drift_chi2
   double time_ms = 0.0;
 };
 

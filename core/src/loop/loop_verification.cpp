@@ -94,6 +94,7 @@ class Verifier {
     out_.num_inliers = ref.inliers_2d + ref.inliers_3d;
     out_.num_inliers_3d = ref.inliers_3d;
     out_.rms_reprojection_px = ref.rms_reprojection_px;
+    out_.information = ref.information;
     for (std::size_t i = 0; i < corr.size(); ++i) {
       if (ref.inlier[i]) out_.inlier_matches.push_back(matches_[i]);
     }

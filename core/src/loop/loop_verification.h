@@ -29,7 +29,7 @@ struct LoopVerificationSettings {
   int min_matches_with_depth = 20;  ///< of which the candidate feature has an inverse depth
   PnpRansacSettings pnp;            ///< pnp.min_inliers: RANSAC inliers needed
   Sim3RefinementSettings refinement;
-  int min_inliers = 25;     ///< inliers after refinement (with and without depth)
+  int min_inliers = 20;     ///< inliers after refinement (with and without depth)
   int min_inliers_3d = 10;  ///< inliers with depth in the current keyframe (fix scale)
   double min_scale = 0.05;  ///< plausible range of the relative scale
   double max_scale = 20.0;
@@ -48,6 +48,8 @@ struct LoopVerification {
   int num_inliers_3d = 0;  ///< of which with depth in the current keyframe
   double rms_reprojection_px = 0.0;
   Sim3d S_current_candidate;  ///< see the file comment; identity when rejected before PnP
+  /// Information of S_current_candidate for a left perturbation exp(d) * S (Sim3RefinementResult).
+  Eigen::Matrix<double, 7, 7> information = Eigen::Matrix<double, 7, 7>::Zero();
   std::vector<DescriptorMatch> inlier_matches;  ///< query = current, train = candidate
   double time_ms = 0.0;
 };

@@ -1,5 +1,6 @@
 #include "loop/sim3_refinement.h"
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -92,6 +93,44 @@ class Refiner {
   }
 
   // One Levenberg-Marquardt solve over the active correspondences; returns the new estimate.
+  // J^T J and r^T r of the active correspondences' whitened residuals at S (no robust weights:
+  // the active ones passed the chi-square tests), with the number of scalar residuals.
+  void normalEquations(const Sim3d& S, const std::vector<std::uint8_t>& active,
+                       Eigen::Matrix<double, 7, 7>& H, double& r2, int& m) const {
+    H.setZero();
+    r2 = 0.0;
+    m = 0;
+    const double delta[7] = {0, 0, 0, 0, 0, 0, 0};
+    const double* params[1] = {delta};
+    auto add = [&](const ceres::CostFunction& cost, int dim) {
+      double r[3];
+      double j[21];
+      double* jac[1] = {j};
+      if (!cost.Evaluate(params, r, jac)) return;
+      const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 7, Eigen::RowMajor>> J(j, dim,
+                                                                                          7);
+      const Eigen::Map<const Eigen::VectorXd> rv(r, dim);
+      H += J.transpose() * J;
+      r2 += rv.squaredNorm();
+      m += dim;
+    };
+    for (std::size_t i = 0; i < c_.size(); ++i) {
+      if (!active[i]) continue;
+      const Eigen::Vector3d p0 = S * c_[i].point_candidate;
+      const bool depth = hasCurrentDepth(c_[i]);
+      if (depth) {
+        const ceres::AutoDiffCostFunction<PointCost, 3, 7> cost(
+            new PointCost{p0, q_[i], 1.0 / (q_[i].norm() * s_.depth_relative_sigma)});
+        add(cost, 3);
+      }
+      if (!depth || s_.reprojection_for_depth_matches) {
+        const ceres::AutoDiffCostFunction<ReprojectionCost, 2, 7> cost(new ReprojectionCost{
+            p0, c_[i].pixel_current, cam_.fx, cam_.fy, cam_.cx, cam_.cy, 1.0 / s_.pixel_sigma});
+        add(cost, 2);
+      }
+    }
+  }
+
   Sim3d solve(const Sim3d& S0, const std::vector<std::uint8_t>& active, bool* ok) const {
     double delta[7] = {0, 0, 0, 0, 0, 0, 0};
     ceres::Problem::Options popt;
@@ -210,7 +249,21 @@ Sim3RefinementResult refineSim3(const std::vector<Sim3Correspondence>& correspon
     }
   }
   if (n_active > 0) result.rms_reprojection_px = std::sqrt(sum_e2 / n_active);
+  Eigen::Matrix<double, 7, 7> H;
+  double r2 = 0.0;
+  int m = 0;
+  refiner.normalEquations(S, active, H, r2, m);
+  const double variance_factor = m > 7 ? r2 / (m - 7) : 1.0;
+  result.information = H / std::max(1.0, variance_factor);
   return result;
+}
+
+double loopDisagreementChi2(const Sim3d& S_w_current, const Sim3d& S_w_candidate,
+                            const Sim3d& S_current_candidate,
+                            const Eigen::Matrix<double, 7, 7>& information) {
+  const Sim3d implied = S_w_current.inverse() * S_w_candidate;
+  const Eigen::Matrix<double, 7, 1> d = (implied * S_current_candidate.inverse()).log();
+  return d.dot(information * d);
 }
 
 }  // namespace ldsm::loop

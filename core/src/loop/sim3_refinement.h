@@ -46,6 +46,11 @@ struct Sim3RefinementResult {
   int inliers_3d = 0;                ///< inliers with depth in the current keyframe
   int inliers_2d = 0;                ///< inliers without depth
   double rms_reprojection_px = 0.0;  ///< over all inliers
+  /// Information (inverse covariance) of the estimate for a left perturbation
+  /// S_current_candidate = exp(d) * S_est, d = [rho, phi, sigma]: J^T J of the inliers' whitened
+  /// residuals, divided by the a-posteriori variance factor when the residuals are larger than
+  /// the settings' sigmas say (never multiplied: a small factor does not make it more certain).
+  Eigen::Matrix<double, 7, 7> information = Eigen::Matrix<double, 7, 7>::Zero();
 };
 
 /// Refines `initial` (e.g. from PnP plus a depth-ratio scale). The first round uses the
@@ -56,6 +61,14 @@ Sim3RefinementResult refineSim3(const std::vector<Sim3Correspondence>& correspon
                                 const PinholeIntrinsics& camera_current, const Sim3d& initial,
                                 const Sim3RefinementSettings& settings,
                                 const std::vector<std::uint8_t>* initial_inliers = nullptr);
+
+/// How far a measured S_current_candidate (with its information, Sim3RefinementResult) is from
+/// the relative pose that the world poses S_w_current, S_w_candidate imply: d^T I d with
+/// d = log(S_implied * S_measured^-1), a squared Mahalanobis distance (chi-square, 7 DoF, when
+/// the poses are right and the information honest).
+double loopDisagreementChi2(const Sim3d& S_w_current, const Sim3d& S_w_candidate,
+                            const Sim3d& S_current_candidate,
+                            const Eigen::Matrix<double, 7, 7>& information);
 
 /// Whether a correspondence carries a usable current-keyframe depth.
 inline bool hasCurrentDepth(const Sim3Correspondence& c) {

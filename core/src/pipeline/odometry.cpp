@@ -58,6 +58,7 @@ void Odometry::applyLoopCorrections() {
     e.inliers = c.inliers;
     e.scale = c.scale;
     e.time_ms = c.time_ms;
+    e.drift_chi2 = c.drift_chi2;
     e.corrected_keyframes = store_.applyCorrection(c.S_world_camera);
     {
       std::lock_guard<std::mutex> lock(loops_mutex_);
