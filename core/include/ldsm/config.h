@@ -109,6 +109,10 @@ struct WindowConfig {
   int active_points = 2000;         ///< target number of active points in the whole window
   int max_iterations = 6;           ///< Levenberg-Marquardt iterations per new keyframe
   double outlier_threshold = 12.0;  ///< RMS pattern residual (grey levels) of an outlier
+  /// Each keyframe's outlier threshold follows its own residual level after its first
+  /// optimisation (DSO's rule); outlier_threshold then only applies before that and to the
+  /// immature points' depth search.
+  bool adaptive_outlier_threshold = true;
   double min_trace_quality = 3.0;   ///< immature point: second-best / best match energy
   double max_trace_interval = 8.0;  ///< immature point: depth interval in pixels to activate
 
@@ -124,6 +128,8 @@ struct WindowConfig {
             "Levenberg-Marquardt iterations of the window per new keyframe");
     v.field("outlier_threshold", outlier_threshold, Range<double>{1.0, 255.0},
             "RMS pattern residual (grey levels) above which a residual is an outlier");
+    v.field("adaptive_outlier_threshold", adaptive_outlier_threshold,
+            "adapt each keyframe's outlier threshold to its residual level");
     v.field("min_trace_quality", min_trace_quality, Range<double>{1.0, 100.0},
             "second-best / best match energy an immature point needs to be activated");
     v.field("max_trace_interval", max_trace_interval, Range<double>{0.5, 100.0},
@@ -200,7 +206,7 @@ struct LoopConfig {
 
   template <typename V>
   void visit(V& v) {
-    v.field("enabled", enabled, "detect and close loops (true or false)");
+    v.field("enabled", enabled, "detect and close loops");
     v.field("exclude_recent_keyframes", exclude_recent_keyframes, Range<int>{1, 10000},
             "recent keyframes that are never loop candidates");
     v.field("max_candidates", max_candidates, Range<int>{1, 20},

@@ -150,6 +150,7 @@ KeyframeInsertion Mapper::addKeyframe(std::unique_ptr<ImagePyramid> pyramid,
   ins.activated_points = activatePoints();
   const auto t1 = Clock::now();
   ins.optimization = optimizer_.optimize(windowView(), prior_);
+  adaptOutlierThreshold(*window_.back());
   const auto t2 = Clock::now();
   ins.retired_points = retireLostPoints();
   removeBadResiduals();
@@ -168,6 +169,17 @@ KeyframeInsertion Mapper::addKeyframe(std::unique_ptr<ImagePyramid> pyramid,
   ins.active_points = activePointCount();
   for (const auto& k : window_) ins.immature_points += static_cast<int>(k->immature.size());
   return ins;
+}
+
+void Mapper::adaptOutlierThreshold(WindowKeyframe& kf) {
+  if (!config_.window.adaptive_outlier_threshold) return;
+  energies_.clear();
+  for (const auto& host : window_)
+    for (const auto& p : host->points)
+      for (const PointResidual& r : p->residuals)
+        if (r.target == &kf && r.state != ResidualState::OutOfBounds) energies_.push_back(r.energy);
+  const float th = adaptiveOutlierEnergy(energies_);
+  if (th > 0.f) kf.outlier_energy = th;
 }
 
 void Mapper::removeBadResiduals() {

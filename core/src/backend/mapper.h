@@ -88,6 +88,8 @@ class Mapper {
   void addResidualsToNewest();
   int activatePoints();
   bool optimizeNewPointDepth(ActivePoint& point, const std::vector<FramePairPrecalc>& pairs);
+  /// Sets the keyframe's outlier threshold from the energies of the residuals aimed at it.
+  void adaptOutlierThreshold(WindowKeyframe& kf);
   void removeBadResiduals();
   /// Takes points the newest keyframe no longer sees out of the window (point_retirement.cpp).
   int retireLostPoints();
@@ -108,6 +110,7 @@ class Mapper {
   TraceSettings trace_settings_;
   std::vector<std::unique_ptr<WindowKeyframe>> window_;
   std::vector<std::unique_ptr<ImagePyramid>> pyramid_pool_;
+  std::vector<float> energies_;  // scratch of adaptOutlierThreshold()
   std::mutex pool_mutex_;
   std::vector<SelectedPixel> selected_;
   int next_keyframe_id_ = 0;

@@ -24,6 +24,7 @@ void FramePairPrecalc::set(const WindowKeyframe& host, const WindowKeyframe& tar
   scale = static_cast<float>(st[0]);
   offset = static_cast<float>(st[1]);
   host_b = static_cast<float>(host.aff.b);
+  outlier_energy = std::max(host.outlier_energy, target.outlier_energy);
   target_image = target.pyramid().gradients(0);
 
   std::copy(KRKi.data(), KRKi.data() + 9, sampling.KRKi);
@@ -126,7 +127,7 @@ float evaluateResidual(const ActivePoint& point, PointResidual& res, const Frame
   }
   const float energy = samples.energy;
   res.energy = energy;
-  if (energy > settings.outlier_energy) {
+  if (energy > outlierEnergy(pair, settings)) {
     res.state = ResidualState::Outlier;
     return energy;
   }
@@ -155,6 +156,19 @@ float evaluateResidual(const ActivePoint& point, PointResidual& res, const Frame
   acc->H_dd += ps.H_dd;
   acc->b_d += ps.b_d;
   return energy;
+}
+
+float adaptiveOutlierEnergy(std::vector<float>& pattern_energies) {
+  constexpr double kQuantile = 0.7;
+  constexpr double kBaseRms = 9.19;
+  constexpr double kPercentileFactor = 1.5;
+  if (pattern_energies.size() < 20) return 0.f;
+  const auto nth = pattern_energies.begin() +
+                   static_cast<std::ptrdiff_t>(kQuantile * (pattern_energies.size() - 1));
+  std::nth_element(pattern_energies.begin(), nth, pattern_energies.end());
+  const double rms = std::sqrt(std::max(0.0, static_cast<double>(*nth)) / kPatternSize);
+  const double th = 0.5 * (kBaseRms + kPercentileFactor * rms);
+  return static_cast<float>(th * th * kPatternSize);
 }
 
 }  // namespace ldsm

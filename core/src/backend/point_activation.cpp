@@ -65,7 +65,8 @@ bool Mapper::optimizeNewPointDepth(ActivePoint& point, const std::vector<FramePa
       const float e =
           evaluateResidual(point, r, pairs[static_cast<size_t>(h) * n + r.target->window_index], rs,
                            linearize ? &acc : nullptr);
-      energy += r.state == ResidualState::Inlier ? e : rs.outlier_energy;
+      const FramePairPrecalc& pair = pairs[static_cast<size_t>(h) * n + r.target->window_index];
+      energy += r.state == ResidualState::Inlier ? e : outlierEnergy(pair, rs);
       *H += acc.H_dd;
       *b += acc.b_d;
     }

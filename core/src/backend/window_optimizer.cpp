@@ -162,7 +162,6 @@ void WindowOptimizer::linearize(const std::vector<WindowKeyframe*>& window,
   for (const auto* kf : window) num_points += kf->points.size();
   sys.coupling.setZero(dim, static_cast<Eigen::Index>(num_points));
 
-  const float thr = settings_.residual.outlier_energy;
   double residual_energy = 0.0;
   for (int h = 0; h < n; ++h) {
     for (auto& pt : window[h]->points) {
@@ -185,7 +184,7 @@ void WindowOptimizer::linearize(const std::vector<WindowKeyframe*>& window,
           b_d += acc.b_d;
           addCoupling(adjoints_[pi], acc.coupling, h, t, sys.coupling.col(col));
         } else {
-          residual_energy += thr;
+          residual_energy += outlierEnergy(pairs_[pi], settings_.residual);
           if (res.state == ResidualState::Outlier) ++sys.outliers;
         }
       }
@@ -234,7 +233,6 @@ double WindowOptimizer::evaluate(const std::vector<WindowKeyframe*>& window,
   precalcPairs(window);
   const int n = static_cast<int>(window.size());
   double e = 0.0;
-  const float thr = settings_.residual.outlier_energy;
   for (int h = 0; h < n; ++h)
     for (auto& pt : window[h]->points) {
       int inl = 0;
@@ -242,7 +240,7 @@ double WindowOptimizer::evaluate(const std::vector<WindowKeyframe*>& window,
         const size_t pi = static_cast<size_t>(h) * n + res.target->window_index;
         const float r = evaluateResidual(*pt, res, pairs_[pi], settings_.residual, nullptr);
         const bool inlier = res.state == ResidualState::Inlier;
-        e += inlier ? r : thr;
+        e += inlier ? r : outlierEnergy(pairs_[pi], settings_.residual);
         inl += inlier ? 1 : 0;
       }
       pt->inlier_residuals = inl;

@@ -78,6 +78,9 @@ class WindowKeyframe {
   std::vector<std::unique_ptr<ActivePoint>> points;
   std::vector<ImmatureCandidate> immature;
   int points_created = 0;  ///< active points ever hosted (for the marginalisation policy)
+  /// Outlier threshold (pattern energy) of residuals hosted in or aimed at this keyframe, adapted
+  /// to its residuals after its first optimisation; 0: the window's fixed threshold.
+  float outlier_energy = 0.f;
   /// The corners selected in this keyframe (level-0 pixels; they carry ORB descriptors for loop
   /// closure) and the inverse depth each got as an active point (NaN: none).
   std::vector<Eigen::Vector2f> corners;

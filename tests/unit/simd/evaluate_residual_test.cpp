@@ -107,7 +107,8 @@ void scalarResidual(const ActivePoint& point, const FramePairPrecalc& pair,
     Jm[k][10] = std::fabs(g.dx) * dpx_dd_mag.x() + std::fabs(g.dy) * dpx_dd_mag.y();
   }
   out.energy = energy;
-  out.state = energy > settings.outlier_energy ? ResidualState::Outlier : ResidualState::Inlier;
+  out.state =
+      energy > outlierEnergy(pair, settings) ? ResidualState::Outlier : ResidualState::Inlier;
   if (out.state != ResidualState::Inlier) return;
   for (int k = 0; k < kPatternSize; ++k) {
     const Eigen::Matrix<double, 10, 1> Jr = J[k].head<10>();
@@ -217,6 +218,36 @@ TEST(EvaluateResidual, MatchesScalarPath) {
       ASSERT_NEAR(H(i, j), total.H(i, j), kTol * total.H_mag(i, j)) << i << "," << j;
     ASSERT_NEAR(b[i], total.b[i], kTol * total.b_mag[i]) << i;
   }
+}
+
+TEST(EvaluateResidual, EitherKeyframesAdaptedThresholdDecides) {
+  Scene s = makeScene();
+  ResidualSettings settings;
+  FramePairPrecalc pair;
+  pair.set(*s.frames[0], *s.frames[1], s.cam);
+  // A residual with clearly positive energy, an inlier under the fixed threshold.
+  PointResidual* res = nullptr;
+  ActivePoint* point = nullptr;
+  float e = 0.f;
+  for (auto& p : s.points) {
+    PointResidual& r = p->residuals[0];
+    const float ep = evaluateResidual(*p, r, pair, settings, nullptr);
+    if (r.state == ResidualState::Inlier && ep > 1.f) {
+      res = &r;
+      point = p.get();
+      e = ep;
+      break;
+    }
+  }
+  ASSERT_NE(res, nullptr);
+  s.frames[0]->outlier_energy = 0.5f * e;  // the host's threshold adapted below it
+  pair.set(*s.frames[0], *s.frames[1], s.cam);
+  evaluateResidual(*point, *res, pair, settings, nullptr);
+  EXPECT_EQ(res->state, ResidualState::Outlier);
+  s.frames[1]->outlier_energy = 2.f * e;  // the target's is higher: the larger one counts
+  pair.set(*s.frames[0], *s.frames[1], s.cam);
+  evaluateResidual(*point, *res, pair, settings, nullptr);
+  EXPECT_EQ(res->state, ResidualState::Inlier);
 }
 
 TEST(EvaluateResidual, DepthOnlyMatchesScalarPath) {
