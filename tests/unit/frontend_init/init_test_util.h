@@ -2,16 +2,22 @@
 // sequence, and comparing its result with the scene's truth.
 #pragma once
 
+#include <algorithm>
+#include <cstdint>
 #include <cstdio>
 #include <ctime>
+#include <filesystem>
 #include <functional>
+#include <opencv2/imgcodecs.hpp>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "frontend/coarse_initializer.h"
 #include "frontend/pyramid_camera.h"
 #include "init_scene.h"
 #include "ldsm/image/image_pyramid.h"
+#include "test_paths.h"
 
 namespace ldsm::init_test {
 
@@ -27,6 +33,40 @@ inline PinholeIntrinsics makeIntrinsics(int width, int height, double focal) {
 }
 
 /// CPU time of the calling thread in milliseconds (not inflated by other processes' load).
+/// The frames of ../shared/data/euroc_v101_static95 (the drone standing still), sorted; empty when
+/// the data is absent.
+inline std::vector<std::string> eurocStandingStillFrames() {
+  const std::string dir = test::sharedData("euroc_v101_static95/mav0/cam0/data");
+  std::vector<std::string> files;
+  if (dir.empty()) return files;
+  for (const auto& e : std::filesystem::directory_iterator(dir))
+    if (e.path().extension() == ".png") files.push_back(e.path().string());
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+/// The pinhole part of EuRoC cam0 (the raw images are distorted; that does not matter for "does
+/// not initialise").
+inline PinholeIntrinsics eurocCam0() {
+  PinholeIntrinsics K;
+  K.fx = 458.654;
+  K.fy = 457.296;
+  K.cx = 367.215;
+  K.cy = 248.375;
+  K.width = 752;
+  K.height = 480;
+  return K;
+}
+
+/// Reads a grey image file into `image` (of its size); false when unreadable or of another size.
+inline bool readGrey(const std::string& file, ImageF& image) {
+  const cv::Mat grey = cv::imread(file, cv::IMREAD_GRAYSCALE);
+  if (grey.cols != image.width() || grey.rows != image.height()) return false;
+  for (int y = 0; y < image.height(); ++y)
+    for (int x = 0; x < image.width(); ++x) image(x, y) = grey.at<std::uint8_t>(y, x);
+  return true;
+}
+
 inline double threadCpuMs() {
   timespec ts{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);

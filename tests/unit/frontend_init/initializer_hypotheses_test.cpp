@@ -9,8 +9,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <filesystem>
-#include <opencv2/imgcodecs.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -127,61 +125,54 @@ TEST(InitializerHypotheses, InvalidCountIsAConfigError) {
   EXPECT_NO_THROW(InitializerHypotheses(PyramidCamera(K, 4), {}, 1));
 }
 
+/// The synthetic wall-and-floor scene with an initializer of all seven hypotheses for it.
+struct WallAndFloorStart {
+  PinholeIntrinsics K = init_test::makeIntrinsics(320, 240, 250);
+  init_test::InitScene scene = init_test::wallAndFloorScene();
+  InitializerHypotheses init{PyramidCamera(K, 5), {}, InitializerHypotheses::kMaxHypotheses};
+  ImagePyramid pyramid{K.width, K.height, 5};
+};
+
 /// A static, vibrating camera: no hypothesis may complete or even snap.
 TEST(InitializerHypotheses, StaticCameraNeverInitialises) {
-  const PinholeIntrinsics K = init_test::makeIntrinsics(320, 240, 250);
-  const init_test::InitScene scene = init_test::wallAndFloorScene();
+  WallAndFloorStart s;
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> jitter(-1.0, 1.0);
-  InitializerHypotheses init(PyramidCamera(K, 5), {}, InitializerHypotheses::kMaxHypotheses);
-  ImagePyramid pyramid(K.width, K.height, 5);
   for (int i = 0; i < 60; ++i) {
     const Eigen::Vector3d w(jitter(rng), jitter(rng), jitter(rng));
     const Eigen::Vector3d t(jitter(rng), jitter(rng), jitter(rng));
     const SE3d pose(SO3d::exp(w * (0.05 / kRadToDeg)), t * 0.001);
-    pyramid.build(scene.render(pose, K, 1, 2.f, &rng).view());
-    EXPECT_FALSE(init.addFrame(pyramid, 1.0)) << i;
-    EXPECT_FALSE(init.failed()) << i;
-    EXPECT_NE(init.status(), InitStatus::kConfirming) << i;
+    s.pyramid.build(s.scene.render(pose, s.K, 1, 2.f, &rng).view());
+    EXPECT_FALSE(s.init.addFrame(s.pyramid, 1.0)) << i;
+    EXPECT_FALSE(s.init.failed()) << i;
+    EXPECT_NE(s.init.status(), InitStatus::kConfirming) << i;
   }
-  EXPECT_EQ(init.framesTracked(), 59);
+  EXPECT_EQ(s.init.framesTracked(), 59);
 }
 
 /// Pure rotation: no hypothesis finds rotation-free parallax.
 TEST(InitializerHypotheses, PanningCameraNeverInitialises) {
-  const PinholeIntrinsics K = init_test::makeIntrinsics(320, 240, 250);
-  const init_test::InitScene scene = init_test::wallAndFloorScene();
+  WallAndFloorStart s;
   std::mt19937 rng(3);
-  InitializerHypotheses init(PyramidCamera(K, 5), {}, InitializerHypotheses::kMaxHypotheses);
-  ImagePyramid pyramid(K.width, K.height, 5);
   for (int i = 0; i < 60; ++i) {
     const SE3d pose(SO3d::exp(Eigen::Vector3d(0.1 * i, 0.4 * i, 0) / kRadToDeg),
                     Eigen::Vector3d::Zero());
-    pyramid.build(scene.render(pose, K, 1, 1.5f, &rng).view());
-    EXPECT_FALSE(init.addFrame(pyramid, 1.0)) << i;
+    s.pyramid.build(s.scene.render(pose, s.K, 1, 1.5f, &rng).view());
+    EXPECT_FALSE(s.init.addFrame(s.pyramid, 1.0)) << i;
   }
 }
 
 TEST(InitializerHypotheses, EurocDroneStandingStillNeverInitialises) {
-  const std::string dir = test::sharedData("euroc_v101_static95/mav0/cam0/data");
-  if (dir.empty()) GTEST_SKIP() << "../shared/data absent: euroc_v101_static95 not available";
-  std::vector<std::string> files;
-  for (const auto& e : std::filesystem::directory_iterator(dir))
-    if (e.path().extension() == ".png") files.push_back(e.path().string());
-  std::sort(files.begin(), files.end());
+  const std::vector<std::string> files = init_test::eurocStandingStillFrames();
+  if (files.empty()) GTEST_SKIP() << "../shared/data absent: euroc_v101_static95 not available";
   ASSERT_GE(files.size(), 90u);
-  PinholeIntrinsics K = init_test::makeIntrinsics(752, 480, 458.0);
-  K.cx = 367.215;
-  K.cy = 248.375;
+  const PinholeIntrinsics K = init_test::eurocCam0();
   InitializerHypotheses init(PyramidCamera(K, 5), {}, InitializerHypotheses::kMaxHypotheses);
   ImagePyramid pyramid(K.width, K.height, 5);
   ImageF image(K.width, K.height);
   int snaps = 0;
   for (const std::string& f : files) {
-    const cv::Mat grey = cv::imread(f, cv::IMREAD_GRAYSCALE);
-    ASSERT_EQ(grey.cols, K.width) << f;
-    for (int y = 0; y < K.height; ++y)
-      for (int x = 0; x < K.width; ++x) image(x, y) = grey.at<std::uint8_t>(y, x);
+    ASSERT_TRUE(init_test::readGrey(f, image)) << f;
     pyramid.build(image.view());
     EXPECT_FALSE(init.addFrame(pyramid, 1.0)) << f;
     if (init.status() == InitStatus::kConfirming) ++snaps;
@@ -192,29 +183,26 @@ TEST(InitializerHypotheses, EurocDroneStandingStillNeverInitialises) {
 /// An unrelated image after the reference makes every hypothesis fail; the next frame is a new
 /// reference.
 TEST(InitializerHypotheses, AllFailingReportsFailureAndRestarts) {
-  const PinholeIntrinsics K = init_test::makeIntrinsics(320, 240, 250);
-  const init_test::InitScene scene = init_test::wallAndFloorScene();
+  WallAndFloorStart s;
   std::mt19937 rng(5);
-  InitializerHypotheses init(PyramidCamera(K, 5), {}, InitializerHypotheses::kMaxHypotheses);
-  ImagePyramid pyramid(K.width, K.height, 5);
-  pyramid.build(scene.render(SE3d(), K, 1, 1.f, &rng).view());
-  EXPECT_FALSE(init.addFrame(pyramid, 1.0));
-  EXPECT_EQ(init.alive(), InitializerHypotheses::kMaxHypotheses);
-  pyramid.build(scene.render(SE3d(SO3d(), {0.01, 0, 0}), K, 1, 1.f, &rng).view());
-  EXPECT_FALSE(init.addFrame(pyramid, 1.0));
-  EXPECT_FALSE(init.failed());
+  s.pyramid.build(s.scene.render(SE3d(), s.K, 1, 1.f, &rng).view());
+  EXPECT_FALSE(s.init.addFrame(s.pyramid, 1.0));
+  EXPECT_EQ(s.init.alive(), InitializerHypotheses::kMaxHypotheses);
+  s.pyramid.build(s.scene.render(SE3d(SO3d(), {0.01, 0, 0}), s.K, 1, 1.f, &rng).view());
+  EXPECT_FALSE(s.init.addFrame(s.pyramid, 1.0));
+  EXPECT_FALSE(s.init.failed());
   // A different scene: most points cannot be matched by any hypothesis.
   init_test::InitScene other;
   other.addPlane({0, 0, 2.0}, {0, 0, -1}, 99U);
-  pyramid.build(other.render(SE3d(), K, 1, 1.f, &rng).view());
-  EXPECT_FALSE(init.addFrame(pyramid, 1.0));
-  EXPECT_TRUE(init.failed());
-  EXPECT_NE(init.failure(), InitFailure::kNone);
-  EXPECT_EQ(init.alive(), 0);
-  pyramid.build(other.render(SE3d(), K, 1, 1.f, &rng).view());
-  EXPECT_FALSE(init.addFrame(pyramid, 1.0));
-  EXPECT_EQ(init.framesTracked(), 0);
-  EXPECT_EQ(init.alive(), InitializerHypotheses::kMaxHypotheses);
+  s.pyramid.build(other.render(SE3d(), s.K, 1, 1.f, &rng).view());
+  EXPECT_FALSE(s.init.addFrame(s.pyramid, 1.0));
+  EXPECT_TRUE(s.init.failed());
+  EXPECT_NE(s.init.failure(), InitFailure::kNone);
+  EXPECT_EQ(s.init.alive(), 0);
+  s.pyramid.build(other.render(SE3d(), s.K, 1, 1.f, &rng).view());
+  EXPECT_FALSE(s.init.addFrame(s.pyramid, 1.0));
+  EXPECT_EQ(s.init.framesTracked(), 0);
+  EXPECT_EQ(s.init.alive(), InitializerHypotheses::kMaxHypotheses);
 }
 
 }  // namespace

@@ -4,8 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
-#include <opencv2/imgcodecs.hpp>
 #include <string>
 #include <vector>
 
@@ -100,24 +98,10 @@ TEST(InitializerRefusal, OscillatingRotationNeverInitialises) {
 }
 
 TEST(InitializerRefusal, EurocDroneStandingStillNeverInitialises) {
-  const std::string dir = test::sharedData("euroc_v101_static95/mav0/cam0/data");
-  if (dir.empty()) GTEST_SKIP() << "../shared/data absent: euroc_v101_static95 not available";
-  std::vector<std::string> files;
-  for (const auto& e : std::filesystem::directory_iterator(dir)) {
-    if (e.path().extension() == ".png") files.push_back(e.path().string());
-  }
-  std::sort(files.begin(), files.end());
+  const std::vector<std::string> files = init_test::eurocStandingStillFrames();
+  if (files.empty()) GTEST_SKIP() << "../shared/data absent: euroc_v101_static95 not available";
   ASSERT_GE(files.size(), 90u);
-
-  // Raw (distorted) images with the EuRoC cam0 pinhole part: distortion does not matter for
-  // "does not initialise".
-  PinholeIntrinsics K;
-  K.fx = 458.654;
-  K.fy = 457.296;
-  K.cx = 367.215;
-  K.cy = 248.375;
-  K.width = 752;
-  K.height = 480;
+  const PinholeIntrinsics K = init_test::eurocCam0();
   CoarseInitializer init(PyramidCamera(K, 5));
   ImagePyramid pyramid(K.width, K.height, 5);
   ImageF image(K.width, K.height);
@@ -125,12 +109,7 @@ TEST(InitializerRefusal, EurocDroneStandingStillNeverInitialises) {
   double max_parallax = 0;
   int snaps = 0;
   for (const std::string& f : files) {
-    const cv::Mat grey = cv::imread(f, cv::IMREAD_GRAYSCALE);
-    ASSERT_EQ(grey.cols, K.width) << f;
-    ASSERT_EQ(grey.rows, K.height) << f;
-    for (int y = 0; y < K.height; ++y) {
-      for (int x = 0; x < K.width; ++x) image(x, y) = grey.at<std::uint8_t>(y, x);
-    }
+    ASSERT_TRUE(init_test::readGrey(f, image)) << f;
     pyramid.build(image.view());
     EXPECT_FALSE(init.addFrame(pyramid, 1.0)) << f;
     if (init.status() == InitStatus::kConfirming) ++snaps;
