@@ -253,15 +253,13 @@ int Mapper::marginalizeFrames() {
 void Mapper::marginalizeFrame(int window_index) {
   const auto view = windowView();
   WindowKeyframe& f = *window_[window_index];
-  std::vector<MapPoint> finished;
-  std::vector<int> hosts;
+  std::vector<HostedPoint> finished;
   std::vector<const ActivePoint*> to_prior;
   for (auto& p : f.points) {
     recordCornerDepth(*p);
     if (p->inlier_residuals >= 1 && p->hessian_idepth > 0.f) {
       to_prior.push_back(p.get());
-      finished.push_back(worldPoint(*p));
-      hosts.push_back(p->host->id());
+      finished.push_back({worldPoint(*p), p->host->id()});
     }
   }
   if (on_leaving_) {
@@ -296,8 +294,7 @@ void Mapper::marginalizeFrame(int window_index) {
     auto& pts = kf->points;
     for (auto& p : pts)
       if (p->residuals.empty()) {
-        finished.push_back(worldPoint(*p));
-        hosts.push_back(kf->id());
+        finished.push_back({worldPoint(*p), kf->id()});
       }
     pts.erase(
         std::remove_if(pts.begin(), pts.end(),
@@ -307,7 +304,7 @@ void Mapper::marginalizeFrame(int window_index) {
   optimizer_.marginalizeFrame(view, f, prior_);
   store_.setKeyframe({f.id(), f.frameIndex(), f.timestamp(), f.T_c_w.inverse()});
   if (on_leaving_) on_leaving_(f);
-  store_.addPoints(finished, hosts);
+  store_.addPoints(finished);
   releasePyramid(f.releasePyramid());
   window_.erase(window_.begin() + window_index);
 }
@@ -319,7 +316,7 @@ void Mapper::makeImmaturePoints(WindowKeyframe& kf) {
   kf.corners.clear();
   const ImageView<const GradientPixel> img = kf.pyramid().gradients(0);
   for (const SelectedPixel& s : selected_) {
-    kf.immature.push_back({ImmaturePoint(img, s.u, s.v), s.is_corner});
+    kf.immature.push_back({ImmaturePoint(img, s.u, s.v), s.is_corner, s.level});
     if (s.is_corner) kf.corners.emplace_back(s.u, s.v);
   }
   kf.corner_idepth.assign(kf.corners.size(), std::numeric_limits<float>::quiet_NaN());

@@ -43,16 +43,13 @@ int Mapper::retireLostPoints() {
                : PointFate::Drop;
   };
   std::vector<const ActivePoint*> to_prior;
-  std::vector<MapPoint> finished;
-  std::vector<int> hosts;
+  std::vector<HostedPoint> finished;
   for (auto& kf : window_)
     for (auto& p : kf->points)
       if (fate(*p) == PointFate::Marginalize) {
         recordCornerDepth(*p);
         to_prior.push_back(p.get());
-        finished.push_back(worldPoint(*p));
-        hosts.push_back(p->host->id());
-        hosts.push_back(p->host->id());
+        finished.push_back({worldPoint(*p), p->host->id()});
       }
   optimizer_.marginalizePoints(windowView(), to_prior, prior_);
   int retired = 0;
@@ -63,7 +60,7 @@ int Mapper::retireLostPoints() {
     retired += static_cast<int>(pts.end() - end);
     pts.erase(end, pts.end());
   }
-  store_.addPoints(finished, hosts);
+  store_.addPoints(finished);
   return retired;
 }
 

@@ -29,17 +29,9 @@ void MapStore::addFrame(const FrameRecord& record) {
   frames_.push_back(record);
 }
 
-void MapStore::addPoints(const std::vector<MapPoint>& points) {
+void MapStore::addPoints(const std::vector<HostedPoint>& points) {
   std::lock_guard<std::mutex> lock(mutex_);
   points_.insert(points_.end(), points.begin(), points.end());
-  point_hosts_.resize(points_.size(), -1);
-}
-
-void MapStore::addPoints(const std::vector<MapPoint>& points, const std::vector<int>& hosts) {
-  std::lock_guard<std::mutex> lock(mutex_);
-  points_.insert(points_.end(), points.begin(), points.end());
-  point_hosts_.insert(point_hosts_.end(), hosts.begin(), hosts.end());
-  point_hosts_.resize(points_.size(), -1);
 }
 
 int MapStore::applyCorrection(const std::map<int, Sim3d>& S_world_camera) {
@@ -54,9 +46,9 @@ int MapStore::applyCorrection(const std::map<int, Sim3d>& S_world_camera) {
     kf.T_w_c = SE3d(S_new.so3(), S_new.translation());
     kf.scale = S_new.scale();
   }
-  for (std::size_t i = 0; i < points_.size(); ++i) {
-    const auto it = moves.find(point_hosts_[i]);
-    if (it != moves.end()) points_[i].position = it->second * points_[i].position;
+  for (HostedPoint& p : points_) {
+    const auto it = moves.find(p.host);
+    if (it != moves.end()) p.point.position = it->second * p.point.position;
   }
   return static_cast<int>(moves.size());
 }
@@ -86,7 +78,10 @@ Trajectory MapStore::keyframeTrajectory() const {
 
 std::vector<MapPoint> MapStore::points() const {
   std::lock_guard<std::mutex> lock(mutex_);
-  return points_;
+  std::vector<MapPoint> out;
+  out.reserve(points_.size());
+  for (const HostedPoint& p : points_) out.push_back(p.point);
+  return out;
 }
 
 std::size_t MapStore::keyframeCount() const {

@@ -32,14 +32,19 @@ struct FrameRecord {
   SE3d T_ref_c;                 ///< frame pose relative to that keyframe
 };
 
+/// A point that left the window, with the id of the keyframe that hosted it (-1: none); it moves
+/// with that keyframe on loop closure.
+struct HostedPoint {
+  MapPoint point;
+  int host = -1;
+};
+
 class MapStore {
  public:
   /// Adds or updates a keyframe's pose.
   void setKeyframe(const KeyframeRecord& record);
   void addFrame(const FrameRecord& record);
-  void addPoints(const std::vector<MapPoint>& points);
-  /// Points with the id of the keyframe that hosted them (they move with it on loop closure).
-  void addPoints(const std::vector<MapPoint>& points, const std::vector<int>& hosts);
+  void addPoints(const std::vector<HostedPoint>& points);
   /// Loop closure: moves the given keyframes to their corrected Sim(3) world-from-camera poses,
   /// with their frames and the points they hosted. Returns the number of keyframes moved.
   int applyCorrection(const std::map<int, Sim3d>& S_world_camera);
@@ -55,8 +60,7 @@ class MapStore {
   mutable std::mutex mutex_;
   std::vector<KeyframeRecord> keyframes_;  ///< indexed by id
   std::vector<FrameRecord> frames_;
-  std::vector<MapPoint> points_;
-  std::vector<int> point_hosts_;  ///< -1: unknown host
+  std::vector<HostedPoint> points_;
 };
 
 }  // namespace ldsm

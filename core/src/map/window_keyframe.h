@@ -22,6 +22,7 @@ constexpr int kFrameParams = 8;
 struct ImmatureCandidate {
   ImmaturePoint point;
   bool is_corner = false;
+  int level = 0;  ///< pyramid level the selector found it on (0, 1 or 2)
 };
 using FrameVector = Eigen::Matrix<double, kFrameParams, 1>;
 

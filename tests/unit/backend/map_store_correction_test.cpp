@@ -15,7 +15,11 @@ TEST(MapStoreCorrection, KeyframesFramesAndPointsMoveWithTheSim3) {
   store.addFrame({11, 1.1, 1, SE3d(SO3d(), Eigen::Vector3d(0, 0, 0.5))});
   MapPoint p;
   p.position = T1 * Eigen::Vector3d(0, 0, 2);  // 2 m in front of keyframe 1
-  store.addPoints({p}, {1});
+  MapPoint q;
+  q.position = T0 * Eigen::Vector3d(0, 0, 3);  // hosted by keyframe 0, which stays
+  MapPoint r;
+  r.position = Eigen::Vector3d(5, 5, 5);  // no known host: never moves
+  store.addPoints({{p, 1}, {q, 0}, {r, -1}});
 
   // Keyframe 1 really is 0.2 m further along x and the map around it has scale 2.
   const Sim3d S1_new(T1.so3(), T1.translation() + Eigen::Vector3d(0.2, 0, 0), 2.0);
@@ -28,8 +32,10 @@ TEST(MapStoreCorrection, KeyframesFramesAndPointsMoveWithTheSim3) {
   ASSERT_EQ(frames.size(), 1u);
   EXPECT_LT((frames[0].pose.translation - S1_new * Eigen::Vector3d(0, 0, 0.5)).norm(), 1e-12);
   const std::vector<MapPoint> pts = store.points();
-  ASSERT_EQ(pts.size(), 1u);
+  ASSERT_EQ(pts.size(), 3u);
   EXPECT_LT((pts[0].position - S1_new * Eigen::Vector3d(0, 0, 2)).norm(), 1e-9);
+  EXPECT_LT((pts[1].position - q.position).norm(), 1e-12);
+  EXPECT_LT((pts[2].position - r.position).norm(), 1e-12);
 }
 
 }  // namespace
