@@ -316,7 +316,7 @@ void Mapper::makeImmaturePoints(WindowKeyframe& kf) {
   kf.corners.clear();
   const ImageView<const GradientPixel> img = kf.pyramid().gradients(0);
   for (const SelectedPixel& s : selected_) {
-    kf.immature.push_back({ImmaturePoint(img, s.u, s.v), s.is_corner, s.level});
+    kf.immature.push_back({ImmaturePoint(img, s.u, s.v), s.is_corner});
     if (s.is_corner) kf.corners.emplace_back(s.u, s.v);
   }
   kf.corner_idepth.assign(kf.corners.size(), std::numeric_limits<float>::quiet_NaN());

@@ -112,11 +112,15 @@ double WindowOptimizer::addPriors(const std::vector<WindowKeyframe*>& window,
       (*b)[k * i + 7] += settings_.affine_prior_b * bb;
     }
     if (kf.has_pose_prior) {
-      const Eigen::Matrix<double, 6, 1> d = kf.delta().head<6>();
+      // The gauge anchor: pose and affine brightness stay at their first estimate. Without the
+      // affine part, the offsets b of all keyframes drift together (the cost hardly changes when
+      // every b moves by the same amount; on kitti00_200 by -500 grey levels in 200 frames), away
+      // from the first estimates their Jacobians are taken at.
+      const FrameVector d = kf.delta();
       energy += 0.5 * settings_.pose_prior * d.squaredNorm();
       if (H) {
-        H->block<6, 6>(k * i, k * i).diagonal().array() += settings_.pose_prior;
-        b->segment<6>(k * i) += settings_.pose_prior * d;
+        H->block<k, k>(k * i, k * i).diagonal().array() += settings_.pose_prior;
+        b->segment<k>(k * i) += settings_.pose_prior * d;
       }
     }
   }
@@ -349,8 +353,8 @@ void WindowOptimizer::marginalizeFrame(const std::vector<WindowKeyframe*>& windo
   b[6] = settings_.affine_prior_a * frame.aff.a;
   b[7] = settings_.affine_prior_b * frame.aff.b;
   if (frame.has_pose_prior) {
-    H.topLeftCorner<6, 6>().diagonal().array() += settings_.pose_prior;
-    b.head<6>() += settings_.pose_prior * frame.delta().head<6>();
+    H.diagonal().array() += settings_.pose_prior;
+    b += settings_.pose_prior * frame.delta();
   }
   prior.add({frame.id()}, H, b, frame.delta());
   for (const auto* kf : window) prior.ensureFrame(kf->id());

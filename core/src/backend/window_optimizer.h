@@ -21,7 +21,8 @@ struct WindowOptimizerSettings {
   double min_relative_decrease = 1e-4;  ///< stop when energy falls by less than this fraction
   double affine_prior_a = 1e-3;         ///< prior weight on a (towards 0)
   double affine_prior_b = 1e-3;         ///< prior weight on b (towards 0)
-  double pose_prior = 1e8;  ///< weight anchoring the gauge keyframe to its first estimate
+  /// Weight anchoring the gauge keyframe (pose and affine brightness) to its first estimate.
+  double pose_prior = 1e8;
   ResidualSettings residual;
 };
 

@@ -22,7 +22,6 @@ constexpr int kFrameParams = 8;
 struct ImmatureCandidate {
   ImmaturePoint point;
   bool is_corner = false;
-  int level = 0;  ///< pyramid level the selector found it on (0, 1 or 2)
 };
 using FrameVector = Eigen::Matrix<double, kFrameParams, 1>;
 
@@ -75,7 +74,7 @@ class WindowKeyframe {
   SE3d T_c_w_eval;  ///< first-estimate linearisation point of the geometric Jacobians
   AffineLight aff_eval;
   int window_index = -1;        ///< position in the window's Hessian (set by the window)
-  bool has_pose_prior = false;  ///< the first keyframe: anchors the gauge
+  bool has_pose_prior = false;  ///< the first keyframe: anchors the gauge (pose, affine a and b)
   std::vector<std::unique_ptr<ActivePoint>> points;
   std::vector<ImmatureCandidate> immature;
   int points_created = 0;  ///< active points ever hosted (for the marginalisation policy)

@@ -155,6 +155,36 @@ TEST(WindowOptimizer, RecoversPosesAndDepthsFromNoisyStart) {
   EXPECT_LT(result.outlier_residuals, result.inlier_residuals / 50);
 }
 
+TEST(WindowOptimizer, AnchorKeyframeHoldsTheBrightnessGauge) {
+  // Equal exposures and no affine prior: moving every keyframe's offset b by the same amount
+  // leaves the photometric cost unchanged, so only the anchor keyframe fixes b. Shift them all
+  // (the anchor too) by 5 grey levels, as if they had drifted together: the anchor must return
+  // to its first estimate and take the others with it.
+  TestWindow tw = makeWindow(4, 0.0, 0.0, 11);
+  WindowOptimizerSettings s;
+  s.max_iterations = 20;
+  s.affine_prior_a = s.affine_prior_b = 0.0;
+  WindowOptimizer opt(s, camera());
+  MarginalizationPrior prior;
+  auto window = tw.window();
+  for (auto* kf : window) kf->aff.b += 5.0;
+  opt.optimize(window, prior);
+  EXPECT_NEAR(window[0]->aff.a, 0.0, 1e-6);
+  EXPECT_NEAR(window[0]->aff.b, 0.0, 1e-6);
+  for (auto* kf : window) EXPECT_NEAR(kf->aff.b, 0.0, 0.5) << "keyframe " << kf->id();
+
+  // Marginalised, the anchor leaves its hold in the prior.
+  std::vector<const ActivePoint*> hosted;
+  for (auto& p : window[0]->points) hosted.push_back(p.get());
+  opt.marginalizePoints(window, hosted, prior);
+  window[0]->points.clear();
+  opt.marginalizeFrame(window, *window[0], prior);
+  window.erase(window.begin());
+  for (auto* kf : window) kf->aff.b += 5.0;
+  opt.optimize(window, prior);
+  for (auto* kf : window) EXPECT_NEAR(kf->aff.b, 0.0, 0.5) << "keyframe " << kf->id();
+}
+
 TEST(WindowOptimizer, MarginalisedFrameKeepsItsInformation) {
   // Optimise, marginalise the first keyframe (its points go into the prior), perturb the rest
   // and re-optimise: the prior must pull the window back to the same solution.
