@@ -82,7 +82,7 @@ bool Mapper::initialize(const InitializationResult& result, const MapperFrame& r
                         std::unique_ptr<ImagePyramid> last_pyramid, KeyframeInsertion* insertion) {
   reset();
   WindowKeyframe& kf0 = insertKeyframe(std::move(reference_pyramid), reference);
-  kf0.has_pose_prior = true;
+  kf0.is_gauge_anchor = true;
   // Keep about the configured number of active points, spread evenly over the result.
   std::vector<const InitializedPoint*> usable;
   for (const auto& p : result.points)

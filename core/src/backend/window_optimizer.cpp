@@ -111,16 +111,16 @@ double WindowOptimizer::addPriors(const std::vector<WindowKeyframe*>& window,
       (*b)[k * i + 6] += settings_.affine_prior_a * a;
       (*b)[k * i + 7] += settings_.affine_prior_b * bb;
     }
-    if (kf.has_pose_prior) {
+    if (kf.is_gauge_anchor) {
       // The gauge anchor: pose and affine brightness stay at their first estimate. Without the
       // affine part, the offsets b of all keyframes drift together (the cost hardly changes when
       // every b moves by the same amount; on kitti00_200 by -500 grey levels in 200 frames), away
       // from the first estimates their Jacobians are taken at.
       const FrameVector d = kf.delta();
-      energy += 0.5 * settings_.pose_prior * d.squaredNorm();
+      energy += 0.5 * settings_.gauge_anchor_weight * d.squaredNorm();
       if (H) {
-        H->block<k, k>(k * i, k * i).diagonal().array() += settings_.pose_prior;
-        b->segment<k>(k * i) += settings_.pose_prior * d;
+        H->block<k, k>(k * i, k * i).diagonal().array() += settings_.gauge_anchor_weight;
+        b->segment<k>(k * i) += settings_.gauge_anchor_weight * d;
       }
     }
   }
@@ -352,9 +352,9 @@ void WindowOptimizer::marginalizeFrame(const std::vector<WindowKeyframe*>& windo
   H(7, 7) = settings_.affine_prior_b;
   b[6] = settings_.affine_prior_a * frame.aff.a;
   b[7] = settings_.affine_prior_b * frame.aff.b;
-  if (frame.has_pose_prior) {
-    H.diagonal().array() += settings_.pose_prior;
-    b += settings_.pose_prior * frame.delta();
+  if (frame.is_gauge_anchor) {
+    H.diagonal().array() += settings_.gauge_anchor_weight;
+    b += settings_.gauge_anchor_weight * frame.delta();
   }
   prior.add({frame.id()}, H, b, frame.delta());
   for (const auto* kf : window) prior.ensureFrame(kf->id());

@@ -22,7 +22,7 @@ struct WindowOptimizerSettings {
   double affine_prior_a = 1e-3;         ///< prior weight on a (towards 0)
   double affine_prior_b = 1e-3;         ///< prior weight on b (towards 0)
   /// Weight anchoring the gauge keyframe (pose and affine brightness) to its first estimate.
-  double pose_prior = 1e8;
+  double gauge_anchor_weight = 1e8;
   ResidualSettings residual;
 };
 

@@ -73,8 +73,8 @@ class WindowKeyframe {
   AffineLight aff;  ///< current affine brightness
   SE3d T_c_w_eval;  ///< first-estimate linearisation point of the geometric Jacobians
   AffineLight aff_eval;
-  int window_index = -1;        ///< position in the window's Hessian (set by the window)
-  bool has_pose_prior = false;  ///< the first keyframe: anchors the gauge (pose, affine a and b)
+  int window_index = -1;         ///< position in the window's Hessian (set by the window)
+  bool is_gauge_anchor = false;  ///< the first keyframe: anchors the gauge (pose, affine a and b)
   std::vector<std::unique_ptr<ActivePoint>> points;
   std::vector<ImmatureCandidate> immature;
   int points_created = 0;  ///< active points ever hosted (for the marginalisation policy)

@@ -54,7 +54,7 @@ TestWindow makeWindow(int n, double pose_noise, double depth_noise, unsigned see
       T_c_w = SE3d::exp(x) * T_c_w;
     }
     kf->setInitialState(T_c_w, AffineLight{});
-    kf->has_pose_prior = (i == 0);
+    kf->is_gauge_anchor = (i == 0);
     tw.frames.push_back(std::move(kf));
   }
   std::uint64_t id = 0;
