@@ -55,6 +55,10 @@ struct PhotometricConfig {
   double affine_prior_weight_unknown = 1e-3;
   /// Weight of that prior when the photometric calibration and exposures are known.
   double affine_prior_weight_known = 1e6;
+  /// Raw pixel value (0-255, before any correction) from which a pixel counts as saturated. A
+  /// clipped pixel does not follow the brightness model: when the exposure changes the clipped
+  /// area's border moves. 256 turns the check off.
+  double clipped_level = 250.0;
 
   template <typename V>
   void visit(V& v) {
@@ -65,6 +69,8 @@ struct PhotometricConfig {
             "prior weight on affine brightness (a, b) when exposures are unknown");
     v.field("affine_prior_weight_known", affine_prior_weight_known, Range<double>{0.0, 1e12},
             "prior weight on affine brightness (a, b) with full photometric calibration");
+    v.field("clipped_level", clipped_level, Range<double>{1.0, 256.0},
+            "raw pixel value from which a pixel counts as saturated (256: off)");
   }
 };
 
@@ -73,6 +79,9 @@ struct PointSelectionConfig {
   double corner_fraction = 0.15;   ///< share of those that are Shi-Tomasi corners (features)
   int grid_block_size = 32;        ///< adaptive threshold grid cell, pixels
   double min_gradient = 7.0;       ///< constant added to the regional gradient threshold
+  /// No point is selected within this many pixels (Chebyshev) of a saturated pixel (see
+  /// photometric.clipped_level): 2 is the reach of the residual pattern.
+  int clipped_margin = 2;
 
   template <typename V>
   void visit(V& v) {
@@ -84,6 +93,8 @@ struct PointSelectionConfig {
             "cell size in pixels of the adaptive gradient-threshold grid");
     v.field("min_gradient", min_gradient, Range<double>{0.0, 255.0},
             "constant added to the regional gradient threshold");
+    v.field("clipped_margin", clipped_margin, Range<int>{0, 32},
+            "pixels kept between a selected point and a saturated pixel");
   }
 };
 

@@ -38,6 +38,10 @@ void checkConfig(const PointSelectionConfig& c) {
     throw ConfigError("points.min_gradient: must be finite and >= 0 (got " +
                       std::to_string(c.min_gradient) + ")");
   }
+  if (c.clipped_margin < 0) {
+    throw ConfigError("points.clipped_margin: must be >= 0 (got " +
+                      std::to_string(c.clipped_margin) + ")");
+  }
 }
 
 }  // namespace
@@ -49,6 +53,9 @@ PixelSelector::PixelSelector(int width, int height, const PointSelectionConfig& 
       thresholds_(width, height, config.grid_block_size),
       corner_detector_(width, height) {
   blocked_.resize(width, height);
+  near_clipped_row_.resize(width, height);
+  near_clipped_.resize(width, height);
+  last_clipped_.resize(static_cast<std::size_t>(std::max(width, 0)));
   for (int i = 0; i < kDirections; ++i) {
     // Half-turn is enough: the score uses the squared component.
     const double angle = 3.14159265358979323846 * i / kDirections;
@@ -97,6 +104,8 @@ int PixelSelector::select(const ImagePyramid& pyramid, float density_factor,
   corner_params.min_distance = kCornerMinDistance;
   corner_params.border = kCornerBorder;
   corner_detector_.detect(grad0, corner_params, corners_);
+  markNearClipped(pyramid.clipped());
+  dropCornersNearClipped();
   blockAroundCorners();
 
   // 2. Gradient points on the adaptive grid.
@@ -145,10 +154,61 @@ int PixelSelector::select(const ImagePyramid& pyramid, float density_factor,
     acc += keep;
     if (acc >= n) {
       acc -= n;
-      out.push_back(best_picks_[i]);
+      const SelectedPixel& p = best_picks_[i];
+      if (!near_clipped_(static_cast<int>(p.u), static_cast<int>(p.v))) out.push_back(p);
     }
   }
   return static_cast<int>(out.size());
+}
+
+void PixelSelector::markNearClipped(ImageView<const std::uint8_t> clipped) {
+  const int r = config_.clipped_margin;
+  constexpr int kFar = 1 << 20;
+  // Horizontal pass: a pixel is near when a clipped pixel of its row lies within r.
+  for (int y = 0; y < height_; ++y) {
+    const std::uint8_t* in = clipped.row(y);
+    std::uint8_t* out = near_clipped_row_.row(y);
+    int last = -kFar;
+    for (int x = 0; x < width_; ++x) {
+      if (in[x]) last = x;
+      out[x] = x - last <= r ? 1 : 0;
+    }
+    int next = kFar;
+    for (int x = width_ - 1; x >= 0; --x) {
+      if (in[x]) next = x;
+      if (next - x <= r) out[x] = 1;
+    }
+  }
+  // Vertical pass over the horizontal result, top-down then bottom-up, row by row.
+  std::fill(last_clipped_.begin(), last_clipped_.end(), -kFar);
+  for (int y = 0; y < height_; ++y) {
+    const std::uint8_t* in = near_clipped_row_.row(y);
+    std::uint8_t* out = near_clipped_.row(y);
+    for (int x = 0; x < width_; ++x) {
+      if (in[x]) last_clipped_[x] = y;
+      out[x] = y - last_clipped_[x] <= r ? 1 : 0;
+    }
+  }
+  std::fill(last_clipped_.begin(), last_clipped_.end(), kFar);
+  for (int y = height_ - 1; y >= 0; --y) {
+    const std::uint8_t* in = near_clipped_row_.row(y);
+    std::uint8_t* out = near_clipped_.row(y);
+    for (int x = 0; x < width_; ++x) {
+      if (in[x]) last_clipped_[x] = y;
+      if (last_clipped_[x] - y <= r) out[x] = 1;
+    }
+  }
+}
+
+void PixelSelector::dropCornersNearClipped() {
+  corners_.erase(
+      std::remove_if(corners_.begin(), corners_.end(),
+                     [&](const Corner& c) {
+                       const int x = std::clamp(static_cast<int>(std::lround(c.u)), 0, width_ - 1);
+                       const int y = std::clamp(static_cast<int>(std::lround(c.v)), 0, height_ - 1);
+                       return near_clipped_(x, y) != 0;
+                     }),
+      corners_.end());
 }
 
 void PixelSelector::blockAroundCorners() {

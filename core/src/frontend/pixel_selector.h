@@ -58,8 +58,9 @@ class PixelSelector {
 
   /// Selects about points_per_keyframe * density_factor pixels of the pyramid's level 0 (of which
   /// corner_fraction are corners, listed first) into `out` (cleared; capacity reused). Returns the
-  /// count. Throws InputError when the pyramid's size differs from the selector's or
-  /// density_factor is not a positive finite number.
+  /// count. No pixel within clipped_margin of one of the pyramid's clipped pixels is selected.
+  /// Throws InputError when the pyramid's size differs from the selector's or density_factor is not
+  /// a positive finite number.
   int select(const ImagePyramid& pyramid, float density_factor, std::vector<SelectedPixel>& out);
 
   /// More corners than the odometry wants, for place recognition: up to `max_corners` Shi-Tomasi
@@ -81,6 +82,10 @@ class PixelSelector {
     float threshold_factor_sq;
   };
 
+  /// Marks every pixel within config.clipped_margin (Chebyshev) of a clipped pixel.
+  void markNearClipped(ImageView<const std::uint8_t> clipped);
+  /// Drops the corners near clipped pixels.
+  void dropCornersNearClipped();
   void blockAroundCorners();
   int gridPass(float cell, std::vector<SelectedPixel>& picks) const;
   bool pickLevel0(int x0, int x1, int y0, int y1, unsigned cell_hash,
@@ -95,6 +100,11 @@ class PixelSelector {
   CornerDetector corner_detector_;
   std::vector<Corner> corners_;
   Image<std::uint8_t> blocked_;  ///< 1 where no gradient point may be taken (near corners)
+  /// 1 near a clipped pixel: a grid cell whose best pixel lies there gives no point, since its
+  /// gradient comes from the clipping (the next best one in the cell mostly too).
+  Image<std::uint8_t> near_clipped_;
+  Image<std::uint8_t> near_clipped_row_;  ///< horizontal pass of blockNearClipped()
+  std::vector<int> last_clipped_;         ///< per column, for the vertical pass
   std::array<LevelGrid, 3> levels_{};
   int num_levels_ = 0;
   std::array<float, 16> dir_x_{};  ///< the fixed set of score directions

@@ -48,6 +48,7 @@ ImagePyramid::ImagePyramid(int width, int height, int levels, bool with_grad_mag
                       "] for a " + sizeString(width, height) + " image (got " +
                       std::to_string(levels) + ")");
   }
+  clipped_.resize(width, height);
   intensity_.resize(static_cast<std::size_t>(levels));
   gradients_.resize(static_cast<std::size_t>(levels));
   if (with_grad_mag_sq) grad_mag_sq_.resize(static_cast<std::size_t>(levels));
@@ -72,9 +73,23 @@ void ImagePyramid::build(ImageView<const float> image) {
     std::memcpy(level0.row(y), image.row(y), sizeof(float) * static_cast<std::size_t>(image.width));
   }
   computeGradients(0);
+  for (int y = 0; y < image.height; ++y)
+    std::memset(clipped_.row(y), 0, static_cast<std::size_t>(image.width));
   for (int l = 1; l < levels(); ++l) {
     downsample2x2(intensity_[l - 1].view(), intensity_[l].view());
     computeGradients(l);
+  }
+}
+
+void ImagePyramid::markClipped(ImageView<const float> raw, float level) {
+  if (raw.empty() || raw.width != width(0) || raw.height != height(0) || raw.stride < raw.width) {
+    throw InputError("image pyramid: clipping source is " + sizeString(raw.width, raw.height) +
+                     ", expected " + sizeString(width(0), height(0)));
+  }
+  for (int y = 0; y < raw.height; ++y) {
+    const float* in = raw.row(y);
+    std::uint8_t* out = clipped_.row(y);
+    for (int x = 0; x < raw.width; ++x) out[x] = in[x] >= level ? 1 : 0;
   }
 }
 

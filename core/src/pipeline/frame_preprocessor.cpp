@@ -27,7 +27,8 @@ FramePreprocessor::FramePreprocessor(const GeometricCalibration& geometric,
                                      const PhotometricConfig& config)
     : input_width_(geometric.input.width),
       input_height_(geometric.input.height),
-      rectifier_(geometric) {
+      rectifier_(geometric),
+      clipped_level_(static_cast<float>(config.clipped_level)) {
   const PhotometricCalibration used = selectedCalibration(photometric, config);
   if (used.has_response || !used.vignette.empty())
     photometric_ = std::make_unique<PhotometricModel>(used, input_width_, input_height_);
@@ -45,6 +46,13 @@ void FramePreprocessor::process(ImageView<const std::uint8_t> image, ImagePyrami
     rectifier_.rectify(image, rectified_);
   }
   pyramid.build(rectified_.view());
+  if (clipped_level_ > 255.f) return;
+  if (photometric_) {
+    rectifier_.rectify(image, rectified_raw_);
+    pyramid.markClipped(rectified_raw_.view(), clipped_level_);
+  } else {
+    pyramid.markClipped(rectified_.view(), clipped_level_);
+  }
 }
 
 }  // namespace ldsm

@@ -24,8 +24,9 @@ class FramePreprocessor {
   const PinholeIntrinsics& output() const { return rectifier_.output(); }
   bool photometricallyCalibrated() const { return photometric_ != nullptr; }
 
-  /// Corrects and rectifies `image` into `pyramid` (of the output size). Throws InputError when
-  /// the image size differs from the calibration's.
+  /// Corrects and rectifies `image` into `pyramid` (of the output size) and marks the pixels
+  /// whose raw value reaches the config's clipped_level. Throws InputError when the image size
+  /// differs from the calibration's.
   void process(ImageView<const std::uint8_t> image, ImagePyramid& pyramid);
 
  private:
@@ -33,8 +34,10 @@ class FramePreprocessor {
   int input_height_;
   Rectifier rectifier_;
   std::unique_ptr<PhotometricModel> photometric_;
+  float clipped_level_;
   ImageF corrected_;
   ImageF rectified_;
+  ImageF rectified_raw_;  ///< raw values in the output geometry (with a photometric model only)
 };
 
 }  // namespace ldsm

@@ -152,6 +152,46 @@ TEST(PixelSelector, NoGradientPointNextToACorner) {
   }
 }
 
+// A saturated disc on texture: clipped pixels do not follow the brightness model (their border
+// moves when the exposure changes), so no point's residual pattern may touch one.
+TEST(PixelSelector, KeepsItsMarginFromClippedPixels) {
+  const ImageF tex = texturedImage(5);
+  ImageF img(kW, kH);
+  ImageF raw(kW, kH);
+  const auto in_disc = [](int x, int y) { return std::hypot(x - 320.0, y - 240.0) < 90.0; };
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) {
+      raw(x, y) = in_disc(x, y) ? 255.f : tex(x, y);
+      img(x, y) = raw(x, y);
+    }
+  ImagePyramid pyr = makePyramid(img, 4);
+  const auto nearest_clipped = [&](const SelectedPixel& p) {
+    const int cx = static_cast<int>(p.u + 0.5f), cy = static_cast<int>(p.v + 0.5f);
+    int best = 1 << 20;
+    for (int y = std::max(cy - 20, 0); y < std::min(cy + 21, kH); ++y)
+      for (int x = std::max(cx - 20, 0); x < std::min(cx + 21, kW); ++x)
+        if (in_disc(x, y)) best = std::min(best, std::max(std::abs(x - cx), std::abs(y - cy)));
+    return best;
+  };
+  PointSelectionConfig config;
+  config.clipped_margin = 4;
+  PixelSelector selector(kW, kH, config);
+  std::vector<SelectedPixel> pts;
+
+  // Without the mask the disc's rim is the strongest edge in the image and gets points.
+  selector.select(pyr, 1.f, pts);
+  int on_rim = 0;
+  for (const auto& p : pts) on_rim += nearest_clipped(p) <= config.clipped_margin;
+  EXPECT_GT(on_rim, 20);
+
+  pyr.markClipped(raw.view(), 250.f);
+  const int n = selector.select(pyr, 1.f, pts);
+  EXPECT_GT(n, 0.7 * config.points_per_keyframe);
+  for (const auto& p : pts)
+    EXPECT_GT(nearest_clipped(p), config.clipped_margin)
+        << (p.is_corner ? "corner " : "point ") << p.u << ", " << p.v;
+}
+
 TEST(PixelSelector, IsDeterministic) {
   const ImagePyramid a = makePyramid(texturedImage(11), 4);
   const ImagePyramid b = makePyramid(texturedImage(12), 4);

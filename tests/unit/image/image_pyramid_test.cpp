@@ -179,5 +179,25 @@ TEST(ImagePyramid, RejectsWrongInputImages) {
   }
 }
 
+TEST(ImagePyramid, MarksClippedPixelsAndBuildClearsThem) {
+  ImagePyramid pyr(8, 6, 2);
+  ImageF img(8, 6, 100.f);
+  pyr.build(img.view());
+  ImageF raw(8, 6, 100.f);
+  raw(3, 2) = 250.f;
+  raw(7, 5) = 255.f;
+  raw(0, 0) = 249.9f;
+  pyr.markClipped(raw.view(), 250.f);
+  for (int y = 0; y < 6; ++y)
+    for (int x = 0; x < 8; ++x) {
+      const bool clipped = (x == 3 && y == 2) || (x == 7 && y == 5);
+      EXPECT_EQ(pyr.clipped()(x, y), clipped ? 1 : 0) << x << ", " << y;
+    }
+  pyr.build(img.view());  // the next frame starts without clipping
+  for (int y = 0; y < 6; ++y)
+    for (int x = 0; x < 8; ++x) EXPECT_EQ(pyr.clipped()(x, y), 0);
+  EXPECT_THROW(pyr.markClipped(ImageF(7, 6, 0.f).view(), 250.f), InputError);
+}
+
 }  // namespace
 }  // namespace ldsm

@@ -2,6 +2,7 @@
 // building it for each new frame touches no heap memory.
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "ldsm/image.h"
@@ -16,6 +17,9 @@ namespace ldsm {
 ///
 /// Level coordinates: pixel centre x at level l+1 is the centre of pixels 2x and 2x+1 at level l,
 /// i.e. x_(l+1) = (x_l + 0.5) / 2 - 0.5.
+///
+/// Level 0 also carries a clipping mask: the pixels where the camera's raw value was saturated
+/// (see markClipped()). build() clears it.
 class ImagePyramid {
  public:
   /// Largest supported number of levels.
@@ -42,6 +46,12 @@ class ImagePyramid {
   ImageView<const float> intensity(int level) const { return intensity_[level].view(); }
   /// Packed (intensity, dx, dy) plane of a level.
   ImageView<const GradientPixel> gradients(int level) const { return gradients_[level].view(); }
+  /// Marks the level-0 pixels where `raw` (the camera's raw values, in the pyramid's geometry) is
+  /// >= `level` as clipped. Allocates nothing. Throws InputError when the size differs.
+  void markClipped(ImageView<const float> raw, float level);
+  /// Level-0 clipping mask: 1 where the raw value was saturated, else 0.
+  ImageView<const std::uint8_t> clipped() const { return clipped_.view(); }
+
   /// dx^2 + dy^2 of a level; an empty view when built without it.
   ImageView<const float> gradMagSq(int level) const {
     return hasGradMagSq() ? grad_mag_sq_[level].view() : ImageView<const float>();
@@ -53,6 +63,7 @@ class ImagePyramid {
   std::vector<ImageF> intensity_;
   std::vector<Image<GradientPixel>> gradients_;
   std::vector<ImageF> grad_mag_sq_;
+  Image<std::uint8_t> clipped_;
 };
 
 }  // namespace ldsm
