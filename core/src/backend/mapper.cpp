@@ -22,6 +22,7 @@ WindowOptimizerSettings optimizerSettings(const Config& c, bool photometry_known
   s.residual.huber_threshold = static_cast<float>(c.tracking.huber_threshold);
   const float th = static_cast<float>(c.window.outlier_threshold);
   s.residual.outlier_energy = th * th * kPatternSize;
+  s.estimate_radial = c.calibration.refine_radial;
   return s;
 }
 
@@ -33,6 +34,7 @@ Mapper::Mapper(const Config& config, const PyramidCamera& camera, MapStore& stor
       camera_(camera),
       store_(store),
       optimizer_(optimizerSettings(config, photometry_known), camera[0]),
+      radial_(config.calibration),
       selector_(camera[0].width, camera[0].height, config.points) {
   trace_settings_.huber_threshold = static_cast<float>(config.tracking.huber_threshold);
   trace_settings_.outlier_threshold = static_cast<float>(config.window.outlier_threshold);
@@ -133,6 +135,19 @@ void Mapper::traceFrame(const ImagePyramid& frame, const MapperFrame& info) {
   }
 }
 
+void Mapper::refineRadialCorrection(const WindowOptimizationResult& opt) {
+  // Only full windows: the first keyframes' short baselines say little about k.
+  if (!opt.radial_valid || static_cast<int>(window_.size()) <= config_.window.max_keyframes) return;
+  const bool was_engaged = radial_.engaged();
+  radial_.addWindowStep(opt.radial_step, opt.radial_curvature);
+  optimizer_.setRadialCorrection(radial_.applied());
+  if (radial_.engaged() != was_engaged)
+    spdlog::info("calibration: radial correction {} (k = {:.4f} after {} windows)",
+                 radial_.engaged() ? "applied" : "dropped", radial_.estimate(), radial_.windows());
+  spdlog::debug("calibration: radial step {:.5f}, estimate {:.5f}, applied {:.5f}", opt.radial_step,
+                radial_.estimate(), radial_.applied());
+}
+
 void Mapper::addResidualsToNewest() {
   WindowKeyframe* newest = window_.back().get();
   for (size_t i = 0; i + 1 < window_.size(); ++i)
@@ -150,6 +165,7 @@ KeyframeInsertion Mapper::addKeyframe(std::unique_ptr<ImagePyramid> pyramid,
   ins.activated_points = activatePoints();
   const auto t1 = Clock::now();
   ins.optimization = optimizer_.optimize(windowView(), prior_);
+  refineRadialCorrection(ins.optimization);
   adaptOutlierThreshold(*window_.back());
   const auto t2 = Clock::now();
   ins.retired_points = retireLostPoints();
@@ -339,7 +355,7 @@ void Mapper::publishPoses() const {
 
 MapPoint Mapper::worldPoint(const ActivePoint& p) const {
   MapPoint m;
-  const Eigen::Vector3f ray = camera_[0].unproject(p.u, p.v);
+  const Eigen::Vector3f ray = radialRay(camera_[0], radialK(), p.u, p.v);
   m.position = p.host->T_c_w.inverse() * (ray.cast<double>() / static_cast<double>(p.idepth));
   m.intensity = p.colors[4];
   m.is_corner = p.is_corner;
@@ -367,9 +383,9 @@ void Mapper::trackingPoints(std::vector<DepthPoint>& out) const {
   for (const auto& kf : window_) {
     const SE3f T_nh = (newest.T_c_w * kf->T_c_w.inverse()).cast<float>();
     for (const auto& p : kf->points) {
-      const Eigen::Vector3f q = T_nh * (cam.unproject(p->u, p->v) / p->idepth);
+      const Eigen::Vector3f q = T_nh * (radialRay(cam, radialK(), p->u, p->v) / p->idepth);
       if (!(q.z() > 1e-3f)) continue;
-      const Eigen::Vector2f px = cam.project(q);
+      const Eigen::Vector2f px = radialProject(cam, radialK(), q);
       if (px.x() < 0 || px.y() < 0 || px.x() > cam.width - 1 || px.y() > cam.height - 1) continue;
       out.push_back({px.x(), px.y(), 1.f / q.z(), 1.f});
     }

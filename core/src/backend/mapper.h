@@ -86,6 +86,10 @@ class Mapper {
   std::vector<WindowKeyframe*> windowView() const;
   WindowKeyframe& insertKeyframe(std::unique_ptr<ImagePyramid> pyramid, const MapperFrame& info);
   void addResidualsToNewest();
+  /// Fuses the window's radial step and hands the resulting correction to the optimiser.
+  void refineRadialCorrection(const WindowOptimizationResult& opt);
+  /// The radial correction the window applies (radial_correction.h).
+  float radialK() const { return static_cast<float>(radial_.applied()); }
   int activatePoints();
   bool optimizeNewPointDepth(ActivePoint& point, const std::vector<FramePairPrecalc>& pairs);
   /// Sets the keyframe's outlier threshold from the energies of the residuals aimed at it.
@@ -105,6 +109,7 @@ class Mapper {
   PyramidCamera camera_;
   MapStore& store_;
   WindowOptimizer optimizer_;
+  RadialRefinement radial_;
   MarginalizationPrior prior_;
   PixelSelector selector_;
   TraceSettings trace_settings_;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "backend/radial_correction.h"
 #include "ldsm/image/interpolation.h"
 
 namespace ldsm {
@@ -53,13 +54,29 @@ void PairAccumulator::reduce(const FramePairPrecalc& pair, RelMatrix& H, RelVect
 
 namespace {
 
+/// The pinhole pixel of the ray through image pixel (u, v).
+Eigen::Vector2f hostRayPixel(const LevelCamera& cam, float k, float u, float v) {
+  if (k == 0.f) return {u, v};
+  const Eigen::Vector2f x = removeRadial(k, cam.fxi * u + cam.cxi, cam.fyi * v + cam.cyi);
+  return {cam.fx * x.x() + cam.cx, cam.fy * x.y() + cam.cy};
+}
+
+/// d(image normalized) / d(pinhole normalized) at x: (1 + k r^2) I + 2 k x x^T.
+Eigen::Matrix2f radialJacobian(float k, float x, float y) {
+  const float f = 1.f + k * (x * x + y * y);
+  Eigen::Matrix2f J;
+  J << f + 2.f * k * x * x, 2.f * k * x * y, 2.f * k * x * y, f + 2.f * k * y * y;
+  return J;
+}
+
 /// d(pixel) / d(eps) and d(pixel) / d(inverse depth) of the point's centre at the linearisation
-/// point (first estimates).
-void centreJacobian(const ActivePoint& point, const FramePairPrecalc& pair,
-                    simd::PatternJacobian& jac) {
+/// point (first estimates), for the host ray through pinhole pixel (u, v).
+/// With `dpx_dk`, also d(pixel) / d(radial k): the correction at the target plus the host ray's
+/// move through the projection.
+void centreJacobian(float u, float v, float d, const FramePairPrecalc& pair,
+                    simd::PatternJacobian& jac, Eigen::Vector2f* dpx_dk) {
   const LevelCamera& cam = pair.cam;
-  const float d = point.idepth;
-  const Eigen::Vector3f ray = cam.unproject(point.u, point.v);
+  const Eigen::Vector3f ray = cam.unproject(u, v);
   const Eigen::Vector3f R_ray = pair.R0 * ray;
   const Eigen::Vector3f p = R_ray / d + pair.t0;  // point in the target, metric
   const float zi = 1.f / p.z();
@@ -86,6 +103,72 @@ void centreJacobian(const ActivePoint& point, const FramePairPrecalc& pair,
   const float qzi = 1.f / q.z();
   jac.dpx_didepth[0] = cam.fx * qzi * (pair.t0.x() - q.x() * qzi * pair.t0.z());
   jac.dpx_didepth[1] = cam.fy * qzi * (pair.t0.y() - q.y() * qzi * pair.t0.z());
+  const float k = pair.radial_k;
+  Eigen::Vector2f host_move = Eigen::Vector2f::Zero();
+  if (dpx_dk != nullptr) {
+    // Along the host ray's radial direction |x_img| = r (1 + k r^2), so dr/dk = -r^3/(1 + 3kr^2):
+    // the pinhole ray moves by s (x, y, 0) with s = -r^2 / (1 + 3 k r^2).
+    const float rh2 = ray.x() * ray.x() + ray.y() * ray.y();
+    const float s = -rh2 / (1.f + 3.f * k * rh2);
+    const Eigen::Vector3f dp = (s / d) * (R_ray - pair.R0.col(2));
+    host_move = {a * dp.x() - b * dp.z(), c * dp.y() - e * dp.z()};
+  }
+  const float xt = p.x() * zi, yt = p.y() * zi;
+  if (k != 0.f) {
+    // Through the radial correction at the target: pixel = K D(x), dpx = K J_D K^-1 dpx_pinhole.
+    Eigen::Matrix2f J = radialJacobian(k, xt, yt);
+    J(0, 1) *= cam.fx * cam.fyi;
+    J(1, 0) *= cam.fy * cam.fxi;
+    for (int j = 0; j < 6; ++j) {
+      const float a0 = r0[j], a1 = r1[j];
+      r0[j] = J(0, 0) * a0 + J(0, 1) * a1;
+      r1[j] = J(1, 0) * a0 + J(1, 1) * a1;
+    }
+    const float d0 = jac.dpx_didepth[0], d1 = jac.dpx_didepth[1];
+    jac.dpx_didepth[0] = J(0, 0) * d0 + J(0, 1) * d1;
+    jac.dpx_didepth[1] = J(1, 0) * d0 + J(1, 1) * d1;
+    host_move = J * host_move;
+  }
+  if (dpx_dk != nullptr) {
+    const float rt2 = xt * xt + yt * yt;
+    *dpx_dk = host_move + Eigen::Vector2f(cam.fx * xt * rt2, cam.fy * yt * rt2);
+  }
+}
+
+/// The k terms of the residual's pattern (samples at the current estimate). Every pixel's k, eps
+/// and depth Jacobians are the image gradient times a 2-vector shared by the pattern, so the
+/// pattern needs only the gradient moments sum w g g^T, sum w g r and sum w g (affine rows).
+void radialTerms(const simd::PatternSamples& samples, const simd::PatternJacobian& jac,
+                 const Eigen::Vector2f& dk, const FramePairPrecalc& pair,
+                 RadialResidualTerms& out) {
+  float sxx = 0.f, sxy = 0.f, syy = 0.f, sxr = 0.f, syr = 0.f, sxa = 0.f, sya = 0.f, sx = 0.f,
+        sy = 0.f;
+  for (int i = 0; i < kPatternSize; ++i) {
+    const float wx = samples.w[i] * samples.gx[i], wy = samples.w[i] * samples.gy[i];
+    const float ua = jac.colors[i] - pair.host_b;
+    sxx += wx * samples.gx[i];
+    sxy += wx * samples.gy[i];
+    syy += wy * samples.gy[i];
+    sxr += wx * samples.r[i];
+    syr += wy * samples.r[i];
+    sxa += wx * ua;
+    sya += wy * ua;
+    sx += wx;
+    sy += wy;
+  }
+  // sum w J_k (g . a) for a pixel displacement a: dk^T S a with S the gradient moment matrix.
+  const double kx = static_cast<double>(dk.x()) * sxx + static_cast<double>(dk.y()) * sxy;
+  const double ky = static_cast<double>(dk.x()) * sxy + static_cast<double>(dk.y()) * syy;
+  out.H_kk = kx * dk.x() + ky * dk.y();
+  out.b_k = static_cast<double>(dk.x()) * sxr + static_cast<double>(dk.y()) * syr;
+  out.H_dk = kx * jac.dpx_didepth[0] + ky * jac.dpx_didepth[1];
+  for (int j = 0; j < 6; ++j) out.coupling[j] = kx * jac.dpx_deps[0][j] + ky * jac.dpx_deps[1][j];
+  const double ka = static_cast<double>(dk.x()) * sxa + static_cast<double>(dk.y()) * sya;
+  const double k1 = static_cast<double>(dk.x()) * sx + static_cast<double>(dk.y()) * sy;
+  out.coupling[6] = pair.scale * ka;
+  out.coupling[7] = pair.scale * k1;
+  out.coupling[8] = -pair.scale * ka;
+  out.coupling[9] = -k1;
 }
 
 }  // namespace
@@ -97,12 +180,20 @@ float evaluateResidual(const ActivePoint& point, PointResidual& res, const Frame
   const float d = point.idepth;
 
   // Centre projection at the current estimate (visibility, reported projection).
-  const Eigen::Vector3f pc = pair.KRKi * Eigen::Vector3f(point.u, point.v, 1.f) + pair.Kt * d;
+  const Eigen::Vector2f host = hostRayPixel(pair.cam, pair.radial_k, point.u, point.v);
+  const Eigen::Vector3f pc = pair.KRKi * Eigen::Vector3f(host.x(), host.y(), 1.f) + pair.Kt * d;
   if (!(pc.z() > 0.f)) {
     res.state = ResidualState::OutOfBounds;
     return res.energy = 0.f;
   }
-  res.projection = {pc.x() / pc.z(), pc.y() / pc.z()};
+  Eigen::Vector2f shift = Eigen::Vector2f::Zero();
+  if (pair.radial_k != 0.f) {
+    const LevelCamera& cam = pair.cam;
+    const float x = cam.fxi * pc.x() / pc.z() + cam.cxi, y = cam.fyi * pc.y() / pc.z() + cam.cyi;
+    const float kr = pair.radial_k * (x * x + y * y);
+    shift = {cam.fx * x * kr, cam.fy * y * kr};
+  }
+  res.projection = Eigen::Vector2f(pc.x() / pc.z(), pc.y() / pc.z()) + shift;
   if (!isInsideForBilinear(res.projection.x(), res.projection.y(), w, h,
                            settings.border + kPatternPadding)) {
     res.state = ResidualState::OutOfBounds;
@@ -115,8 +206,10 @@ float evaluateResidual(const ActivePoint& point, PointResidual& res, const Frame
   weighting.huber = settings.huber_threshold;
   weighting.margin = settings.border;
   simd::PatternPoint pattern_point;
-  pattern_point.u = point.u;
-  pattern_point.v = point.v;
+  pattern_point.u = host.x();
+  pattern_point.v = host.y();
+  pattern_point.shift_x = shift.x();
+  pattern_point.shift_y = shift.y();
   pattern_point.idepth = d;
   pattern_point.colors = point.colors;
   pattern_point.grad_weights = point.grad_weights;
@@ -135,7 +228,9 @@ float evaluateResidual(const ActivePoint& point, PointResidual& res, const Frame
   if (acc == nullptr) return energy;
 
   simd::PatternJacobian jac;
-  centreJacobian(point, pair, jac);
+  Eigen::Vector2f dpx_dk;
+  const bool radial = acc->radial != nullptr && !acc->depth_only;
+  centreJacobian(host.x(), host.y(), d, pair, jac, radial ? &dpx_dk : nullptr);
   if (acc->depth_only) {
     float H_dd, b_d;
     simd::accumulateDepthOnly<simd::Vec4>(samples, jac.dpx_didepth, &H_dd, &b_d);
@@ -146,6 +241,7 @@ float evaluateResidual(const ActivePoint& point, PointResidual& res, const Frame
   jac.colors = point.colors;
   jac.scale = pair.scale;
   jac.host_b = pair.host_b;
+  if (radial) radialTerms(samples, jac, dpx_dk, pair, *acc->radial);
   simd::PatternPointSums ps;
   acc->pair->sums().add(samples, jac, ps);
   // Coupling over [eps, a_h, b_h, a_t, b_t] from the basis [eps, a_h, 1].

@@ -5,6 +5,9 @@
 // gradients at the current estimate. The pattern is evaluated as a struct of arrays by the SIMD
 // kernels of math/simd (pattern_sampling.h, pattern_accumulate.h); the (host, target) pair block
 // is summed in SIMD lanes (PairAccumulator) and reduced once per pair and linearisation.
+// With a radial correction k (radial_correction.h) the host pixel's ray is undistorted and the
+// projection shifted by the distortion at the target's centre pixel (the pattern shares the
+// shift); the linearisation can then also yield the residual's terms in k.
 #pragma once
 
 #include <vector>
@@ -43,6 +46,8 @@ struct FramePairPrecalc {
   simd::PatternSamplingParams sampling;  ///< the above as the sampling kernel takes them
   /// The larger of the two keyframes' adapted outlier thresholds (0: none adapted yet).
   float outlier_energy = 0.f;
+  /// Residual radial distortion k of the images (radial_correction.h), 0: plain pinhole.
+  float radial_k = 0.f;
 
   void set(const WindowKeyframe& host, const WindowKeyframe& target, const LevelCamera& camera);
 };
@@ -78,6 +83,14 @@ class PairAccumulator {
   simd::PatternPairSums sums_;
 };
 
+/// One residual's terms of the radial distortion k (radial_correction.h).
+struct RadialResidualTerms {
+  double H_kk = 0.0;                       ///< sum w J_k^2
+  double b_k = 0.0;                        ///< sum w J_k r
+  double H_dk = 0.0;                       ///< sum w J_d J_k
+  RelVector coupling = RelVector::Zero();  ///< sum w J_rel^T J_k
+};
+
 /// Receives the Gauss-Newton terms of one residual.
 struct ResidualAccumulator {
   PairAccumulator* pair = nullptr;  ///< the (host, target) pair's block (unused if depth_only)
@@ -85,6 +98,8 @@ struct ResidualAccumulator {
   double b_d = 0.0;                 ///< sum w J_d r
   RelVector coupling = RelVector::Zero();  ///< sum w J_rel^T J_d
   bool depth_only = false;                 ///< accumulate H_dd and b_d only (pair may be null)
+  /// When set (and not depth_only), receives the residual's k terms (overwritten, not added).
+  RadialResidualTerms* radial = nullptr;
 };
 
 /// Evaluates the residual of `point` in the pair's target. Updates `res.state`, `res.energy`,

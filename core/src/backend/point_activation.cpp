@@ -168,8 +168,8 @@ int Mapper::activatePoints() {
                              ip.idepthMin() + ip.idepthMax() > 0.f && std::isfinite(ip.idepthMax());
       if (converged && activated < budget) {
         const float d = ip.idepthEstimate();
-        const Eigen::Vector3f q = T_nh * (cam.unproject(ip.u(), ip.v()) / d);
-        const Eigen::Vector2f px = cam.project(q);
+        const Eigen::Vector3f q = T_nh * (radialRay(cam, radialK(), ip.u(), ip.v()) / d);
+        const Eigen::Vector2f px = radialProject(cam, radialK(), q);
         const int dd = q.z() > 0 ? dist.at(px.x(), px.y()) : -1;
         if (dd >= 0 && static_cast<float>(dd) >= min_activation_distance_) {
           auto p = std::make_unique<ActivePoint>();

@@ -92,6 +92,7 @@ void WindowOptimizer::precalcPairs(const std::vector<WindowKeyframe*>& window) {
     for (size_t t = 0; t < n; ++t) {
       if (h == t) continue;
       pairs_[h * n + t].set(*window[h], *window[t], camera_);
+      pairs_[h * n + t].radial_k = static_cast<float>(radial_k_);
       adjoints_[h * n + t] = (window[t]->T_c_w_eval * window[h]->T_c_w_eval.inverse()).adjoint();
     }
 }
@@ -165,20 +166,31 @@ void WindowOptimizer::linearize(const std::vector<WindowKeyframe*>& window,
   size_t num_points = 0;
   for (const auto* kf : window) num_points += kf->points.size();
   sys.coupling.setZero(dim, static_cast<Eigen::Index>(num_points));
+  const bool radial = settings_.estimate_radial;
+  sys.radial.reset(radial ? dim : 0);
+  RadialResidualTerms rt;
+  radial_pair_.assign(radial ? static_cast<size_t>(n) * n : 0, RelVector::Zero());
 
   double residual_energy = 0.0;
   for (int h = 0; h < n; ++h) {
     for (auto& pt : window[h]->points) {
       ActivePoint& p = *pt;
       const Eigen::Index col = static_cast<Eigen::Index>(sys.points.size());
-      double H_dd = 0.0, b_d = 0.0;
+      double H_dd = 0.0, b_d = 0.0, H_dk = 0.0;
       int inl = 0;
       for (auto& res : p.residuals) {
         const int t = res.target->window_index;
         const size_t pi = static_cast<size_t>(h) * n + t;
         ResidualAccumulator acc;
         acc.pair = &pair_acc_[pi];
+        acc.radial = radial ? &rt : nullptr;
         const float e = evaluateResidual(p, res, pairs_[pi], settings_.residual, &acc);
+        if (radial && res.state == ResidualState::Inlier) {
+          radial_pair_[pi] += rt.coupling;
+          sys.radial.H_kk += rt.H_kk;
+          sys.radial.b_k += rt.b_k;
+          H_dk += rt.H_dk;
+        }
         if (res.state == ResidualState::Inlier) {
           residual_energy += e;
           sys.inlier_energy += e;
@@ -198,9 +210,14 @@ void WindowOptimizer::linearize(const std::vector<WindowKeyframe*>& window,
       sys.points.push_back(&p);
       sys.H_dd.push_back(H_dd);
       sys.b_d.push_back(b_d);
+      if (radial) sys.radial.H_dk.push_back(H_dk);
     }
   }
   addPairAccumulators(n, pair_acc_, pairs_, adjoints_, sys.H, sys.b);
+  for (size_t pi = 0; pi < radial_pair_.size(); ++pi) {
+    const int h = static_cast<int>(pi) / n, t = static_cast<int>(pi) % n;
+    if (h != t) addCoupling(adjoints_[pi], radial_pair_[pi], h, t, sys.radial.H_fk);
+  }
   sys.energy = 0.5 * residual_energy + addPriors(window, prior, &sys.H, &sys.b);
 }
 
@@ -297,7 +314,19 @@ WindowOptimizationResult WindowOptimizer::optimize(const std::vector<WindowKeyfr
   result.inlier_residuals = sys.inliers;
   result.outlier_residuals = sys.outliers;
   result.rmse = sys.inliers > 0 ? std::sqrt(sys.inlier_energy / (sys.inliers * kPatternSize)) : 0.0;
+  if (settings_.estimate_radial)
+    result.radial_valid =
+        radialEnvelopeStep(sys.H, sys.b, sys.coupling, sys.H_dd, sys.b_d, sys.radial,
+                           &result.radial_step, &result.radial_curvature);
   return result;
+}
+
+double WindowOptimizer::radialGradient(const std::vector<WindowKeyframe*>& window,
+                                       const MarginalizationPrior& prior) {
+  System sys;
+  precalcPairs(window);
+  linearize(window, prior, sys);
+  return sys.radial.b_k;
 }
 
 Eigen::VectorXd WindowOptimizer::frameGradient(const std::vector<WindowKeyframe*>& window,

@@ -10,6 +10,7 @@
 
 #include "backend/marginalization_prior.h"
 #include "backend/photometric_residual.h"
+#include "backend/radial_correction.h"
 #include "frontend/pyramid_camera.h"
 #include "map/window_keyframe.h"
 
@@ -23,6 +24,9 @@ struct WindowOptimizerSettings {
   double affine_prior_b = 1e-3;         ///< prior weight on b (towards 0)
   /// Weight anchoring the gauge keyframe (pose and affine brightness) to its first estimate.
   double gauge_anchor_weight = 1e8;
+  /// Linearise the residuals in the radial distortion k as well and report the envelope step in
+  /// k after each optimisation (radial_correction.h).
+  bool estimate_radial = false;
   ResidualSettings residual;
 };
 
@@ -33,6 +37,11 @@ struct WindowOptimizationResult {
   int inlier_residuals = 0;
   int outlier_residuals = 0;
   double rmse = 0.0;  ///< sqrt(mean pattern-pixel energy) of inliers, grey levels
+  /// With estimate_radial: the Newton step in k with frames and depths re-optimised, and its
+  /// curvature, at the final state (radialEnvelopeStep()); radial_valid false when undefined.
+  bool radial_valid = false;
+  double radial_step = 0.0;
+  double radial_curvature = 0.0;
 };
 
 class WindowOptimizer {
@@ -62,6 +71,15 @@ class WindowOptimizer {
   Eigen::VectorXd frameGradient(const std::vector<WindowKeyframe*>& window,
                                 const MarginalizationPrior& prior);
 
+  /// dE/dk of the energy in the radial distortion k at the current state (estimate_radial must
+  /// be set). For tests and diagnostics.
+  double radialGradient(const std::vector<WindowKeyframe*>& window,
+                        const MarginalizationPrior& prior);
+
+  /// The radial distortion k the residuals are evaluated with (0: plain pinhole).
+  void setRadialCorrection(double k) { radial_k_ = k; }
+  double radialCorrection() const { return radial_k_; }
+
   const WindowOptimizerSettings& settings() const { return settings_; }
 
  private:
@@ -75,6 +93,7 @@ class WindowOptimizer {
     double energy = 0.0;
     int inliers = 0, outliers = 0;
     double inlier_energy = 0.0;
+    RadialTerms radial;  ///< k terms (estimate_radial only)
   };
 
   void precalcPairs(const std::vector<WindowKeyframe*>& window);
@@ -90,6 +109,9 @@ class WindowOptimizer {
 
   WindowOptimizerSettings settings_;
   LevelCamera camera_;
+  double radial_k_ = 0.0;
+  /// Per (host, target) pair: sum over its residuals of w J_rel^T J_k.
+  std::vector<RelVector, Eigen::aligned_allocator<RelVector>> radial_pair_;
   std::vector<FramePairPrecalc> pairs_;                ///< n x n, [host * n + target]
   std::vector<Eigen::Matrix<double, 6, 6>> adjoints_;  ///< Ad(T_th) at the linearisation points
   std::vector<PairAccumulator> pair_acc_;  ///< n x n, the pairs' blocks during a linearisation

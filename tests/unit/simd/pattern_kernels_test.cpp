@@ -81,6 +81,10 @@ RandomPoint randomPoint(int w, int h, std::mt19937& rng) {
   p.point.u = -4.f + (static_cast<float>(w) + 8.f) * U(rng);  // some leave the image
   p.point.v = -4.f + (static_cast<float>(h) + 8.f) * U(rng);
   p.point.idepth = 0.05f + 2.f * U(rng);
+  if (U(rng) < 0.5f) {  // half of them with a radial-correction shift of the projection
+    p.point.shift_x = -3.f + 6.f * U(rng);
+    p.point.shift_y = -3.f + 6.f * U(rng);
+  }
   for (int k = 0; k < kPatternSize; ++k) {
     p.colors[k] = 40.f + 180.f * U(rng);
     p.grad_weights[k] = 0.3f + 0.7f * U(rng);

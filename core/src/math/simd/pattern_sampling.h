@@ -62,6 +62,8 @@ struct PatternPoint {
   float idepth = 1.f;
   const float* colors = nullptr;        ///< kPatternSize host intensities
   const float* grad_weights = nullptr;  ///< kPatternSize host gradient weights (square roots)
+  /// Added to every projected pattern pixel (the radial correction's shift at the centre).
+  float shift_x = 0.f, shift_y = 0.f;
 };
 
 /// Per pattern pixel: target gradient, residual and normal-equation weight; and the energy.
@@ -115,8 +117,8 @@ template <class V>
     const V qx = bx + ox * V::set1(K[0]) + oy * V::set1(K[3]);
     const V qy = by + ox * V::set1(K[1]) + oy * V::set1(K[4]);
     const V qz = bz + ox * V::set1(K[2]) + oy * V::set1(K[5]);
-    const V x = qx / qz;
-    const V y = qy / qz;
+    const V x = qx / qz + V::set1(pt.shift_x);
+    const V y = qy / qz + V::set1(pt.shift_y);
     // Ordered comparisons: NaN fails them all.
     if (!allOf((qz > V::zero()) & (x >= lo) & (y >= lo) & (x < x_hi) & (y < y_hi))) return false;
     fx[h] = x - truncate(x, ix + 4 * h);  // x >= 0 here, so truncation is the floor
@@ -177,8 +179,8 @@ inline bool samplePattern(const PatternSamplingParams& p, const PatternWeighting
     const float qx = bx + ox * K[0] + oy * K[3];
     const float qy = by + ox * K[1] + oy * K[4];
     const float qz = bz + ox * K[2] + oy * K[5];
-    const float x = qx / qz;
-    const float y = qy / qz;
+    const float x = qx / qz + pt.shift_x;
+    const float y = qy / qz + pt.shift_y;
     if (!(qz > 0.f) || !isInsideForBilinear(p.image, x, y, pw.margin)) return false;
     const GradientPixel g = interpolateBilinear(p.image, x, y);
     const float r = g.intensity - p.scale * pt.colors[k] - p.offset;
