@@ -72,6 +72,10 @@ void writeRunOutputs(const std::string& dir, const System& system, const RunSumm
   j.key("wall_seconds").value(summary.wall_seconds);
   j.key("ms_per_frame").value(summary.ms_per_frame);
   j.key("peak_rss_mb").value(summary.peak_rss_mb);
+  j.key("radial_correction").beginObject();
+  j.key("estimate").value(s.radial_estimate);
+  j.key("applied").value(s.radial_applied);
+  j.endObject();
   j.key("stages");
   writeTimings(j, s.stages);
   j.key("pipeline").beginObject();

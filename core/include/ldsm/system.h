@@ -52,6 +52,11 @@ struct SystemStats {
   std::int64_t rejected_frames = 0;  ///< frames refused as bad input (size, timestamp, content)
   std::vector<StageTiming> stages;
   std::vector<LoopClosureEvent> loops;  ///< loops closed, in order
+  /// Online calibration refinement (config section calibration): the residual radial
+  /// distortion k of the rectified images, x_image = x (1 + k |x|^2) in the rectified camera's
+  /// normalized coordinates, as estimated and as applied (0 while inside the dead band).
+  double radial_estimate = 0.0;
+  double radial_applied = 0.0;
 
   // The frame pipeline between submit() and tracking. `frames` above counts the frames the
   // tracking received; submitted_frames == frames + dropped_frames once finish() returned.

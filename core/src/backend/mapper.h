@@ -82,14 +82,17 @@ class Mapper {
     on_leaving_ = std::move(handler);
   }
 
+  /// The radial correction the window applies (radial_correction.h).
+  float radialK() const { return static_cast<float>(radial_.applied()); }
+  /// The current estimate of the radial correction (applied or not).
+  double radialEstimate() const { return radial_.estimate(); }
+
  private:
   std::vector<WindowKeyframe*> windowView() const;
   WindowKeyframe& insertKeyframe(std::unique_ptr<ImagePyramid> pyramid, const MapperFrame& info);
   void addResidualsToNewest();
   /// Fuses the window's radial step and hands the resulting correction to the optimiser.
   void refineRadialCorrection(const WindowOptimizationResult& opt);
-  /// The radial correction the window applies (radial_correction.h).
-  float radialK() const { return static_cast<float>(radial_.applied()); }
   int activatePoints();
   bool optimizeNewPointDepth(ActivePoint& point, const std::vector<FramePairPrecalc>& pairs);
   /// Sets the keyframe's outlier threshold from the energies of the residuals aimed at it.

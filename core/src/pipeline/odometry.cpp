@@ -25,11 +25,12 @@ Odometry::Odometry(const Config& config, const GeometricCalibration& geometric,
               usableLevels(preprocessor_.output(), config.tracking.pyramid_levels)),
       mapper_(config, camera_, store_,
               preprocessor_.photometricallyCalibrated() && config.photometric.use_exposure),
-      initializer_(camera_, CoarseInitializerSettings::fromConfig(
-                                config, camera_.levels(),
-                                preprocessor_.photometricallyCalibrated() &&
-                                    config.photometric.use_exposure),
-                   config.initializer.hypotheses),
+      initializer_(
+          camera_,
+          CoarseInitializerSettings::fromConfig(
+              config, camera_.levels(),
+              preprocessor_.photometricallyCalibrated() && config.photometric.use_exposure),
+          config.initializer.hypotheses),
       tracker_(config, camera_,
                preprocessor_.photometricallyCalibrated() && config.photometric.use_exposure),
       timer_({"preprocess", "initialize", "track", "trace", "mapping", "total"}, 20000),
@@ -254,6 +255,11 @@ void Odometry::loseTracking(OdometryStep& step, const std::string& reason) {
 void Odometry::flush() {
   std::lock_guard<std::mutex> lock(mapper_mutex_);
   mapper_.publishPoses();
+}
+
+Eigen::Vector2d Odometry::radialCorrection() const {
+  std::lock_guard<std::mutex> lock(mapper_mutex_);
+  return {mapper_.radialEstimate(), mapper_.radialK()};
 }
 
 std::vector<MapPoint> Odometry::mapPoints() const {

@@ -15,8 +15,8 @@
 #include <vector>
 
 #include "backend/mapper.h"
-#include "frontend/initializer_hypotheses.h"
 #include "frontend/frame_tracker.h"
+#include "frontend/initializer_hypotheses.h"
 #include "ldsm/events.h"
 #include "ldsm/system.h"
 #include "loop/loop_closer.h"
@@ -51,6 +51,8 @@ class Odometry {
   const MapStore& store() const { return store_; }
   const PyramidCamera& camera() const { return camera_; }
   std::vector<MapPoint> mapPoints() const;
+  /// The radial correction of the calibration: the estimate and what the window applies.
+  Eigen::Vector2d radialCorrection() const;
   /// Per-stage timing; in threaded mode trace and mapping are measured on the mapping thread.
   std::vector<StageTiming> timings() const;
   std::int64_t keyframes() const { return keyframes_.load(std::memory_order_relaxed); }

@@ -232,6 +232,9 @@ SystemStats System::stats() const {
     s.rejected_frames = impl_->rejected;
     s.stages = impl_->odometry.timings();
     s.loops = impl_->odometry.loops();
+    const Eigen::Vector2d radial = impl_->odometry.radialCorrection();
+    s.radial_estimate = radial.x();
+    s.radial_applied = radial.y();
     latency = impl_->latency;  // copied under the lock, summarised outside it
     s.max_mapping_backlog = impl_->max_backlog;
     s.mean_mapping_backlog =
