@@ -242,6 +242,7 @@ float evaluateResidual(const ActivePoint& point, PointResidual& res, const Frame
   jac.scale = pair.scale;
   jac.host_b = pair.host_b;
   if (radial) radialTerms(samples, jac, dpx_dk, pair, *acc->radial);
+  if (acc->radial_only) return energy;
   simd::PatternPointSums ps;
   acc->pair->sums().add(samples, jac, ps);
   // Coupling over [eps, a_h, b_h, a_t, b_t] from the basis [eps, a_h, 1].

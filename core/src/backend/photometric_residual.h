@@ -100,6 +100,8 @@ struct ResidualAccumulator {
   bool depth_only = false;                 ///< accumulate H_dd and b_d only (pair may be null)
   /// When set (and not depth_only), receives the residual's k terms (overwritten, not added).
   RadialResidualTerms* radial = nullptr;
+  /// Only the k terms: nothing goes to the pair block or the point terms (pair may be null).
+  bool radial_only = false;
 };
 
 /// Evaluates the residual of `point` in the pair's target. Updates `res.state`, `res.energy`,

@@ -1,5 +1,7 @@
 #include "backend/radial_correction.h"
 
+#include "backend/schur_complement.h"
+
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
@@ -28,7 +30,7 @@ bool radialEnvelopeStep(const Eigen::MatrixXd& H, const Eigen::VectorXd& b,
     bk -= terms.H_dk[u] * wb[i];
   }
   Eigen::MatrixXd A = H;
-  A.noalias() -= coupling * inv_d.asDiagonal() * coupling.transpose();
+  subtractDepthSchur(A, coupling, inv_d);
   Eigen::VectorXd h = terms.H_fk, g = b;
   h.noalias() -= coupling * wk;
   g.noalias() -= coupling * wb;

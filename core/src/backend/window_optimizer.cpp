@@ -1,5 +1,7 @@
 #include "backend/window_optimizer.h"
 
+#include "backend/schur_complement.h"
+
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
@@ -166,31 +168,20 @@ void WindowOptimizer::linearize(const std::vector<WindowKeyframe*>& window,
   size_t num_points = 0;
   for (const auto* kf : window) num_points += kf->points.size();
   sys.coupling.setZero(dim, static_cast<Eigen::Index>(num_points));
-  const bool radial = settings_.estimate_radial;
-  sys.radial.reset(radial ? dim : 0);
-  RadialResidualTerms rt;
-  radial_pair_.assign(radial ? static_cast<size_t>(n) * n : 0, RelVector::Zero());
 
   double residual_energy = 0.0;
   for (int h = 0; h < n; ++h) {
     for (auto& pt : window[h]->points) {
       ActivePoint& p = *pt;
       const Eigen::Index col = static_cast<Eigen::Index>(sys.points.size());
-      double H_dd = 0.0, b_d = 0.0, H_dk = 0.0;
+      double H_dd = 0.0, b_d = 0.0;
       int inl = 0;
       for (auto& res : p.residuals) {
         const int t = res.target->window_index;
         const size_t pi = static_cast<size_t>(h) * n + t;
         ResidualAccumulator acc;
         acc.pair = &pair_acc_[pi];
-        acc.radial = radial ? &rt : nullptr;
         const float e = evaluateResidual(p, res, pairs_[pi], settings_.residual, &acc);
-        if (radial && res.state == ResidualState::Inlier) {
-          radial_pair_[pi] += rt.coupling;
-          sys.radial.H_kk += rt.H_kk;
-          sys.radial.b_k += rt.b_k;
-          H_dk += rt.H_dk;
-        }
         if (res.state == ResidualState::Inlier) {
           residual_energy += e;
           sys.inlier_energy += e;
@@ -210,15 +201,38 @@ void WindowOptimizer::linearize(const std::vector<WindowKeyframe*>& window,
       sys.points.push_back(&p);
       sys.H_dd.push_back(H_dd);
       sys.b_d.push_back(b_d);
-      if (radial) sys.radial.H_dk.push_back(H_dk);
     }
   }
   addPairAccumulators(n, pair_acc_, pairs_, adjoints_, sys.H, sys.b);
+  sys.energy = 0.5 * residual_energy + addPriors(window, prior, &sys.H, &sys.b);
+}
+
+void WindowOptimizer::linearizeRadial(const std::vector<WindowKeyframe*>& window, System& sys) {
+  const int n = static_cast<int>(window.size());
+  sys.radial.reset(sys.H.rows());
+  radial_pair_.assign(static_cast<size_t>(n) * n, RelVector::Zero());
+  RadialResidualTerms rt;
+  for (int h = 0; h < n; ++h)
+    for (auto& pt : window[h]->points) {
+      double H_dk = 0.0;
+      for (auto& res : pt->residuals) {
+        const size_t pi = static_cast<size_t>(h) * n + res.target->window_index;
+        ResidualAccumulator acc;
+        acc.radial = &rt;
+        acc.radial_only = true;
+        evaluateResidual(*pt, res, pairs_[pi], settings_.residual, &acc);
+        if (res.state != ResidualState::Inlier) continue;
+        radial_pair_[pi] += rt.coupling;
+        sys.radial.H_kk += rt.H_kk;
+        sys.radial.b_k += rt.b_k;
+        H_dk += rt.H_dk;
+      }
+      sys.radial.H_dk.push_back(H_dk);
+    }
   for (size_t pi = 0; pi < radial_pair_.size(); ++pi) {
     const int h = static_cast<int>(pi) / n, t = static_cast<int>(pi) % n;
     if (h != t) addCoupling(adjoints_[pi], radial_pair_[pi], h, t, sys.radial.H_fk);
   }
-  sys.energy = 0.5 * residual_energy + addPriors(window, prior, &sys.H, &sys.b);
 }
 
 void WindowOptimizer::solve(const System& sys, double lambda, Eigen::VectorXd& frame_step,
@@ -231,7 +245,7 @@ void WindowOptimizer::solve(const System& sys, double lambda, Eigen::VectorXd& f
     inv_dd[i] = hdd > 1e-10 ? 1.0 / hdd : 0.0;
   }
   Eigen::MatrixXd Hs = sys.H;
-  Hs.noalias() -= sys.coupling * inv_dd.asDiagonal() * sys.coupling.transpose();
+  subtractDepthSchur(Hs, sys.coupling, inv_dd);
   Eigen::VectorXd bs = sys.b;
   for (Eigen::Index i = 0; i < np; ++i) bs -= sys.coupling.col(i) * (sys.b_d[i] * inv_dd[i]);
 
@@ -314,10 +328,12 @@ WindowOptimizationResult WindowOptimizer::optimize(const std::vector<WindowKeyfr
   result.inlier_residuals = sys.inliers;
   result.outlier_residuals = sys.outliers;
   result.rmse = sys.inliers > 0 ? std::sqrt(sys.inlier_energy / (sys.inliers * kPatternSize)) : 0.0;
-  if (settings_.estimate_radial)
+  if (settings_.estimate_radial) {
+    linearizeRadial(window, sys);
     result.radial_valid =
         radialEnvelopeStep(sys.H, sys.b, sys.coupling, sys.H_dd, sys.b_d, sys.radial,
                            &result.radial_step, &result.radial_curvature);
+  }
   return result;
 }
 
@@ -326,6 +342,7 @@ double WindowOptimizer::radialGradient(const std::vector<WindowKeyframe*>& windo
   System sys;
   precalcPairs(window);
   linearize(window, prior, sys);
+  linearizeRadial(window, sys);
   return sys.radial.b_k;
 }
 

@@ -24,8 +24,8 @@ struct WindowOptimizerSettings {
   double affine_prior_b = 1e-3;         ///< prior weight on b (towards 0)
   /// Weight anchoring the gauge keyframe (pose and affine brightness) to its first estimate.
   double gauge_anchor_weight = 1e8;
-  /// Linearise the residuals in the radial distortion k as well and report the envelope step in
-  /// k after each optimisation (radial_correction.h).
+  /// After each optimisation, linearise the residuals in the radial distortion k as well and
+  /// report the envelope step in k (radial_correction.h).
   bool estimate_radial = false;
   ResidualSettings residual;
 };
@@ -100,6 +100,8 @@ class WindowOptimizer {
   /// Linearises every residual (and priors) at the current state into `sys`.
   void linearize(const std::vector<WindowKeyframe*>& window, const MarginalizationPrior& prior,
                  System& sys);
+  /// The k terms of every residual at the state `sys` was linearised at (sys.radial).
+  void linearizeRadial(const std::vector<WindowKeyframe*>& window, System& sys);
   /// Adds the keyframe priors (affine towards 0, gauge anchor) and the marginalisation prior.
   double addPriors(const std::vector<WindowKeyframe*>& window, const MarginalizationPrior& prior,
                    Eigen::MatrixXd* H, Eigen::VectorXd* b) const;

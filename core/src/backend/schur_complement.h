@@ -1,0 +1,17 @@
+// The depth-eliminated frame block shared by the window solve and the radial envelope step.
+#pragma once
+
+#include <Eigen/Core>
+
+namespace ldsm {
+
+/// A -= C diag(inv_d) C^T for a symmetric A and non-negative inv_d, as one symmetric rank-k
+/// update (half the products of the general product), then mirrored into the upper triangle.
+inline void subtractDepthSchur(Eigen::MatrixXd& A, const Eigen::MatrixXd& C,
+                               const Eigen::VectorXd& inv_d) {
+  const Eigen::MatrixXd M = C * inv_d.cwiseSqrt().asDiagonal();
+  A.selfadjointView<Eigen::Lower>().rankUpdate(M, -1.0);
+  A.triangularView<Eigen::StrictlyUpper>() = A.transpose();
+}
+
+}  // namespace ldsm
