@@ -42,7 +42,7 @@ esac
 #    SimOdometry.ForwardCorridorIsAccurate (the end-to-end run kept under qemu), the SIMD agreement
 #    tests and the PoseGraph tests do not; they run in the native suite.
 known_arm_failures='RealtimeReplay\.(One|Four)TimesRealTimeMatchesOffline|RunLiveCli\.RealtimeReplayReportsDropsAndLatencyInStatsJson'
-too_slow_under_emulation='LoopClosure\..*|SimOdometry\.(LoopSceneFirstCornerTracks|DeterministicModeIsBitIdentical|ThreadedModeTracksLikeDeterministic)|Initializer(Hypotheses|Refusal)\.EurocDroneStandingStillNeverInitialises|SystemAllocation\.TrackingNonKeyframesAllocatesNothingInSteadyState|RunCommand\.UnreadableFrameMidSequenceKeepsTheTrajectorySoFar|SystemPipeline\.LatestPoseIsTheLastTrackedPoseInBothModes'
+too_slow_under_emulation='LoopClosure\..*|SimOdometry\.(LoopSceneFirstCornerTracks|DeterministicModeIsBitIdentical|ThreadedModeTracksLikeDeterministic|RadialRefinementRepairsAWrongDistortion)|Initializer(Hypotheses|Refusal)\.EurocDroneStandingStillNeverInitialises|SystemAllocation\.TrackingNonKeyframesAllocatesNothingInSteadyState|RunCommand\.UnreadableFrameMidSequenceKeepsTheTrajectorySoFar|SystemPipeline\.LatestPoseIsTheLastTrackedPoseInBothModes'
 exclude=${LDSM_CROSS_EXCLUDE-^($known_arm_failures|$too_slow_under_emulation)$}
 
 BUILD_DIR=${BUILD_DIR:-build-$arch}
