@@ -3,7 +3,9 @@
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
+#include <opencv2/core/utility.hpp>
 #include <string>
 
 #include "commands.h"
@@ -11,6 +13,10 @@
 #include "logging.h"
 
 int main(int argc, char** argv) {
+  // Diagnostics (docs/determinism.md): LDSM_CV_UNOPTIMIZED=1 turns OpenCV's run-time dispatched
+  // code paths off, a stand-in for a machine with fewer CPU features.
+  if (const char* v = std::getenv("LDSM_CV_UNOPTIMIZED"); v != nullptr && std::string(v) == "1")
+    cv::setUseOptimized(false);
   CLI::App app{"ldsm: live monocular direct SLAM for robots", "ldsm"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("ldsm ") + LDSM_VERSION_STRING);

@@ -6,6 +6,7 @@
 
 #include "ldsm/drivers/atomic_file.h"
 #include "ldsm/drivers/json_writer.h"
+#include "ldsm/drivers/machine_info.h"
 #include "ldsm/drivers/ply_writer.h"
 #include "ldsm/drivers/trajectory_io.h"
 
@@ -72,6 +73,17 @@ void writeRunOutputs(const std::string& dir, const System& system, const RunSumm
   j.key("wall_seconds").value(summary.wall_seconds);
   j.key("ms_per_frame").value(summary.ms_per_frame);
   j.key("peak_rss_mb").value(summary.peak_rss_mb);
+  // Figures from different machines are only comparable with this (docs/determinism.md).
+  const drivers::MachineInfo machine = drivers::describeMachine();
+  j.key("machine").beginObject();
+  j.key("cpu").value(machine.cpu_model);
+  j.key("simd").value(machine.build.simd);
+  j.key("opencv").value(machine.build.opencv_version);
+  j.key("opencv_optimized").value(machine.build.opencv_optimized);
+  j.key("opencv_cpu_features").value(machine.build.opencv_cpu_features);
+  j.key("blas").value(machine.blas_library);
+  j.key("openblas_coretype").value(machine.openblas_coretype);
+  j.endObject();
   j.key("radial_correction").beginObject();
   j.key("estimate").value(s.radial_estimate);
   j.key("applied").value(s.radial_applied);

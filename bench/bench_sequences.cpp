@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "bench_input.h"
+#include "ldsm/drivers/machine_info.h"
 #include "ldsm/error.h"
 #include "ldsm/eval/ate.h"
 #include "ldsm/system.h"
@@ -97,6 +98,9 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
+  // Timings and even accuracy figures depend on the machine (docs/determinism.md): say which.
+  std::printf("machine: %s\n",
+              ldsm::drivers::machineSummary(ldsm::drivers::describeMachine()).c_str());
   const std::vector<Sequence> all = {
       {"kitti00_200", "kitti00_200", "", 0, {0.90, 75.0, 150.0}},
       {"vamr_desk_loop", "vamr_desk_loop", "", 0, {0.0010, 25.0, 150.0}},

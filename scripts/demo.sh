@@ -6,8 +6,7 @@ cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 BUILD_DIR=${BUILD_DIR:-build}
 OUT=${OUT:-out/demo}
-cmake -S . -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE=Release -DLDSM_BUILD_TESTS=OFF \
-      -DLDSM_BUILD_BENCH=OFF
+bash scripts/configure.sh "$BUILD_DIR"
 cmake --build "$BUILD_DIR" -j "$(nproc)" --target ldsm
 LDSM="$BUILD_DIR/apps/ldsm"
 echo "== rendering the synthetic loop scene into $OUT/scene"

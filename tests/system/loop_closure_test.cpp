@@ -96,11 +96,12 @@ Outcome runBoth(const std::string& scene, std::int64_t frames, double focal_erro
   return o;
 }
 
-// Measured: 0.060 m with loop closure against 0.61 m without (9.8 %), 23 loops from keyframe
+// Measured: 0.047 m with loop closure against 0.32 m without (14.8 %), 23 loops from keyframe
 // ~328 on (the camera is back at the start after 54 s), Sim(3) scale ~1.29 (the scale drift). The
-// first loop disagrees with the drifted trajectory by chi2 ~1e6 and corrects it; most later ones
-// agree with the corrected trajectory within their accuracy (chi2 < 18.5) and move nothing.
-// About 95 s (both systems are fed the same rendered frames).
+// first loop disagrees with the drifted trajectory by chi2 ~137 under the loop's and the odometry
+// chain's uncertainty together (the drift model allows ~4 % of scale over the 300 keyframes; the
+// loop shows 29 %) and corrects it; most later ones agree with the corrected trajectory within
+// that accuracy (chi2 < 18.5) and move nothing. About 95 s (both systems get the same frames).
 TEST(LoopClosure, DriftingCorridorLoopIsClosedAndCutsTheError) {
   const Outcome o = runBoth("loop", 0, 0.02);
   EXPECT_EQ(o.stats.tracking_losses, 0);
@@ -118,8 +119,9 @@ TEST(LoopClosure, DriftingCorridorLoopIsClosedAndCutsTheError) {
         << "loop " << e.current_keyframe_id << " -> " << e.matched_keyframe_id << ", chi2 "
         << e.drift_chi2;
   }
-  // The first loop sees the whole drift (about 29 % in scale) and corrects the trajectory.
-  EXPECT_GT(o.loops.front().drift_chi2, 1000.0);
+  // The first loop sees the whole drift (about 29 % in scale), far beyond what the odometry's
+  // drift model allows, and corrects the trajectory.
+  EXPECT_GT(o.loops.front().drift_chi2, 5.0 * Config{}.loop.correction_chi2);
   EXPECT_GT(o.loops.front().corrected_keyframes, 100);
   // The drift without loop closure must be visible for the test to mean anything.
   EXPECT_GT(o.ate_without.rmse, 0.004 * o.ate_without.gt_path_length);
@@ -139,8 +141,11 @@ TEST(LoopClosure, ForwardCorridorNeverRevisitsAndFindsNoLoop) {
 // The real hand-held desk sequence (../shared/data/vamr_desk_loop): the camera comes back to its
 // start and over earlier views many times. Its odometry hardly drifts (ATE about 0.9 mm over
 // 2.4 m), less than a loop measurement can resolve: the loops must be found, and closing them must
-// not make the trajectory worse. Measured: 7 loops (20-23 inliers, scale 0.993-1.003, chi2
-// 0.7-4.4: none significant), ATE 0.0009 m with and without loop closure. About 40 s.
+// not make the trajectory worse. Compared with the ground truth, the loops' measured Sim(3)s are
+// off by 2-6 mrad and up to 2 % in scale, the odometry's relative poses by 1-2 mrad: correcting
+// with them would make the trajectory worse (0.0011-0.0014 m). Measured: 6 loops (20-26 inliers,
+// scale 0.98-1.00, chi2 0.3-2.3 under the loop's and the chain's uncertainty: none
+// significant), ATE 0.00094 m with and without loop closure. About 30 s.
 TEST(LoopClosure, VamrDeskLoopFindsItsLoopsAndKeepsItsAccuracy) {
   const std::string folder = test::sharedData("vamr_desk_loop");
   if (folder.empty())

@@ -207,12 +207,20 @@ struct LoopConfig {
   bool enabled = true;
   /// Keyframes right before the query that are never loop candidates (the recent neighbourhood).
   int exclude_recent_keyframes = 20;
-  int max_candidates = 3;           ///< best BoW candidates verified per keyframe
-  int min_inliers = 20;             ///< inliers of the Sim(3) after refinement to accept a loop
-  double loop_edge_weight = 100.0;  ///< pose-graph weight of a loop edge (odometry edges: 1)
+  int max_candidates = 3;  ///< best BoW candidates verified per keyframe
+  int min_inliers = 20;    ///< inliers of the Sim(3) after refinement to accept a loop
+  /// The odometry's drift model: the uncertainty the window's relative poses accumulate along the
+  /// chain of keyframes. Per keyframe step a random walk of rotation_drift (radians) and
+  /// scale_drift (log scale), and translation_drift times the distance travelled. It weighs the
+  /// odometry edges of the pose graph against the loops' own measured uncertainty, and says how
+  /// far a loop may disagree with the trajectory before that is drift rather than noise.
+  double odometry_rotation_drift = 5e-4;
+  double odometry_scale_drift = 2e-3;
+  double odometry_translation_drift = 0.01;
   /// A verified loop corrects the trajectory only when its measured Sim(3) disagrees with the
-  /// current estimate by more than this squared Mahalanobis distance under the measurement's own
-  /// covariance (7 DoF; 18.48 = chi-square 99 %). Smaller drift is within the loop's accuracy.
+  /// current estimate by more than this squared Mahalanobis distance under the loop's covariance
+  /// plus the drift the odometry chain between the two keyframes may have accumulated (7 DoF;
+  /// 18.48 = chi-square 99 %). Smaller disagreement is within the accuracy of both.
   double correction_chi2 = 18.48;
 
   template <typename V>
@@ -224,11 +232,16 @@ struct LoopConfig {
             "bag-of-words candidates verified per keyframe");
     v.field("min_inliers", min_inliers, Range<int>{10, 1000},
             "Sim(3) inliers needed to accept a loop");
-    v.field("loop_edge_weight", loop_edge_weight, Range<double>{1.0, 1e6},
-            "pose-graph weight of a loop edge relative to an odometry edge");
+    v.field("odometry_rotation_drift", odometry_rotation_drift, Range<double>{1e-6, 0.1},
+            "odometry drift model: rotation random walk per keyframe (radians)");
+    v.field("odometry_scale_drift", odometry_scale_drift, Range<double>{1e-6, 0.5},
+            "odometry drift model: log-scale random walk per keyframe");
+    v.field("odometry_translation_drift", odometry_translation_drift, Range<double>{1e-5, 1.0},
+            "odometry drift model: translation error per distance travelled");
     v.field("correction_chi2", correction_chi2, Range<double>{0.0, 1e9},
-            "squared Mahalanobis distance (7 DoF) of the loop's disagreement with the estimate "
-            "above which the pose graph corrects the trajectory; 0 corrects every loop");
+            "squared Mahalanobis distance (7 DoF) of the loop's disagreement with the estimate, "
+            "under the loop's and the odometry chain's uncertainty, above which the pose graph "
+            "corrects the trajectory; 0 corrects every loop");
   }
 };
 

@@ -12,7 +12,7 @@
 #include <memory>
 #include <vector>
 
-#include "frontend/pyramid_camera.h"
+#include "camera/pyramid_camera.h"
 #include "map/window_keyframe.h"
 
 namespace ldsm {

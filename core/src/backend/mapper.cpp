@@ -271,31 +271,17 @@ void Mapper::marginalizeFrame(int window_index) {
   WindowKeyframe& f = *window_[window_index];
   std::vector<HostedPoint> finished;
   std::vector<const ActivePoint*> to_prior;
+  std::vector<PatchPoint> kept = std::move(f.retired_points);
   for (auto& p : f.points) {
     recordCornerDepth(*p);
     if (p->inlier_residuals >= 1 && p->hessian_idepth > 0.f) {
       to_prior.push_back(p.get());
       finished.push_back({worldPoint(*p), p->host->id()});
+      kept.push_back(toPatchPoint(*p));
     }
   }
-  if (on_leaving_) {
-    // Loop closure describes the keyframe: more corners than the odometry's (weaker ones too),
-    // then depths for as many as possible.
-    selector_.detectCorners(f.pyramid(), kLoopCorners, kLoopCornerMinScore, loop_corners_);
-    const std::size_t own = f.corners.size();
-    for (const Corner& c : loop_corners_) {
-      bool taken = false;
-      for (std::size_t i = 0; i < own && !taken; ++i)
-        taken = (f.corners[i] - Eigen::Vector2f(c.u, c.v)).squaredNorm() < 16.f;
-      if (!taken) f.corners.emplace_back(c.u, c.v);
-    }
-    const CornerDepthFill fill = fillCornerDepths(f, window_, camera_[0]);
-    spdlog::debug(
-        "keyframe {} leaves: {} odometry + {} more corners ({} detected); depths: {} own, {} "
-        "immature, {} nearby, {} none",
-        f.id(), own, f.corners.size() - own, loop_corners_.size(), fill.from_points,
-        fill.from_immature, fill.from_neighbours, fill.without);
-  }
+  MarginalizedKeyframe leaving;
+  if (on_leaving_) leaving = describeLeavingKeyframe(f, std::move(kept));
   optimizer_.marginalizePoints(view, to_prior, prior_);
   f.points.clear();
   f.immature.clear();
@@ -319,10 +305,46 @@ void Mapper::marginalizeFrame(int window_index) {
   }
   optimizer_.marginalizeFrame(view, f, prior_);
   store_.setKeyframe({f.id(), f.frameIndex(), f.timestamp(), f.T_c_w.inverse()});
-  if (on_leaving_) on_leaving_(f);
+  if (on_leaving_) {
+    leaving.T_w_c = f.T_c_w.inverse();
+    on_leaving_(std::move(leaving));
+  }
   store_.addPoints(finished);
   releasePyramid(f.releasePyramid());
   window_.erase(window_.begin() + window_index);
+}
+
+MarginalizedKeyframe Mapper::describeLeavingKeyframe(WindowKeyframe& f,
+                                                     std::vector<PatchPoint> points) {
+  // Loop closure describes the keyframe: more corners than the odometry's (weaker ones too),
+  // then depths for as many as possible.
+  selector_.detectCorners(f.pyramid(), kLoopCorners, kLoopCornerMinScore, loop_corners_);
+  const std::size_t own = f.corners.size();
+  for (const Corner& c : loop_corners_) {
+    bool taken = false;
+    for (std::size_t i = 0; i < own && !taken; ++i)
+      taken = (f.corners[i] - Eigen::Vector2f(c.u, c.v)).squaredNorm() < 16.f;
+    if (!taken) f.corners.emplace_back(c.u, c.v);
+  }
+  const CornerDepthFill fill = fillCornerDepths(f, window_, camera_[0]);
+  spdlog::debug(
+      "keyframe {} leaves: {} odometry + {} more corners ({} detected); depths: {} own, {} "
+      "immature, {} nearby, {} none",
+      f.id(), own, f.corners.size() - own, loop_corners_.size(), fill.from_points,
+      fill.from_immature, fill.from_neighbours, fill.without);
+  MarginalizedKeyframe out;
+  out.id = f.id();
+  out.frame_index = f.frameIndex();
+  out.timestamp = f.timestamp();
+  out.exposure = f.exposure();
+  out.aff = f.aff;
+  out.T_w_c = f.T_c_w.inverse();
+  out.radial_k = radialK();
+  out.points = std::move(points);
+  out.corners = f.corners;
+  out.corner_idepth = f.corner_idepth;
+  out.image.copyFrom(f.pyramid().intensity(0));
+  return out;
 }
 
 void Mapper::makeImmaturePoints(WindowKeyframe& kf) {

@@ -10,13 +10,14 @@
 
 #include "backend/marginalization_prior.h"
 #include "backend/window_optimizer.h"
+#include "camera/pyramid_camera.h"
 #include "frontend/coarse_initializer.h"
 #include "frontend/depth_map_pyramid.h"
 #include "frontend/pixel_selector.h"
-#include "frontend/pyramid_camera.h"
 #include "ldsm/config.h"
 #include "map/map_store.h"
 #include "map/window_keyframe.h"
+#include "model/marginalized_keyframe.h"
 
 namespace ldsm {
 
@@ -76,9 +77,9 @@ class Mapper {
   void publishPoses() const;
   /// World positions of the active points.
   std::vector<MapPoint> activeMapPoints() const;
-  /// Called with each keyframe just before it leaves the window (its pyramid, corners and final
-  /// pose still available), on the mapping thread.
-  void setKeyframeLeavingHandler(std::function<void(const WindowKeyframe&)> handler) {
+  /// Called with each keyframe that leaves the window, as a value (final pose, points, corners
+  /// with depths, level-0 image), on the mapping thread.
+  void setKeyframeLeavingHandler(std::function<void(MarginalizedKeyframe&&)> handler) {
     on_leaving_ = std::move(handler);
   }
 
@@ -105,6 +106,8 @@ class Mapper {
   void marginalizeFrame(int window_index);
   void makeImmaturePoints(WindowKeyframe& kf);
   MapPoint worldPoint(const ActivePoint& p) const;
+  /// The keyframe as it leaves the window (its corners and their depths filled in first).
+  MarginalizedKeyframe describeLeavingKeyframe(WindowKeyframe& f, std::vector<PatchPoint> points);
   /// Keeps the inverse depth of a corner point in its host's corner list.
   static void recordCornerDepth(const ActivePoint& p);
 
@@ -124,7 +127,7 @@ class Mapper {
   int next_keyframe_id_ = 0;
   std::uint64_t next_point_id_ = 0;
   float min_activation_distance_ = 2.f;
-  std::function<void(const WindowKeyframe&)> on_leaving_;
+  std::function<void(MarginalizedKeyframe&&)> on_leaving_;
   /// Corners detected on a keyframe leaving the window, for loop closure (at most kLoopCorners,
   /// Shi-Tomasi score >= kLoopCornerMinScore, i.e. a gradient of 3 grey levels per pixel).
   static constexpr int kLoopCorners = 400;

@@ -14,7 +14,7 @@
 
 #include <Eigen/Core>
 
-#include "frontend/pyramid_camera.h"
+#include "camera/pyramid_camera.h"
 #include "ldsm/image/gradient_pixel.h"
 #include "map/active_point.h"
 #include "map/window_keyframe.h"

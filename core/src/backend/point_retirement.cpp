@@ -48,6 +48,7 @@ int Mapper::retireLostPoints() {
     for (auto& p : kf->points)
       if (fate(*p) == PointFate::Marginalize) {
         recordCornerDepth(*p);
+        kf->retired_points.push_back(toPatchPoint(*p));
         to_prior.push_back(p.get());
         finished.push_back({worldPoint(*p), p->host->id()});
       }

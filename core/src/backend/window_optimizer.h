@@ -11,7 +11,7 @@
 #include "backend/marginalization_prior.h"
 #include "backend/photometric_residual.h"
 #include "backend/radial_correction.h"
-#include "frontend/pyramid_camera.h"
+#include "camera/pyramid_camera.h"
 #include "map/window_keyframe.h"
 
 namespace ldsm {

@@ -41,14 +41,14 @@
 #include <memory>
 #include <vector>
 
-#include "frontend/affine_light.h"
+#include "camera/pyramid_camera.h"
 #include "frontend/coarse_initializer_settings.h"
 #include "frontend/init_point_graph.h"
 #include "frontend/pixel_selector.h"
-#include "frontend/pyramid_camera.h"
-#include "frontend/residual_pattern.h"
 #include "ldsm/image/image_pyramid.h"
 #include "ldsm/math/se3.h"
+#include "model/affine_light.h"
+#include "model/residual_pattern.h"
 
 namespace ldsm {
 

@@ -4,10 +4,10 @@
 #include <array>
 #include <vector>
 
-#include "frontend/affine_light.h"
-#include "frontend/pyramid_camera.h"
+#include "camera/pyramid_camera.h"
 #include "ldsm/config.h"
 #include "ldsm/math/se3.h"
+#include "model/affine_light.h"
 
 namespace ldsm {
 

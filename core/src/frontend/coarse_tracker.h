@@ -10,13 +10,13 @@
 #include <limits>
 #include <vector>
 
-#include "frontend/affine_light.h"
+#include "camera/pyramid_camera.h"
 #include "frontend/coarse_residuals.h"
 #include "frontend/depth_map_pyramid.h"
-#include "frontend/pyramid_camera.h"
 #include "ldsm/config.h"
 #include "ldsm/image/image_pyramid.h"
 #include "ldsm/math/se3.h"
+#include "model/affine_light.h"
 
 namespace ldsm {
 

@@ -13,7 +13,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "frontend/pyramid_camera.h"
+#include "camera/pyramid_camera.h"
 #include "ldsm/image.h"
 #include "ldsm/image/image_pyramid.h"
 

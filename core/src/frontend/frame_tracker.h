@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
+#include "camera/pyramid_camera.h"
 #include "frontend/coarse_tracker.h"
 #include "frontend/motion_hypotheses.h"
-#include "frontend/pyramid_camera.h"
 #include "ldsm/config.h"
 #include "map/window_keyframe.h"
 

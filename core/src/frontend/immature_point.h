@@ -10,11 +10,11 @@
 #include <cstdint>
 #include <limits>
 
-#include "frontend/pyramid_camera.h"
-#include "frontend/residual_pattern.h"
+#include "camera/pyramid_camera.h"
 #include "ldsm/image.h"
 #include "ldsm/image/gradient_pixel.h"
 #include "ldsm/math/se3.h"
+#include "model/residual_pattern.h"
 
 namespace ldsm {
 

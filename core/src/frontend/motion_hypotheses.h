@@ -9,10 +9,10 @@
 #include <array>
 #include <limits>
 
-#include "frontend/affine_light.h"
 #include "frontend/coarse_tracker.h"
 #include "ldsm/image/image_pyramid.h"
 #include "ldsm/math/se3.h"
+#include "model/affine_light.h"
 
 namespace ldsm {
 

@@ -2,17 +2,24 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
 
 namespace ldsm::loop {
 
 LoopCloser::LoopCloser(const LoopConfig& config, const PinholeIntrinsics& camera, bool inline_mode)
-    : config_(config), camera_(camera), orb_(camera.width, camera.height) {
+    : config_(config),
+      camera_(camera),
+      drift_(OdometryDriftModel::fromConfig(config)),
+      orb_(camera.width, camera.height) {
   verification_.min_inliers = config.min_inliers;
   LoopTaskOptions options;
   options.mode = inline_mode ? LoopTaskMode::kInline : LoopTaskMode::kThreaded;
-  options.queue_capacity = 64;
+  options.queue_capacity = 16;
   task_ = std::make_unique<LoopClosingTask<LoopJob>>(
       [this](LoopJob& job, const std::atomic<bool>& abort) { return process(job, abort); },
       options);
@@ -22,22 +29,10 @@ LoopCloser::~LoopCloser() {
   task_->stop();
 }
 
-void LoopCloser::keyframeLeftWindow(const WindowKeyframe& kf) {
-  LoopJob job;
-  job.T_w_c = kf.T_c_w.inverse();
-  KeyframeFeatures& f = job.features;
-  f.keyframe_id = kf.id();
-  f.timestamp = kf.timestamp();
-  f.camera = camera_;
-  orb_.compute(kf.pyramid().intensity(0), kf.corners, f.descriptors, kept_);
-  f.pixels.reserve(kept_.size());
-  f.idepth.reserve(kept_.size());
-  for (const std::uint32_t i : kept_) {
-    f.pixels.push_back(kf.corners[i]);
-    f.idepth.push_back(i < kf.corner_idepth.size() ? kf.corner_idepth[i] : NAN);
-  }
-  if (!task_->submit(std::move(job)))
-    spdlog::debug("loop closure: queue full, keyframe {} not indexed", kf.id());
+void LoopCloser::keyframeLeftWindow(MarginalizedKeyframe&& kf) {
+  const int id = kf.id;
+  if (!task_->submit(std::move(kf)))
+    spdlog::debug("loop closure: queue full, keyframe {} not indexed", id);
 }
 
 void LoopCloser::waitIdle() {
@@ -46,26 +41,41 @@ void LoopCloser::waitIdle() {
 }
 
 void LoopCloser::addToGraph(const LoopJob& job, bool new_map) {
-  const int id = job.features.keyframe_id;
+  const int id = job.id;
   if (last_id_ >= 0 && graph_.hasVertex(last_id_) && !new_map) {
     // Odometry edge from the window's final relative pose (never from earlier graph results).
     const Sim3d S_prev_cur(last_T_w_c_.inverse() * job.T_w_c);
     graph_.addVertex(id, graph_.vertex(last_id_) * S_prev_cur);
-    graph_.addEdge(last_id_, id, S_prev_cur, kDefaultOdometryEdgeWeight,
-                   PoseGraphEdgeKind::kOdometry);
+    graph_.addEdge(PoseGraphEdge{last_id_, id, S_prev_cur, drift_.edgeInformation(S_prev_cur),
+                                 PoseGraphEdgeKind::kOdometry});
+    const ChainPosition& prev = chain_.at(last_id_);
+    chain_[id] = {prev.step + 1, prev.path + S_prev_cur.translation().norm()};
   } else {
     graph_.addVertex(id, Sim3d(job.T_w_c));
+    // A new map: not connected to the old chain by any odometry.
+    chain_[id] = {last_id_ >= 0 ? chain_.at(last_id_).step + kDisconnectedSteps : 0, 0.0};
   }
   last_id_ = id;
   last_T_w_c_ = job.T_w_c;
 }
 
 std::optional<LoopCorrection> LoopCloser::process(LoopJob& job, const std::atomic<bool>& abort) {
-  const int id = job.features.keyframe_id;
+  const int id = job.id;
+  KeyframeFeatures f;
+  f.keyframe_id = id;
+  f.timestamp = job.timestamp;
+  f.camera = camera_;
+  orb_.compute(job.image.view(), job.corners, f.descriptors, kept_);
+  f.pixels.reserve(kept_.size());
+  f.idepth.reserve(kept_.size());
+  for (const std::uint32_t i : kept_) {
+    f.pixels.push_back(job.corners[i]);
+    f.idepth.push_back(i < job.corner_idepth.size() ? job.corner_idepth[i] : NAN);
+  }
   addToGraph(job, new_map_.exchange(false));
-  index_.add(id, job.features.descriptors);
+  index_.add(id, f.descriptors);
   index_.retrainIfDue(&abort);
-  features_[id] = std::move(job.features);
+  features_[id] = std::move(f);
   return closeLoop(id, abort);
 }
 
@@ -88,13 +98,20 @@ std::optional<LoopCorrection> LoopCloser::closeLoop(int id, const std::atomic<bo
                     v.reason);
       continue;
     }
-    // How far the measurement is from what the graph already says, in units of its own
-    // uncertainty (Mahalanobis distance squared, 7 DoF, left perturbation of S_current_candidate).
-    const double drift_chi2 = loopDisagreementChi2(graph_.vertex(id), graph_.vertex(c.keyframe_id),
-                                                   v.S_current_candidate, v.information);
-    // Loop edge candidate -> current: S_cand_cur = S_w_cand^-1 S_w_cur.
-    graph_.addEdge(c.keyframe_id, id, v.S_current_candidate.inverse(), config_.loop_edge_weight,
-                   PoseGraphEdgeKind::kLoop);
+    // How far the measurement is from what the graph already says, in units of the loop's
+    // uncertainty plus the drift the odometry chain between the two may have accumulated.
+    const Sim3d implied = graph_.vertex(id).inverse() * graph_.vertex(c.keyframe_id);
+    const Vector7d d = (implied * v.S_current_candidate.inverse()).log();
+    const Matrix7d loop_cov = v.information.inverse();
+    const ChainPosition& pa = chain_.at(id);
+    const ChainPosition& pb = chain_.at(c.keyframe_id);
+    const Matrix7d chain_cov =
+        drift_.chainCovariance(pa.step - pb.step, std::fabs(pa.path - pb.path), implied);
+    const double drift_chi2 = d.dot(Eigen::LDLT<Matrix7d>(loop_cov + chain_cov).solve(d));
+    // Loop edge candidate -> current: S_cand_cur = S_w_cand^-1 S_w_cur; its residual is the
+    // loop's own tangent error, so the edge takes the loop's information as it is.
+    graph_.addEdge(PoseGraphEdge{c.keyframe_id, id, v.S_current_candidate.inverse(), v.information,
+                                 PoseGraphEdgeKind::kLoop});
     LoopCorrection out;
     out.current_keyframe_id = id;
     out.candidate_keyframe_id = c.keyframe_id;
@@ -121,6 +138,9 @@ std::optional<LoopCorrection> LoopCloser::closeLoop(int id, const std::atomic<bo
     fixed_id_ = id;
     PoseGraphSolveOptions options;
     options.abort = &abort;
+    // The loop shows more drift than the model expects: the odometry edges are that much less
+    // certain (a-posteriori scale of the drift model from this loop).
+    options.odometry_information_scale = 1.0 / driftScaleFor(d, loop_cov, chain_cov);
     const PoseGraphSolveSummary summary = graph_.optimize(options);
     if (!summary.updated) {
       spdlog::info("loop {} -> {}: pose graph not updated ({})", id, c.keyframe_id,

@@ -20,17 +20,15 @@
 #include "loop/loop_closing_task.h"
 #include "loop/loop_types.h"
 #include "loop/loop_verification.h"
+#include "loop/odometry_drift.h"
 #include "loop/orb_extractor.h"
 #include "loop/pose_graph.h"
-#include "map/window_keyframe.h"
+#include "model/marginalized_keyframe.h"
 
 namespace ldsm::loop {
 
-/// One keyframe handed to the background task.
-struct LoopJob {
-  KeyframeFeatures features;
-  SE3d T_w_c;  ///< the odometry's final estimate (camera-to-world) when it left the window
-};
+/// One keyframe handed to the background task: the keyframe as it left the window.
+using LoopJob = MarginalizedKeyframe;
 
 class LoopCloser {
  public:
@@ -40,8 +38,8 @@ class LoopCloser {
   LoopCloser(const LoopCloser&) = delete;
   LoopCloser& operator=(const LoopCloser&) = delete;
 
-  /// Mapping thread: `kf` leaves the window (pyramid, corners and final pose still valid).
-  void keyframeLeftWindow(const WindowKeyframe& kf);
+  /// Mapping thread: `kf` left the window. It is described (ORB) and queued for the task.
+  void keyframeLeftWindow(MarginalizedKeyframe&& kf);
   /// Mapping thread, at a safe point: corrections published since the last call.
   std::vector<LoopCorrection> takeCorrections() { return task_->tryTakeResults(); }
   /// Waits (bounded) until every queued keyframe is processed; end of a run.
@@ -55,14 +53,25 @@ class LoopCloser {
   void addToGraph(const LoopJob& job, bool new_map);
   std::optional<LoopCorrection> closeLoop(int id, const std::atomic<bool>& abort);
 
+  /// Where a keyframe sits on the odometry chain: keyframe steps and distance (map units) from
+  /// the chain's start.
+  struct ChainPosition {
+    int step = 0;
+    double path = 0.0;
+  };
+  /// Steps put between two maps (tracking lost in between): no odometry connects them.
+  static constexpr int kDisconnectedSteps = 1000000;
+
   LoopConfig config_;
   PinholeIntrinsics camera_;
+  OdometryDriftModel drift_;
   OrbExtractor orb_;
   std::vector<std::uint32_t> kept_;
   std::atomic<bool> new_map_{false};
   // Used only by the background task.
   BowIndex index_;
   std::map<int, KeyframeFeatures> features_;
+  std::map<int, ChainPosition> chain_;
   PoseGraph graph_;
   int last_id_ = -1;
   SE3d last_T_w_c_;

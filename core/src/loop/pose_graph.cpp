@@ -221,8 +221,11 @@ double PoseGraph::cost() const {
 
 PoseGraphSolveSummary PoseGraph::optimize(const PoseGraphSolveOptions& options) {
   if (options.max_iterations < 1 || !(options.max_time_s > 0.0) ||
-      !(options.function_tolerance > 0.0)) {
-    throw ConfigError("pose graph: max_iterations >= 1, max_time_s > 0, function_tolerance > 0");
+      !(options.function_tolerance > 0.0) || !(options.odometry_information_scale > 0.0) ||
+      !std::isfinite(options.odometry_information_scale)) {
+    throw ConfigError(
+        "pose graph: max_iterations >= 1, max_time_s > 0, function_tolerance > 0, "
+        "odometry_information_scale finite and > 0");
   }
   const auto t0 = std::chrono::steady_clock::now();
   PoseGraphSolveSummary summary;
@@ -245,7 +248,10 @@ PoseGraphSolveSummary PoseGraph::optimize(const PoseGraphSolveOptions& options) 
   Sim3LeftManifold manifold;
   for (std::size_t k = 0; k < edges_.size(); ++k) {
     const PoseGraphEdge& e = edges_[k];
-    auto* cost = new EdgeCost(e.S_from_to, sqrt_information_[k]);
+    const double w = e.kind == PoseGraphEdgeKind::kOdometry
+                         ? std::sqrt(options.odometry_information_scale)
+                         : 1.0;
+    auto* cost = new EdgeCost(e.S_from_to, w * sqrt_information_[k]);
     double* pi = vertices_[e.from_id].params.data();
     double* pj = vertices_[e.to_id].params.data();
     problem.AddResidualBlock(cost, nullptr, pi, pj);

@@ -2,11 +2,13 @@
 // keyframe holding its world-from-camera similarity S_w_c, one edge per relative measurement
 //   S_i_j ~ S_w_i^-1 * S_w_j   (maps camera-j points into camera i)
 // with residual r = log(S_i_j^-1 * S_w_i^-1 * S_w_j) in R^7 ([rho, phi, sigma]) and cost
-// r^T Info r. Window (odometry / covisibility) edges get unit-order weights, loop edges higher ones
-// (kDefaultLoopEdgeWeight). Solved with Ceres: Levenberg-Marquardt, SPARSE_NORMAL_CHOLESKY on
-// SuiteSparse, analytic Jacobians (sim3_edge.h, checked against numeric differentiation in the
-// tests; ~10x cheaper than autodiff through Sim3::log), bounded iterations and time, abortable.
-// Not thread-safe: one thread builds and solves a graph (the loop-closing worker).
+// r^T Info r. Each edge carries its own information matrix: the loop closer gives odometry edges
+// that of its drift model (odometry_drift.h) and loop edges the loop's measured information
+// (LDSM's fixed weights, loop 100 and odometry 1, remain as constants for scalar use). Solved with
+// Ceres: Levenberg-Marquardt, SPARSE_NORMAL_CHOLESKY on SuiteSparse, analytic Jacobians
+// (sim3_edge.h, checked against numeric differentiation in the tests; ~10x cheaper than autodiff
+// through Sim3::log), bounded iterations and time, abortable. Not thread-safe: one thread builds
+// and solves a graph (the loop-closing worker).
 #pragma once
 
 #include <array>
@@ -26,7 +28,7 @@ namespace ldsm::loop {
 /// What an edge comes from (affects nothing but bookkeeping; weights are explicit).
 enum class PoseGraphEdgeKind { kOdometry, kLoop };
 
-/// LDSM's weights: loop edges 100, window edges 1.
+/// LDSM's fixed weights: loop edges 100, window edges 1 (for addEdge with a scalar weight).
 inline constexpr double kDefaultOdometryEdgeWeight = 1.0;
 inline constexpr double kDefaultLoopEdgeWeight = 100.0;
 
@@ -47,6 +49,9 @@ struct PoseGraphSolveOptions {
   /// Checked after every iteration; when it becomes true the solve stops and the vertices keep
   /// the values they had before optimize() (nullptr: never aborts).
   const std::atomic<bool>* abort = nullptr;
+  /// Multiplies the information of every odometry edge (an a-posteriori scale of the odometry's
+  /// drift model: < 1 when a loop shows more drift than the model expected).
+  double odometry_information_scale = 1.0;
 };
 
 /// What PoseGraph::optimize() did.

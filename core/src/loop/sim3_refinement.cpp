@@ -6,6 +6,8 @@
 #include <string>
 
 #include <ceres/ceres.h>
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
 
 #include "ldsm/error.h"
 
@@ -23,14 +25,17 @@ Eigen::Matrix<T, 3, 1> movedPoint(const T* delta, const Eigen::Vector3d& p0) {
 struct ReprojectionCost {
   Eigen::Vector3d p0;
   Eigen::Vector2d pixel;
-  double fx, fy, cx, cy, inv_sigma;
+  double fx, fy, cx, cy;
+  Eigen::Matrix2d sqrt_info;  // whitening of the pixel error (upper triangular)
 
   template <typename T>
   bool operator()(const T* delta, T* r) const {
     const Eigen::Matrix<T, 3, 1> x = movedPoint(delta, p0);
     if (!(x.z() > T(1e-12))) return false;  // behind the camera: LM rejects this step
-    r[0] = (T(fx) * x.x() / x.z() + T(cx) - T(pixel.x())) * T(inv_sigma);
-    r[1] = (T(fy) * x.y() / x.z() + T(cy) - T(pixel.y())) * T(inv_sigma);
+    const T e0 = T(fx) * x.x() / x.z() + T(cx) - T(pixel.x());
+    const T e1 = T(fy) * x.y() / x.z() + T(cy) - T(pixel.y());
+    r[0] = T(sqrt_info(0, 0)) * e0 + T(sqrt_info(0, 1)) * e1;
+    r[1] = T(sqrt_info(1, 0)) * e0 + T(sqrt_info(1, 1)) * e1;
     return true;
   }
 };
@@ -38,15 +43,46 @@ struct ReprojectionCost {
 struct PointCost {
   Eigen::Vector3d p0;
   Eigen::Vector3d q;
-  double scale;  // 1 / (|q| sigma_rel)
+  Eigen::Matrix3d sqrt_info;  // whitening of the 3D error
 
   template <typename T>
   bool operator()(const T* delta, T* r) const {
     const Eigen::Matrix<T, 3, 1> x = movedPoint(delta, p0);
-    for (int i = 0; i < 3; ++i) r[i] = (x(i) - T(q(i))) * T(scale);
+    const Eigen::Matrix<T, 3, 1> e = x - q.cast<T>();
+    for (int i = 0; i < 3; ++i)
+      r[i] = T(sqrt_info(i, 0)) * e(0) + T(sqrt_info(i, 1)) * e(1) + T(sqrt_info(i, 2)) * e(2);
     return true;
   }
 };
+
+// The reprojection error and the depth error along the current camera's axis, jointly whitened:
+// for a match with a current depth the two share the candidate point's depth error.
+struct PixelDepthCost {
+  Eigen::Vector3d p0;
+  Eigen::Vector2d pixel;
+  double depth;  // z of the current feature's 3D point
+  double fx, fy, cx, cy;
+  Eigen::Matrix3d sqrt_info;
+
+  template <typename T>
+  bool operator()(const T* delta, T* r) const {
+    const Eigen::Matrix<T, 3, 1> x = movedPoint(delta, p0);
+    if (!(x.z() > T(1e-12))) return false;
+    const T e[3] = {T(fx) * x.x() / x.z() + T(cx) - T(pixel.x()),
+                    T(fy) * x.y() / x.z() + T(cy) - T(pixel.y()), x.z() - T(depth)};
+    for (int i = 0; i < 3; ++i)
+      r[i] = T(sqrt_info(i, 0)) * e[0] + T(sqrt_info(i, 1)) * e[1] + T(sqrt_info(i, 2)) * e[2];
+    return true;
+  }
+};
+
+// L^T with L L^T = inverse of a symmetric positive definite covariance: r_w = L^T r has unit
+// covariance.
+template <int N>
+Eigen::Matrix<double, N, N> sqrtInformation(const Eigen::Matrix<double, N, N>& covariance) {
+  const Eigen::Matrix<double, N, N> info = covariance.inverse();
+  return Eigen::LLT<Eigen::Matrix<double, N, N>>(info).matrixL().transpose();
+}
 
 struct Whitened {
   bool in_front = false;
@@ -68,28 +104,98 @@ class Refiner {
     }
   }
 
+  // The errors' covariances at S, from three sources: the current feature's pixel (pixel_sigma),
+  // the current feature's depth and the candidate point's depth (each depth_relative_sigma,
+  // relative, along its own ray; the candidate's moves S p along S's image of that ray). A match
+  // with a current depth gives the reprojection error and the depth error along the current
+  // axis, whitened jointly (they share the candidate's depth error; the lateral part of a 3D
+  // error would repeat the pixel); without a current depth, the reprojection error alone.
+  Eigen::Matrix<double, 2, 3> projectionJacobian(const Eigen::Vector3d& x) const {
+    Eigen::Matrix<double, 2, 3> dpi;
+    const double iz = 1.0 / std::max(x.z(), 1e-12);
+    dpi << cam_.fx * iz, 0.0, -cam_.fx * x.x() * iz * iz, 0.0, cam_.fy * iz,
+        -cam_.fy * x.y() * iz * iz;
+    return dpi;
+  }
+  Eigen::Matrix2d sqrtInfo2d(std::size_t i, const Sim3d& S) const {
+    const Eigen::Vector3d x = S * c_[i].point_candidate;
+    const Eigen::Vector2d J = projectionJacobian(x) * (x - S.translation());
+    const double sd = s_.depth_relative_sigma;
+    const Eigen::Matrix2d cov =
+        s_.pixel_sigma * s_.pixel_sigma * Eigen::Matrix2d::Identity() + sd * sd * J * J.transpose();
+    return sqrtInformation<2>(cov);
+  }
+  Eigen::Matrix3d sqrtInfoPixelDepth(std::size_t i, const Sim3d& S) const {
+    const Eigen::Vector3d x = S * c_[i].point_candidate;
+    const Eigen::Vector3d along = x - S.translation();
+    Eigen::Vector3d a_cand;  // candidate depth error
+    a_cand << projectionJacobian(x) * along, along.z();
+    const double sd = s_.depth_relative_sigma;
+    Eigen::Matrix3d cov = sd * sd * a_cand * a_cand.transpose();
+    cov.topLeftCorner<2, 2>() += s_.pixel_sigma * s_.pixel_sigma * Eigen::Matrix2d::Identity();
+    cov(2, 2) += sd * sd * q_[i].z() * q_[i].z();
+    return sqrtInformation<3>(cov);
+  }
+  // 3D error alone (reprojection_for_depth_matches off, LDO's split): the pixel error moves the
+  // current point sideways.
+  Eigen::Matrix3d sqrtInfo3d(std::size_t i, const Sim3d& S) const {
+    const Eigen::Vector3d x = S * c_[i].point_candidate;
+    const Eigen::Vector3d along = x - S.translation();
+    const Eigen::Vector3d& q = q_[i];
+    const double sd = s_.depth_relative_sigma;
+    Eigen::Matrix<double, 3, 2> dq_du = Eigen::Matrix<double, 3, 2>::Zero();
+    dq_du(0, 0) = q.z() / cam_.fx;
+    dq_du(1, 1) = q.z() / cam_.fy;
+    const Eigen::Matrix3d cov = sd * sd * (q * q.transpose() + along * along.transpose()) +
+                                s_.pixel_sigma * s_.pixel_sigma * dq_du * dq_du.transpose();
+    return sqrtInformation<3>(cov);
+  }
+
   Whitened evaluate(std::size_t i, const Sim3d& S) const {
     Whitened w;
     const Eigen::Vector3d x = S * c_[i].point_candidate;
     w.in_front = x.z() > 1e-12;
+    Eigen::Vector2d e = Eigen::Vector2d::Zero();
     if (w.in_front) {
       const Eigen::Vector2d u(cam_.fx * x.x() / x.z() + cam_.cx, cam_.fy * x.y() / x.z() + cam_.cy);
-      w.pixel_error2 = (u - c_[i].pixel_current).squaredNorm();
-      w.chi2_2d = w.pixel_error2 / (s_.pixel_sigma * s_.pixel_sigma);
+      e = u - c_[i].pixel_current;
+      w.pixel_error2 = e.squaredNorm();
+      w.chi2_2d = (sqrtInfo2d(i, S) * e).squaredNorm();
     }
     if (hasCurrentDepth(c_[i])) {
-      const double scale = 1.0 / (q_[i].norm() * s_.depth_relative_sigma);
-      w.chi2_3d = ((x - q_[i]) * scale).squaredNorm();
+      if (s_.reprojection_for_depth_matches) {
+        const Eigen::Vector3d e3(e.x(), e.y(), x.z() - q_[i].z());
+        w.chi2_3d = (sqrtInfoPixelDepth(i, S) * e3).squaredNorm();
+      } else {
+        w.chi2_3d = (sqrtInfo3d(i, S) * (x - q_[i])).squaredNorm();
+      }
     }
     return w;
   }
 
+  // A match with a current depth is tested on its 3-dimensional error, one without on its pixel.
   bool isInlier(const Whitened& w) const {
     if (!w.in_front) return false;
-    const bool ok2 = w.chi2_2d < s_.chi2_2d;
-    if (w.chi2_3d < 0.0) return ok2;
-    const bool ok3 = w.chi2_3d < s_.chi2_3d;
-    return s_.reprojection_for_depth_matches ? (ok2 && ok3) : ok3;
+    if (w.chi2_3d < 0.0) return w.chi2_2d < s_.chi2_2d;
+    return w.chi2_3d < s_.chi2_3d;
+  }
+
+  // The cost of match i linearised at S (owned by the caller), and its dimension.
+  ceres::CostFunction* cost(std::size_t i, const Sim3d& S, int* dim) const {
+    const Eigen::Vector3d p0 = S * c_[i].point_candidate;
+    if (!hasCurrentDepth(c_[i])) {
+      *dim = 2;
+      return new ceres::AutoDiffCostFunction<ReprojectionCost, 2, 7>(new ReprojectionCost{
+          p0, c_[i].pixel_current, cam_.fx, cam_.fy, cam_.cx, cam_.cy, sqrtInfo2d(i, S)});
+    }
+    *dim = 3;
+    if (s_.reprojection_for_depth_matches) {
+      return new ceres::AutoDiffCostFunction<PixelDepthCost, 3, 7>(
+          new PixelDepthCost{p0, c_[i].pixel_current, q_[i].z(), cam_.fx, cam_.fy, cam_.cx, cam_.cy,
+                             sqrtInfoPixelDepth(i, S)});
+    }
+    return new ceres::AutoDiffCostFunction<PointCost, 3, 7>(
+        new PointCost{p0, q_[i], sqrtInfo3d(i, S)});
   }
 
   // One Levenberg-Marquardt solve over the active correspondences; returns the new estimate.
@@ -116,18 +222,9 @@ class Refiner {
     };
     for (std::size_t i = 0; i < c_.size(); ++i) {
       if (!active[i]) continue;
-      const Eigen::Vector3d p0 = S * c_[i].point_candidate;
-      const bool depth = hasCurrentDepth(c_[i]);
-      if (depth) {
-        const ceres::AutoDiffCostFunction<PointCost, 3, 7> cost(
-            new PointCost{p0, q_[i], 1.0 / (q_[i].norm() * s_.depth_relative_sigma)});
-        add(cost, 3);
-      }
-      if (!depth || s_.reprojection_for_depth_matches) {
-        const ceres::AutoDiffCostFunction<ReprojectionCost, 2, 7> cost(new ReprojectionCost{
-            p0, c_[i].pixel_current, cam_.fx, cam_.fy, cam_.cx, cam_.cy, 1.0 / s_.pixel_sigma});
-        add(cost, 2);
-      }
+      int dim = 0;
+      const std::unique_ptr<ceres::CostFunction> c(cost(i, S, &dim));
+      add(*c, dim);
     }
   }
 
@@ -140,18 +237,9 @@ class Refiner {
     ceres::HuberLoss loss_3d(s_.huber_3d);
     for (std::size_t i = 0; i < c_.size(); ++i) {
       if (!active[i]) continue;
-      const Eigen::Vector3d p0 = S0 * c_[i].point_candidate;
-      const bool depth = hasCurrentDepth(c_[i]);
-      if (depth) {
-        auto* cost = new ceres::AutoDiffCostFunction<PointCost, 3, 7>(
-            new PointCost{p0, q_[i], 1.0 / (q_[i].norm() * s_.depth_relative_sigma)});
-        problem.AddResidualBlock(cost, &loss_3d, delta);
-      }
-      if (!depth || s_.reprojection_for_depth_matches) {
-        auto* cost = new ceres::AutoDiffCostFunction<ReprojectionCost, 2, 7>(new ReprojectionCost{
-            p0, c_[i].pixel_current, cam_.fx, cam_.fy, cam_.cx, cam_.cy, 1.0 / s_.pixel_sigma});
-        problem.AddResidualBlock(cost, &loss_2d, delta);
-      }
+      int dim = 0;
+      ceres::CostFunction* c = cost(i, S0, &dim);
+      problem.AddResidualBlock(c, dim == 2 ? &loss_2d : &loss_3d, delta);
     }
     ceres::Solver::Options options;
     options.linear_solver_type = ceres::DENSE_QR;

@@ -7,6 +7,17 @@
 
 namespace ldsm {
 
+PatchPoint toPatchPoint(const ActivePoint& point) {
+  PatchPoint out;
+  out.u = point.u;
+  out.v = point.v;
+  out.idepth = point.idepth;
+  out.idepth_hessian = point.hessian_idepth;
+  for (int k = 0; k < kPatternSize; ++k) out.colors[k] = point.colors[k];
+  out.is_corner = point.is_corner;
+  return out;
+}
+
 bool initActivePoint(ActivePoint& point, WindowKeyframe& host, float u, float v, float idepth,
                      float gradient_weight_c) {
   const ImageView<const GradientPixel> img = host.pyramid().gradients(0);

@@ -6,7 +6,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "frontend/residual_pattern.h"
+#include "model/patch_point.h"
+#include "model/residual_pattern.h"
 
 namespace ldsm {
 
@@ -45,6 +46,9 @@ namespace ldsm {
 
 /// Fills `point` for host pixel (u, v): pattern intensities and gradient weights from the host's
 /// level 0 (gradient weight constant c). Returns false when the pattern leaves the image.
+/// The point as the map keeps it once it left the window.
+PatchPoint toPatchPoint(const ActivePoint& point);
+
 bool initActivePoint(ActivePoint& point, WindowKeyframe& host, float u, float v, float idepth,
                      float gradient_weight_c);
 

@@ -7,11 +7,12 @@
 #include <memory>
 #include <vector>
 
-#include "frontend/affine_light.h"
 #include "frontend/immature_point.h"
 #include "ldsm/image/image_pyramid.h"
 #include "ldsm/math/se3.h"
 #include "map/active_point.h"
+#include "model/affine_light.h"
+#include "model/patch_point.h"
 
 namespace ldsm {
 
@@ -85,6 +86,9 @@ class WindowKeyframe {
   /// closure) and the inverse depth each got as an active point (NaN: none).
   std::vector<Eigen::Vector2f> corners;
   std::vector<float> corner_idepth;
+  /// Points this keyframe hosted that left the window with a converged depth (marginalised when
+  /// the newest keyframe stopped seeing them): kept for the map once the keyframe leaves too.
+  std::vector<PatchPoint> retired_points;
 
  private:
   SE3d T_c_w_backup;

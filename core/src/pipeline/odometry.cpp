@@ -41,7 +41,7 @@ Odometry::Odometry(const Config& config, const GeometricCalibration& geometric,
         config.loop, PinholeIntrinsics{c.fx, c.fy, c.cx, c.cy, c.width, c.height},
         /*inline_mode=*/config.system.deterministic);
     mapper_.setKeyframeLeavingHandler(
-        [this](const WindowKeyframe& kf) { loop_closer_->keyframeLeftWindow(kf); });
+        [this](MarginalizedKeyframe&& kf) { loop_closer_->keyframeLeftWindow(std::move(kf)); });
   }
 }
 

@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "camera/pyramid_camera.h"
 #include "frontend/coarse_initializer.h"
-#include "frontend/pyramid_camera.h"
 #include "init_scene.h"
 #include "ldsm/image/image_pyramid.h"
 #include "test_paths.h"

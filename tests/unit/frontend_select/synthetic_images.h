@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <functional>
 
-#include "frontend/pyramid_camera.h"
+#include "camera/pyramid_camera.h"
 #include "ldsm/image.h"
 #include "ldsm/image/image_pyramid.h"
 #include "ldsm/math/se3.h"

@@ -8,8 +8,8 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "camera/pyramid_camera.h"
 #include "frontend/depth_map_pyramid.h"
-#include "frontend/pyramid_camera.h"
 #include "ldsm/camera/calibration.h"
 #include "ldsm/image.h"
 #include "ldsm/image/image_pyramid.h"

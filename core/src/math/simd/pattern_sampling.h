@@ -14,11 +14,11 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "frontend/residual_pattern.h"
 #include "ldsm/image.h"
 #include "ldsm/image/gradient_pixel.h"
 #include "ldsm/image/interpolation.h"
 #include "math/simd/vec4f.h"
+#include "model/residual_pattern.h"
 
 namespace ldsm {
 namespace simd {

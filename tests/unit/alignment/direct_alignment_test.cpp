@@ -1,0 +1,87 @@
+// Direct alignment of stored points to an image, on rendered planes with exact depths.
+#include "alignment/direct_alignment.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include <Eigen/Eigenvalues>
+
+#include "ldsm/image/interpolation.h"
+#include "plane_scene.h"
+
+namespace ldsm {
+namespace {
+
+constexpr int kW = 320, kH = 240;
+constexpr double kF = 260.0, kCx = 159.5, kCy = 119.5;
+
+Eigen::Isometry3d isometry(const SE3d& T_w_c) {
+  Eigen::Isometry3d iso = Eigen::Isometry3d::Identity();
+  iso.linear() = T_w_c.so3().matrix();
+  iso.translation() = T_w_c.translation();
+  return iso;
+}
+
+struct Fixture {
+  test::PlaneScene scene = test::PlaneScene::wallAndFloor(4.0);
+  PyramidCamera camera{PinholeIntrinsics{kF, kF, kCx, kCy, kW, kH}, 3};
+  std::vector<PatchPoint> points;
+  ImagePyramid target{kW, kH, 3, false};
+
+  /// Host at the origin, target at T_w_target; points on a grid of host pixels with gradient.
+  void render(const SE3d& T_w_target, double brightness_scale, double brightness_offset) {
+    ImageF idepth;
+    const ImageF host =
+        scene.render(Eigen::Isometry3d::Identity(), kF, kF, kCx, kCy, kW, kH, &idepth);
+    ImageF tgt = scene.render(isometry(T_w_target), kF, kF, kCx, kCy, kW, kH);
+    for (int y = 0; y < kH; ++y)
+      for (int x = 0; x < kW; ++x)
+        tgt(x, y) = static_cast<float>(brightness_scale * tgt(x, y) + brightness_offset);
+    target.build(tgt.view());
+    for (int y = 8; y < kH - 8; y += 6)
+      for (int x = 8; x < kW - 8; x += 6) {
+        PatchPoint p;
+        p.u = static_cast<float>(x);
+        p.v = static_cast<float>(y);
+        p.idepth = idepth(x, y);
+        if (!(p.idepth > 0.f)) continue;
+        const float gx = host(x + 1, y) - host(x - 1, y), gy = host(x, y + 1) - host(x, y - 1);
+        if (gx * gx + gy * gy < 16.f) continue;
+        for (int k = 0; k < kPatternSize; ++k)
+          p.colors[k] = host(x + kPatternOffsets[k][0], y + kPatternOffsets[k][1]);
+        points.push_back(p);
+      }
+  }
+};
+
+SE3d pose(double rx, double ry, double rz, double tx, double ty, double tz) {
+  SE3d::Tangent x;
+  x << tx, ty, tz, rx, ry, rz;
+  return SE3d::exp(x);
+}
+
+TEST(DirectAlignment, RecoversAPoseWithRollAndBrightnessChangeFromAPerturbedStart) {
+  Fixture f;
+  const SE3d T_w_target = pose(0.03, -0.05, 0.12, 0.25, -0.1, 0.3);
+  f.render(T_w_target, 1.2, -10.0);
+  ASSERT_GT(f.points.size(), 500u);
+  const SE3d T_true = T_w_target.inverse();  // target <- host (host = world)
+  const SE3d T_start = pose(0.01, -0.008, 0.006, 0.03, 0.02, -0.03) * T_true;
+  const DirectAlignmentResult r =
+      alignPoints(f.points, f.camera, 0.f, f.target, T_start, 0.0, 0.0, DirectAlignmentSettings{});
+  ASSERT_TRUE(r.success) << r.failure;
+  const SE3d::Tangent err = (r.T_target_host * T_true.inverse()).log();
+  EXPECT_LT(err.head<3>().norm(), 2e-3) << err.transpose();
+  EXPECT_LT(err.tail<3>().norm(), 2e-4) << err.transpose();
+  EXPECT_NEAR(std::exp(r.a), 1.2, 0.01);
+  EXPECT_NEAR(r.b, -10.0, 1.0);
+  EXPECT_GT(r.inliers, static_cast<int>(0.9 * r.in_image));
+  // The information is positive definite.
+  using Solver = Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>>;
+  EXPECT_GT(Solver(r.information).eigenvalues().minCoeff(), 0.0);
+}
+
+}  // namespace
+}  // namespace ldsm
