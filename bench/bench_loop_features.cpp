@@ -13,14 +13,14 @@
 #include <string>
 #include <vector>
 
-#include "frontend/corner_detector.h"
+#include "features/corner_detector.h"
+#include "features/orb_extractor.h"
 #include "ldsm/drivers/dataset_source.h"
 #include "ldsm/image/image_pyramid.h"
 #include "loop/binary_kmajority.h"
 #include "loop/bow_index.h"
 #include "loop/keyframe_database.h"
 #include "loop/online_vocabulary.h"
-#include "loop/orb_extractor.h"
 #include "loop/vocabulary.h"
 
 namespace {

@@ -30,6 +30,9 @@ struct SystemConfig {
   int tracking_cpu = -1;
   /// CPU the mapping thread is pinned to (-1: any).
   int mapping_cpu = -1;
+  /// Tracked frames the mapping queue holds (threaded mode): how far tracking may run ahead of
+  /// mapping before it waits.
+  int mapping_queue = 4;
 
   template <typename V>
   void visit(V& v) {
@@ -44,6 +47,8 @@ struct SystemConfig {
             "CPU to pin the tracking thread to (-1: any)");
     v.field("mapping_cpu", mapping_cpu, Range<int>{-1, 1023},
             "CPU to pin the mapping thread to (-1: any)");
+    v.field("mapping_queue", mapping_queue, Range<int>{1, 64},
+            "tracked frames the mapping queue holds before tracking waits (threaded mode)");
   }
 };
 
@@ -209,6 +214,10 @@ struct LoopConfig {
   int exclude_recent_keyframes = 20;
   int max_candidates = 3;  ///< best BoW candidates verified per keyframe
   int min_inliers = 20;    ///< inliers of the Sim(3) after refinement to accept a loop
+  /// Corners described (ORB) on a keyframe leaving the window, besides the odometry's own, and
+  /// the weakest Shi-Tomasi score they may have (9: a gradient of 3 grey levels per pixel).
+  int corners_per_keyframe = 400;
+  double corner_min_score = 9.0;
   /// The odometry's drift model: the uncertainty the window's relative poses accumulate along the
   /// chain of keyframes. Per keyframe step a random walk of rotation_drift (radians) and
   /// scale_drift (log scale), and translation_drift times the distance travelled. It weighs the
@@ -232,6 +241,10 @@ struct LoopConfig {
             "bag-of-words candidates verified per keyframe");
     v.field("min_inliers", min_inliers, Range<int>{10, 1000},
             "Sim(3) inliers needed to accept a loop");
+    v.field("corners_per_keyframe", corners_per_keyframe, Range<int>{0, 5000},
+            "extra corners described (ORB) on each keyframe leaving the window");
+    v.field("corner_min_score", corner_min_score, Range<double>{0.0, 1e6},
+            "weakest Shi-Tomasi score of those corners");
     v.field("odometry_rotation_drift", odometry_rotation_drift, Range<double>{1e-6, 0.1},
             "odometry drift model: rotation random walk per keyframe (radians)");
     v.field("odometry_scale_drift", odometry_scale_drift, Range<double>{1e-6, 0.5},

@@ -26,13 +26,6 @@ struct FrameView {
   double exposure_ms = std::numeric_limits<double>::quiet_NaN();  ///< NaN when unknown
 };
 
-/// A point of the map in world coordinates with its grey value.
-struct MapPoint {
-  Eigen::Vector3d position = Eigen::Vector3d::Zero();
-  float intensity = 0.f;
-  bool is_corner = false;
-};
-
 /// Timing of one processing stage over the run, milliseconds.
 struct StageTiming {
   std::string stage;

@@ -1,4 +1,4 @@
-// Value types of the public API: poses, stamped poses, trajectories.
+// Value types of the public API: poses, stamped poses, trajectories, map points.
 #pragma once
 
 #include <Eigen/Core>
@@ -35,5 +35,12 @@ struct StampedPose {
 };
 
 using Trajectory = std::vector<StampedPose>;
+
+/// A point of the map in world coordinates with its grey value.
+struct MapPoint {
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  float intensity = 0.f;
+  bool is_corner = false;
+};
 
 }  // namespace ldsm

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "map/active_point.h"
+#include "backend/active_point.h"
 
 namespace ldsm {
 

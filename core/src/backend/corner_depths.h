@@ -12,8 +12,8 @@
 #include <memory>
 #include <vector>
 
+#include "backend/window_keyframe.h"
 #include "camera/pyramid_camera.h"
-#include "map/window_keyframe.h"
 
 namespace ldsm {
 

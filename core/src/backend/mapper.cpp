@@ -28,11 +28,11 @@ WindowOptimizerSettings optimizerSettings(const Config& c, bool photometry_known
 
 }  // namespace
 
-Mapper::Mapper(const Config& config, const PyramidCamera& camera, MapStore& store,
+Mapper::Mapper(const Config& config, const PyramidCamera& camera, PyramidPool& pyramids,
                bool photometry_known)
     : config_(config),
       camera_(camera),
-      store_(store),
+      pyramids_(pyramids),
       optimizer_(optimizerSettings(config, photometry_known), camera[0]),
       radial_(config.calibration),
       selector_(camera[0].width, camera[0].height, config.points) {
@@ -49,27 +49,6 @@ std::vector<WindowKeyframe*> Mapper::windowView() const {
   return w;
 }
 
-std::unique_ptr<ImagePyramid> Mapper::acquirePyramid() {
-  {
-    std::lock_guard<std::mutex> lock(pool_mutex_);
-    if (!pyramid_pool_.empty()) {
-      auto p = std::move(pyramid_pool_.back());
-      pyramid_pool_.pop_back();
-      return p;
-    }
-  }
-  // Nothing in the pipeline reads |grad I|^2 from the pyramid: leave that plane out (4 of 20
-  // bytes per pixel of every keyframe).
-  return std::make_unique<ImagePyramid>(camera_[0].width, camera_[0].height, camera_.levels(),
-                                        /*with_grad_mag_sq=*/false);
-}
-
-void Mapper::releasePyramid(std::unique_ptr<ImagePyramid> pyramid) {
-  if (!pyramid) return;
-  std::lock_guard<std::mutex> lock(pool_mutex_);
-  pyramid_pool_.push_back(std::move(pyramid));
-}
-
 WindowKeyframe& Mapper::insertKeyframe(std::unique_ptr<ImagePyramid> pyramid,
                                        const MapperFrame& info) {
   auto kf = std::make_unique<WindowKeyframe>(next_keyframe_id_++, info.frame_index, info.timestamp,
@@ -82,7 +61,7 @@ WindowKeyframe& Mapper::insertKeyframe(std::unique_ptr<ImagePyramid> pyramid,
 bool Mapper::initialize(const InitializationResult& result, const MapperFrame& reference,
                         std::unique_ptr<ImagePyramid> reference_pyramid, const MapperFrame& last,
                         std::unique_ptr<ImagePyramid> last_pyramid, KeyframeInsertion* insertion) {
-  reset();
+  MapUpdate before = reset();
   WindowKeyframe& kf0 = insertKeyframe(std::move(reference_pyramid), reference);
   kf0.is_gauge_anchor = true;
   // Keep about the configured number of active points, spread evenly over the result.
@@ -106,11 +85,17 @@ bool Mapper::initialize(const InitializationResult& result, const MapperFrame& r
   }
   if (kf0.points.size() < 50) {
     spdlog::warn("initialisation left only {} usable points; starting over", kf0.points.size());
-    reset();
+    const MapUpdate dropped = reset();
+    before.keyframes.insert(before.keyframes.end(), dropped.keyframes.begin(),
+                            dropped.keyframes.end());
+    if (insertion) insertion->map = std::move(before);
+    pyramids_.release(std::move(last_pyramid));
     return false;
   }
   KeyframeInsertion ins = addKeyframe(std::move(last_pyramid), last);
-  if (insertion) *insertion = ins;
+  ins.map.keyframes.insert(ins.map.keyframes.begin(), before.keyframes.begin(),
+                           before.keyframes.end());
+  if (insertion) *insertion = std::move(ins);
   return true;
 }
 
@@ -157,6 +142,7 @@ void Mapper::addResidualsToNewest() {
 KeyframeInsertion Mapper::addKeyframe(std::unique_ptr<ImagePyramid> pyramid,
                                       const MapperFrame& info) {
   KeyframeInsertion ins;
+  update_ = MapUpdate();
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
   WindowKeyframe& kf = insertKeyframe(std::move(pyramid), info);
@@ -173,7 +159,9 @@ KeyframeInsertion Mapper::addKeyframe(std::unique_ptr<ImagePyramid> pyramid,
   ins.marginalized_frames = marginalizeFrames();
   const auto t3 = Clock::now();
   makeImmaturePoints(*window_.back());
-  publishPoses();
+  for (KeyframeRecord& r : windowPoses()) update_.keyframes.push_back(r);
+  ins.map = std::move(update_);
+  update_ = MapUpdate();
   const auto t4 = Clock::now();
   auto ms = [](Clock::time_point a, Clock::time_point b) {
     return std::chrono::duration<double, std::milli>(b - a).count();
@@ -280,8 +268,7 @@ void Mapper::marginalizeFrame(int window_index) {
       kept.push_back(toPatchPoint(*p));
     }
   }
-  MarginalizedKeyframe leaving;
-  if (on_leaving_) leaving = describeLeavingKeyframe(f, std::move(kept));
+  MarginalizedKeyframe leaving = describeLeavingKeyframe(f, std::move(kept));
   optimizer_.marginalizePoints(view, to_prior, prior_);
   f.points.clear();
   f.immature.clear();
@@ -304,21 +291,30 @@ void Mapper::marginalizeFrame(int window_index) {
         pts.end());
   }
   optimizer_.marginalizeFrame(view, f, prior_);
-  store_.setKeyframe({f.id(), f.frameIndex(), f.timestamp(), f.T_c_w.inverse()});
-  if (on_leaving_) {
-    leaving.T_w_c = f.T_c_w.inverse();
-    on_leaving_(std::move(leaving));
-  }
-  store_.addPoints(finished);
-  releasePyramid(f.releasePyramid());
+  update_.keyframes.push_back({f.id(), f.frameIndex(), f.timestamp(), f.T_c_w.inverse()});
+  leaving.T_w_c = f.T_c_w.inverse();
+  update_.left.push_back(std::move(leaving));
+  update_.points.insert(update_.points.end(), finished.begin(), finished.end());
+  pyramids_.release(f.releasePyramid());
   window_.erase(window_.begin() + window_index);
 }
 
 MarginalizedKeyframe Mapper::describeLeavingKeyframe(WindowKeyframe& f,
                                                      std::vector<PatchPoint> points) {
+  MarginalizedKeyframe out;
+  out.id = f.id();
+  out.frame_index = f.frameIndex();
+  out.timestamp = f.timestamp();
+  out.exposure = f.exposure();
+  out.aff = f.aff;
+  out.T_w_c = f.T_c_w.inverse();
+  out.radial_k = radialK();
+  out.points = std::move(points);
+  if (!describe_leaving_) return out;
   // Loop closure describes the keyframe: more corners than the odometry's (weaker ones too),
   // then depths for as many as possible.
-  selector_.detectCorners(f.pyramid(), kLoopCorners, kLoopCornerMinScore, loop_corners_);
+  selector_.detectCorners(f.pyramid(), config_.loop.corners_per_keyframe,
+                          static_cast<float>(config_.loop.corner_min_score), loop_corners_);
   const std::size_t own = f.corners.size();
   for (const Corner& c : loop_corners_) {
     bool taken = false;
@@ -332,15 +328,6 @@ MarginalizedKeyframe Mapper::describeLeavingKeyframe(WindowKeyframe& f,
       "immature, {} nearby, {} none",
       f.id(), own, f.corners.size() - own, loop_corners_.size(), fill.from_points,
       fill.from_immature, fill.from_neighbours, fill.without);
-  MarginalizedKeyframe out;
-  out.id = f.id();
-  out.frame_index = f.frameIndex();
-  out.timestamp = f.timestamp();
-  out.exposure = f.exposure();
-  out.aff = f.aff;
-  out.T_w_c = f.T_c_w.inverse();
-  out.radial_k = radialK();
-  out.points = std::move(points);
   out.corners = f.corners;
   out.corner_idepth = f.corner_idepth;
   out.image.copyFrom(f.pyramid().intensity(0));
@@ -370,9 +357,12 @@ void Mapper::recordCornerDepth(const ActivePoint& p) {
     }
 }
 
-void Mapper::publishPoses() const {
+std::vector<KeyframeRecord> Mapper::windowPoses() const {
+  std::vector<KeyframeRecord> out;
+  out.reserve(window_.size());
   for (const auto& kf : window_)
-    store_.setKeyframe({kf->id(), kf->frameIndex(), kf->timestamp(), kf->T_c_w.inverse()});
+    out.push_back({kf->id(), kf->frameIndex(), kf->timestamp(), kf->T_c_w.inverse()});
+  return out;
 }
 
 MapPoint Mapper::worldPoint(const ActivePoint& p) const {
@@ -389,6 +379,11 @@ std::vector<MapPoint> Mapper::activeMapPoints() const {
   for (const auto& kf : window_)
     for (const auto& p : kf->points) out.push_back(worldPoint(*p));
   return out;
+}
+
+TrackingReference Mapper::newestReference() const {
+  const WindowKeyframe& kf = *window_.back();
+  return {kf.id(), kf.frameIndex(), kf.T_c_w, kf.exposure(), kf.aff, &kf.pyramid()};
 }
 
 int Mapper::activePointCount() const {
@@ -414,11 +409,14 @@ void Mapper::trackingPoints(std::vector<DepthPoint>& out) const {
   }
 }
 
-void Mapper::reset() {
-  publishPoses();
-  for (auto& kf : window_) releasePyramid(kf->releasePyramid());
+MapUpdate Mapper::reset() {
+  MapUpdate out;
+  out.keyframes = windowPoses();
+  for (auto& kf : window_) pyramids_.release(kf->releasePyramid());
   window_.clear();
   prior_ = MarginalizationPrior();
+  update_ = MapUpdate();
+  return out;
 }
 
 }  // namespace ldsm

@@ -1,23 +1,24 @@
 // The mapping module: owns the sliding window of keyframes, inserts new keyframes, traces and
 // activates immature points, runs the window bundle adjustment and marginalises old keyframes and
-// their points into the prior. Finished keyframe poses and points go to the MapStore.
+// their points into the prior. What the map keeps (keyframe poses, points that left the window,
+// keyframes that left it) comes out of every operation as values (MapUpdate).
 #pragma once
 
-#include <functional>
 #include <memory>
-#include <mutex>
 #include <vector>
 
 #include "backend/marginalization_prior.h"
+#include "backend/window_keyframe.h"
 #include "backend/window_optimizer.h"
 #include "camera/pyramid_camera.h"
-#include "frontend/coarse_initializer.h"
-#include "frontend/depth_map_pyramid.h"
-#include "frontend/pixel_selector.h"
+#include "features/pixel_selector.h"
+#include "image/pyramid_pool.h"
 #include "ldsm/config.h"
-#include "map/map_store.h"
-#include "map/window_keyframe.h"
+#include "model/depth_point.h"
+#include "model/initialization_result.h"
+#include "model/map_records.h"
 #include "model/marginalized_keyframe.h"
+#include "model/tracking_reference.h"
 
 namespace ldsm {
 
@@ -30,6 +31,13 @@ struct MapperFrame {
   AffineLight aff;
 };
 
+/// What the window hands to the map after an operation, as values, in the order they arose.
+struct MapUpdate {
+  std::vector<HostedPoint> points;         ///< points that left the window
+  std::vector<KeyframeRecord> keyframes;   ///< poses: keyframes that left, then the window's
+  std::vector<MarginalizedKeyframe> left;  ///< keyframes that left the window
+};
+
 /// What happened when a keyframe was inserted.
 struct KeyframeInsertion {
   int keyframe_id = -1;
@@ -39,13 +47,15 @@ struct KeyframeInsertion {
   int retired_points = 0;  ///< points that left the view (marginalised or dropped)
   int active_points = 0;
   int immature_points = 0;
+  MapUpdate map;  ///< for the map store and loop closure
 };
 
 class Mapper {
  public:
   /// `photometry_known`: response, vignette and exposure times are known, so affine brightness
   /// is held near zero by the strong prior (photometric.affine_prior_weight_known).
-  Mapper(const Config& config, const PyramidCamera& camera, MapStore& store, bool photometry_known);
+  Mapper(const Config& config, const PyramidCamera& camera, PyramidPool& pyramids,
+         bool photometry_known);
   ~Mapper();
 
   bool initialized() const { return !window_.empty(); }
@@ -64,24 +74,20 @@ class Mapper {
   KeyframeInsertion addKeyframe(std::unique_ptr<ImagePyramid> pyramid, const MapperFrame& info);
 
   const WindowKeyframe& newestKeyframe() const { return *window_.back(); }
+  /// The newest keyframe as the tracker's reference (its pyramid stays owned by the window).
+  TrackingReference newestReference() const;
   /// Every active point of the window projected into the newest keyframe.
   void trackingPoints(std::vector<DepthPoint>& out) const;
   int activePointCount() const;
-  /// Drops the window (tracking lost); keyframes keep their last poses in the map store.
-  void reset();
-  /// A pyramid for a new frame, from a pool of released ones when possible. The pool may be used
-  /// from the tracking and the mapping thread at once.
-  std::unique_ptr<ImagePyramid> acquirePyramid();
-  void releasePyramid(std::unique_ptr<ImagePyramid> pyramid);
-  /// Writes the window keyframes' current poses to the map store.
-  void publishPoses() const;
+  /// Drops the window (tracking lost); returns the window keyframes' last poses for the map.
+  MapUpdate reset();
+  /// The window keyframes' current poses.
+  std::vector<KeyframeRecord> windowPoses() const;
   /// World positions of the active points.
   std::vector<MapPoint> activeMapPoints() const;
-  /// Called with each keyframe that leaves the window, as a value (final pose, points, corners
-  /// with depths, level-0 image), on the mapping thread.
-  void setKeyframeLeavingHandler(std::function<void(MarginalizedKeyframe&&)> handler) {
-    on_leaving_ = std::move(handler);
-  }
+  /// Whether keyframes that leave the window are described for loop closure (more corners with
+  /// depths, the level-0 image in MapUpdate::left); off, they carry pose and points only.
+  void setDescribeLeavingKeyframes(bool on) { describe_leaving_ = on; }
 
   /// The radial correction the window applies (radial_correction.h).
   float radialK() const { return static_cast<float>(radial_.applied()); }
@@ -113,25 +119,22 @@ class Mapper {
 
   Config config_;
   PyramidCamera camera_;
-  MapStore& store_;
+  PyramidPool& pyramids_;
   WindowOptimizer optimizer_;
   RadialRefinement radial_;
   MarginalizationPrior prior_;
   PixelSelector selector_;
   TraceSettings trace_settings_;
   std::vector<std::unique_ptr<WindowKeyframe>> window_;
-  std::vector<std::unique_ptr<ImagePyramid>> pyramid_pool_;
   std::vector<float> energies_;  // scratch of adaptOutlierThreshold()
-  std::mutex pool_mutex_;
   std::vector<SelectedPixel> selected_;
   int next_keyframe_id_ = 0;
   std::uint64_t next_point_id_ = 0;
   float min_activation_distance_ = 2.f;
-  std::function<void(MarginalizedKeyframe&&)> on_leaving_;
-  /// Corners detected on a keyframe leaving the window, for loop closure (at most kLoopCorners,
-  /// Shi-Tomasi score >= kLoopCornerMinScore, i.e. a gradient of 3 grey levels per pixel).
-  static constexpr int kLoopCorners = 400;
-  static constexpr float kLoopCornerMinScore = 9.f;
+  MapUpdate update_;  ///< collected during the current operation
+  bool describe_leaving_ = false;
+  /// Corners detected on a keyframe leaving the window, for loop closure (at most
+  /// loop.corners_per_keyframe, Shi-Tomasi score >= loop.corner_min_score).
   std::vector<Corner> loop_corners_;
 };
 

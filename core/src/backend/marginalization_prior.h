@@ -7,7 +7,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "map/window_keyframe.h"
+#include "backend/window_keyframe.h"
 
 namespace ldsm {
 

@@ -14,11 +14,11 @@
 
 #include <Eigen/Core>
 
+#include "backend/active_point.h"
+#include "backend/window_keyframe.h"
 #include "camera/pyramid_camera.h"
+#include "kernels/pattern_accumulate.h"
 #include "ldsm/image/gradient_pixel.h"
-#include "map/active_point.h"
-#include "map/window_keyframe.h"
-#include "math/simd/pattern_accumulate.h"
 
 namespace ldsm {
 

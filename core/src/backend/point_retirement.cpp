@@ -61,7 +61,7 @@ int Mapper::retireLostPoints() {
     retired += static_cast<int>(pts.end() - end);
     pts.erase(end, pts.end());
   }
-  store_.addPoints(finished);
+  update_.points.insert(update_.points.end(), finished.begin(), finished.end());
   return retired;
 }
 

@@ -11,8 +11,8 @@
 #include "backend/marginalization_prior.h"
 #include "backend/photometric_residual.h"
 #include "backend/radial_correction.h"
+#include "backend/window_keyframe.h"
 #include "camera/pyramid_camera.h"
-#include "map/window_keyframe.h"
 
 namespace ldsm {
 

@@ -42,9 +42,9 @@
 #include <vector>
 
 #include "camera/pyramid_camera.h"
+#include "features/pixel_selector.h"
 #include "frontend/coarse_initializer_settings.h"
 #include "frontend/init_point_graph.h"
-#include "frontend/pixel_selector.h"
 #include "ldsm/image/image_pyramid.h"
 #include "ldsm/math/se3.h"
 #include "model/affine_light.h"

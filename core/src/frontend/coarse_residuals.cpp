@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "math/simd/coarse_accumulate.h"
+#include "kernels/coarse_accumulate.h"
 
 namespace ldsm {
 

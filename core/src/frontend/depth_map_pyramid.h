@@ -16,16 +16,9 @@
 #include "camera/pyramid_camera.h"
 #include "ldsm/image.h"
 #include "ldsm/image/image_pyramid.h"
+#include "model/depth_point.h"
 
 namespace ldsm {
-
-/// A point of the window projected into the reference keyframe.
-struct DepthPoint {
-  float u = 0;       ///< level-0 pixel column in the reference
-  float v = 0;       ///< level-0 pixel row in the reference
-  float idepth = 0;  ///< inverse depth in the reference frame, > 0
-  float weight = 1;  ///< confidence (e.g. inverse variance of the inverse depth), > 0
-};
 
 /// The reference points of one level as a struct of arrays. The arrays grow to the largest point
 /// count seen so far; only the first `count` entries are valid.

@@ -12,12 +12,12 @@ FrameTracker::FrameTracker(const Config& config, const PyramidCamera& camera, bo
           camera[0].width, camera[0].height, camera.levels(),
           CoarseTrackerSettings::fromConfig(config, exposures_known))) {}
 
-void FrameTracker::setReference(const WindowKeyframe& keyframe,
+void FrameTracker::setReference(const TrackingReference& reference,
                                 const std::vector<DepthPoint>& points) {
   has_reference_ = true;
-  reference_id_ = keyframe.id();
-  T_ref_w_ = keyframe.T_c_w;
-  tracker_->setReference(keyframe.pyramid(), camera_, points, keyframe.exposure(), keyframe.aff);
+  reference_id_ = reference.keyframe_id;
+  T_ref_w_ = reference.T_c_w;
+  tracker_->setReference(*reference.pyramid, camera_, points, reference.exposure, reference.aff);
   first_rmse_ = -1.0;
 }
 

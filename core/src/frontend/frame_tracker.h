@@ -11,7 +11,8 @@
 #include "frontend/coarse_tracker.h"
 #include "frontend/motion_hypotheses.h"
 #include "ldsm/config.h"
-#include "map/window_keyframe.h"
+#include "model/depth_point.h"
+#include "model/tracking_reference.h"
 
 namespace ldsm {
 
@@ -29,9 +30,9 @@ class FrameTracker {
  public:
   FrameTracker(const Config& config, const PyramidCamera& camera, bool exposures_known);
 
-  /// Tracks from now on against `keyframe`, whose pyramid must stay alive, with the window's
+  /// Tracks from now on against `reference`, whose pyramid must stay alive, with the window's
   /// points projected into it.
-  void setReference(const WindowKeyframe& keyframe, const std::vector<DepthPoint>& points);
+  void setReference(const TrackingReference& reference, const std::vector<DepthPoint>& points);
   /// A coarse tracker with this tracker's settings, for preparing references on another thread.
   std::unique_ptr<CoarseTracker> makeCoarseTracker() const;
   /// Tracks from now on with `prepared` (a coarse tracker whose reference was set elsewhere, the

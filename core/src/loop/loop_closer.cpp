@@ -17,10 +17,10 @@ LoopCloser::LoopCloser(const LoopConfig& config, const PinholeIntrinsics& camera
       drift_(OdometryDriftModel::fromConfig(config)),
       orb_(camera.width, camera.height) {
   verification_.min_inliers = config.min_inliers;
-  LoopTaskOptions options;
-  options.mode = inline_mode ? LoopTaskMode::kInline : LoopTaskMode::kThreaded;
+  concurrency::TaskOptions options;
+  options.mode = inline_mode ? concurrency::TaskMode::kInline : concurrency::TaskMode::kThreaded;
   options.queue_capacity = 16;
-  task_ = std::make_unique<LoopClosingTask<LoopJob>>(
+  task_ = std::make_unique<concurrency::BackgroundTask<LoopJob, LoopCorrection>>(
       [this](LoopJob& job, const std::atomic<bool>& abort) { return process(job, abort); },
       options);
 }

@@ -13,15 +13,15 @@
 #include <optional>
 #include <vector>
 
+#include "concurrency/background_task.h"
+#include "features/orb_extractor.h"
 #include "ldsm/camera/calibration.h"
 #include "ldsm/config.h"
 #include "ldsm/math/se3.h"
 #include "loop/bow_index.h"
-#include "loop/loop_closing_task.h"
 #include "loop/loop_types.h"
 #include "loop/loop_verification.h"
 #include "loop/odometry_drift.h"
-#include "loop/orb_extractor.h"
 #include "loop/pose_graph.h"
 #include "model/marginalized_keyframe.h"
 
@@ -78,7 +78,7 @@ class LoopCloser {
   int fixed_id_ = -1;
   LoopVerificationSettings verification_;
   // Last: stopped (joined) first on destruction, before the state above goes away.
-  std::unique_ptr<LoopClosingTask<LoopJob>> task_;
+  std::unique_ptr<concurrency::BackgroundTask<LoopJob, LoopCorrection>> task_;
 };
 
 }  // namespace ldsm::loop

@@ -4,26 +4,18 @@
 
 #include <array>
 #include <cstdint>
+#include <map>
 #include <utility>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "features/orb_descriptor.h"
 #include "ldsm/camera/calibration.h"
 #include "ldsm/math/se3.h"
 #include "ldsm/math/sim3.h"
 
 namespace ldsm::loop {
-
-/// A 256-bit ORB (rBRIEF) descriptor, bit i of the descriptor in bit (i % 64) of word i / 64.
-using OrbDescriptor = std::array<std::uint64_t, 4>;
-
-/// Hamming distance of two descriptors (0..256).
-inline int hammingDistance(const OrbDescriptor& a, const OrbDescriptor& b) {
-  int d = 0;
-  for (int i = 0; i < 4; ++i) d += __builtin_popcountll(a[i] ^ b[i]);
-  return d;
-}
 
 /// Visual word id of a vocabulary leaf.
 using WordId = std::uint32_t;
@@ -46,6 +38,19 @@ struct KeyframeFeatures {
   std::vector<OrbDescriptor> descriptors;
   BowVector bow;
   FeatureVector feature_vector;
+};
+
+/// What the loop closer hands to the mapper after a closed loop.
+struct LoopCorrection {
+  int current_keyframe_id = -1;
+  int candidate_keyframe_id = -1;
+  int inliers = 0;
+  double scale = 1.0;  ///< of S_current_candidate
+  /// Corrected world-from-camera poses by keyframe id (the keyframes outside the active window;
+  /// the mapper moves their points with them and must not overwrite the active window).
+  std::map<int, Sim3d> S_world_camera;  ///< empty when the drift was not significant
+  double drift_chi2 = 0.0;              ///< see LoopClosureEvent::drift_chi2
+  double time_ms = 0.0;
 };
 
 }  // namespace ldsm::loop

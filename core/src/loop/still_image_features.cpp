@@ -6,7 +6,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "frontend/corner_detector.h"
+#include "features/corner_detector.h"
 #include "ldsm/error.h"
 #include "ldsm/image/image_pyramid.h"
 

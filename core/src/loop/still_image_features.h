@@ -13,9 +13,9 @@
 
 #include <Eigen/Core>
 
+#include "features/orb_extractor.h"
 #include "ldsm/image.h"
 #include "loop/loop_types.h"
-#include "loop/orb_extractor.h"
 
 namespace ldsm::loop {
 

@@ -13,10 +13,10 @@
 #include <string>
 #include <vector>
 
+#include "concurrency/backoff.h"
+#include "concurrency/mpmc_ring.h"
 #include "ldsm/error.h"
 #include "ldsm/image.h"
-#include "pipeline/backoff.h"
-#include "pipeline/mpmc_ring.h"
 
 namespace ldsm::pipeline {
 
@@ -36,7 +36,7 @@ class FramePool {
   FramePool(std::size_t count, int width, int height)
       : images_(checked(count, width, height)),
         in_use_(std::make_unique<std::atomic<bool>[]>(count)),
-        free_(nextPowerOfTwo(count < 2 ? 2 : count)) {
+        free_(concurrency::nextPowerOfTwo(count < 2 ? 2 : count)) {
     for (std::size_t i = 0; i < count; ++i) {
       images_[i].resize(width, height);
       in_use_[i].store(false, std::memory_order_relaxed);
@@ -55,7 +55,7 @@ class FramePool {
   /// oldest slot is claimed but not yet written), waits the few instructions that takes.
   int tryAcquire() {
     int index = -1;
-    for (Backoff backoff; !free_.tryPop(index); backoff.pause())
+    for (concurrency::Backoff backoff; !free_.tryPop(index); backoff.pause())
       if (free_.size() == 0) return -1;
     in_use_[static_cast<std::size_t>(index)].store(true, std::memory_order_relaxed);
     return index;
@@ -92,7 +92,7 @@ class FramePool {
 
   std::vector<ImageU8> images_;
   std::unique_ptr<std::atomic<bool>[]> in_use_;
-  MpmcRing<int> free_;
+  concurrency::MpmcRing<int> free_;
 };
 
 }  // namespace ldsm::pipeline

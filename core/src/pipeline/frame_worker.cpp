@@ -13,8 +13,8 @@
 #include <exception>
 #include <string>
 
+#include "concurrency/backoff.h"
 #include "ldsm/error.h"
-#include "pipeline/backoff.h"
 
 namespace ldsm {
 namespace {
@@ -77,7 +77,8 @@ FrameWorker::FrameWorker(Handler handler, const FrameWorkerOptions& options)
       pool_(static_cast<std::size_t>(std::max(options.pool_size, 0)), options.width,
             options.height),
       queue_(queueCapacityFor(options.pool_size)),
-      policy_(options.live ? pipeline::OverflowPolicy::DropOldest : pipeline::OverflowPolicy::Wait),
+      policy_(options.live ? concurrency::OverflowPolicy::DropOldest
+                           : concurrency::OverflowPolicy::Wait),
       cpu_(options.cpu) {
   thread_ = std::thread([this] { run(); });
 }
@@ -89,7 +90,7 @@ FrameWorker::~FrameWorker() {
 void FrameWorker::acquire(pipeline::FrameTicket& ticket) {
   // Live mode never waits here (the pool outnumbers the queue by two); offline the producer
   // waits for the tracking thread to give a buffer back.
-  for (pipeline::Backoff backoff; (ticket.buffer = pool_.tryAcquire()) < 0; backoff.pause())
+  for (concurrency::Backoff backoff; (ticket.buffer = pool_.tryAcquire()) < 0; backoff.pause())
     if (stop_.load(std::memory_order_acquire)) return;
 }
 
@@ -107,14 +108,14 @@ void FrameWorker::push(const FrameView& frame) {
   ticket.exposure_ms = frame.exposure_ms;
   submitted_.store(index + 1, std::memory_order_release);
   pipeline::FrameTicket dropped;
-  switch (pipeline::pushWithPolicy(queue_, ticket, policy_, stop_, dropped)) {
-    case pipeline::PushOutcome::Pushed:
+  switch (concurrency::pushWithPolicy(queue_, ticket, policy_, stop_, dropped)) {
+    case concurrency::PushOutcome::Pushed:
       break;
-    case pipeline::PushOutcome::PushedDroppingOldest:
+    case concurrency::PushOutcome::PushedDroppingOldest:
       pool_.release(dropped.buffer);
       dropped_.store(dropped_.load(std::memory_order_relaxed) + 1, std::memory_order_release);
       break;
-    case pipeline::PushOutcome::Stopped:
+    case concurrency::PushOutcome::Stopped:
       pool_.release(ticket.buffer);
       submitted_.store(index, std::memory_order_release);
       return;
@@ -126,7 +127,7 @@ void FrameWorker::push(const FrameView& frame) {
 }
 
 void FrameWorker::drain() {
-  for (pipeline::Backoff backoff;; backoff.pause()) {
+  for (concurrency::Backoff backoff;; backoff.pause()) {
     const std::int64_t done =
         processed_.load(std::memory_order_acquire) + dropped_.load(std::memory_order_acquire);
     if (done >= submitted_.load(std::memory_order_acquire)) return;
@@ -158,7 +159,7 @@ FrameWorkerCounts FrameWorker::counts() const {
 void FrameWorker::run() {
   pinCurrentThreadToCpu(cpu_, "tracking");
   pipeline::FrameTicket ticket;
-  while (pipeline::popWaiting(queue_, ticket, stop_)) {
+  while (concurrency::popWaiting(queue_, ticket, stop_)) {
     const ImageU8& image = pool_.image(ticket.buffer);
     try {
       handler_(FrameView{image.view(), ticket.timestamp, ticket.exposure_ms}, ticket.enqueued_ns);

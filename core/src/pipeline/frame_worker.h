@@ -19,10 +19,10 @@
 #include <functional>
 #include <thread>
 
+#include "concurrency/drop_oldest_ring.h"
+#include "concurrency/ring_wait.h"
 #include "ldsm/system.h"
-#include "pipeline/drop_oldest_ring.h"
 #include "pipeline/frame_pool.h"
-#include "pipeline/ring_wait.h"
 
 namespace ldsm {
 
@@ -86,8 +86,8 @@ class FrameWorker {
 
   Handler handler_;
   pipeline::FramePool pool_;
-  pipeline::DropOldestRing<pipeline::FrameTicket> queue_;
-  pipeline::OverflowPolicy policy_;
+  concurrency::DropOldestRing<pipeline::FrameTicket> queue_;
+  concurrency::OverflowPolicy policy_;
   int cpu_;
   std::atomic<bool> stop_{false};
   // Written by the producer only (relaxed; read by counts()).

@@ -14,7 +14,14 @@ StageTimer::StageTimer(std::vector<std::string> stages, std::size_t capacity)
   }
 }
 
+StageTimer::StageTimer(const StageTimer& other) {
+  std::lock_guard<std::mutex> lock(other.mutex_);
+  stages_ = other.stages_;
+  capacity_ = other.capacity_;
+}
+
 void StageTimer::record(int stage, double ms) {
+  std::lock_guard<std::mutex> lock(mutex_);
   Stage& s = stages_[static_cast<size_t>(stage)];
   if (s.samples.size() < capacity_) {
     s.samples.push_back(ms);
@@ -28,15 +35,20 @@ void StageTimer::record(int stage, double ms) {
 }
 
 std::vector<StageTiming> StageTimer::summary() const {
+  std::vector<Stage> stages;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stages = stages_;
+  }
   std::vector<StageTiming> out;
-  for (const Stage& s : stages_) {
+  for (Stage& s : stages) {
     StageTiming t;
     t.stage = s.name;
     t.count = s.count;
     if (s.count > 0) {
       t.mean_ms = s.sum / static_cast<double>(s.count);
       t.max_ms = s.max;
-      std::vector<double> v = s.samples;
+      std::vector<double>& v = s.samples;
       std::sort(v.begin(), v.end());
       t.p50_ms = v[v.size() / 2];
       t.p99_ms =

@@ -1,12 +1,15 @@
 // Per-stage timing of the pipeline: durations are recorded into fixed-capacity buffers (no
-// allocation while running once reserved) and summarised as mean / median / p99 / max.
+// allocation while running once reserved) and summarised as mean / median / p99 / max. Recording
+// and summarising may happen on different threads: a mutex guards the samples, held for one
+// record or for one copy of them (the sorting is done outside it).
 #pragma once
 
 #include <chrono>
+#include <mutex>
 #include <string>
 #include <vector>
 
-#include "ldsm/system.h"
+#include "ldsm/system.h"  // StageTiming
 
 namespace ldsm {
 
@@ -15,6 +18,8 @@ class StageTimer {
   /// Declares the stages up front; `capacity` samples are kept per stage (older ones are
   /// summarised in the mean/max only).
   StageTimer(std::vector<std::string> stages, std::size_t capacity);
+  StageTimer(const StageTimer& other);
+  StageTimer& operator=(const StageTimer&) = delete;
   void record(int stage, double ms);
   std::vector<StageTiming> summary() const;
 
@@ -45,6 +50,7 @@ class StageTimer {
     double sum = 0.0;
     double max = 0.0;
   };
+  mutable std::mutex mutex_;
   std::vector<Stage> stages_;
   std::size_t capacity_;
 };

@@ -5,12 +5,11 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <mutex>
 
+#include "concurrency/latest_value.h"
 #include "ldsm/error.h"
 #include "pipeline/frame_worker.h"
-#include "pipeline/latest_value.h"
-#include "pipeline/odometry.h"
+#include "pipeline/slam_pipeline.h"
 #include "pipeline/stage_timer.h"
 
 namespace ldsm {
@@ -32,7 +31,7 @@ struct System::Impl {
 
   Impl(const Config& c, const GeometricCalibration& g, const PhotometricCalibration& p)
       : config(c),
-        odometry(c, g, p),
+        pipeline(c, g, p),
         input_width(g.input.width),
         input_height(g.input.height),
         latency({"queue_wait", "submit_to_tracked"}, 20000) {}
@@ -40,13 +39,13 @@ struct System::Impl {
   /// Checks a frame's metadata and content; returns an empty string when it can be used.
   std::string rejectReason(const FrameView& f) {
     if (!std::isfinite(f.timestamp)) return "timestamp is not a finite number";
-    if (frames > 0 && f.timestamp <= last_timestamp)
+    if (frames.load(std::memory_order_relaxed) > 0 && f.timestamp <= last_timestamp)
       return "timestamp " + std::to_string(f.timestamp) + " s is not after the previous one (" +
              std::to_string(last_timestamp) + " s)";
     const bool known = std::isfinite(f.exposure_ms);
     if (!std::isnan(f.exposure_ms) && (!known || f.exposure_ms <= 0.0))
       return "exposure time " + std::to_string(f.exposure_ms) + " ms is not a positive number";
-    if (frames > 0 && exposures_known && !known)
+    if (frames.load(std::memory_order_relaxed) > 0 && exposures_known && !known)
       return "exposure time missing (NaN) although earlier frames had one";
     // Black, saturated or flat images carry no information.
     double sum = 0.0, sum_sq = 0.0;
@@ -71,12 +70,12 @@ struct System::Impl {
 
   /// Runs on the tracking thread (threaded mode) or in submit() (deterministic mode).
   void process(const FrameView& f, std::int64_t submitted_ns) {
-    std::lock_guard<std::mutex> lock(mutex);
     if (worker) latency.record(kQueueWait, msSince(submitted_ns));
     const std::string reason = rejectReason(f);
-    const std::int64_t index = frames++;
+    const std::int64_t index = frames.load(std::memory_order_relaxed);
+    frames.store(index + 1, std::memory_order_release);
     if (!reason.empty()) {
-      ++rejected;
+      rejected.fetch_add(1, std::memory_order_relaxed);
       spdlog::warn("frame {} rejected: {}", index, reason);
       return;
     }
@@ -86,46 +85,41 @@ struct System::Impl {
     }
     last_timestamp = f.timestamp;
     const bool use_exposure = exposures_known && config.photometric.use_exposure;
-    const OdometryStep step =
-        odometry.process(f.image, index, f.timestamp, use_exposure ? f.exposure_ms : 1.0);
-    if (step.frame.has_pose) {
-      ++tracked;
-      latest_pose.publish(StampedPose{f.timestamp, step.frame.pose});
+    const FrameEvent frame =
+        pipeline.process(f.image, index, f.timestamp, use_exposure ? f.exposure_ms : 1.0);
+    if (frame.has_pose) {
+      tracked.fetch_add(1, std::memory_order_relaxed);
+      latest_pose.publish(StampedPose{f.timestamp, frame.pose});
     }
-    status.store(odometry.status(), std::memory_order_release);
+    status.store(pipeline.status(), std::memory_order_release);
     if (worker) {
-      const auto backlog = static_cast<int>(odometry.mappingBacklog());
-      backlog_sum += backlog;
-      ++backlog_samples;
-      max_backlog = std::max(max_backlog, backlog);
+      const auto backlog = static_cast<int>(pipeline.mapping().backlog());
+      backlog_sum.fetch_add(backlog, std::memory_order_relaxed);
+      backlog_samples.fetch_add(1, std::memory_order_relaxed);
+      if (backlog > max_backlog.load(std::memory_order_relaxed))
+        max_backlog.store(backlog, std::memory_order_relaxed);
     }
     latency.record(kSubmitToTracked, msSince(submitted_ns));
-    if (listener) {
-      if (step.lost) listener->onTrackingLost(*step.lost);
-      if (step.initialized) listener->onInitialized(*step.initialized);
-      if (step.keyframe) listener->onKeyframe(*step.keyframe);
-      listener->onFrame(step.frame);
-    }
   }
 
   Config config;
-  Odometry odometry;
-  SystemListener* listener = nullptr;
-  mutable std::mutex mutex;  ///< processing vs. queries of the results
-  std::int64_t frames = 0;
-  std::int64_t tracked = 0;
-  std::int64_t rejected = 0;
+  SlamPipeline pipeline;
+  // Written by the tracking thread only; read by queries from any thread.
+  std::atomic<std::int64_t> frames{0};
+  std::atomic<std::int64_t> tracked{0};
+  std::atomic<std::int64_t> rejected{0};
+  std::atomic<std::int64_t> backlog_sum{0};
+  std::atomic<std::int64_t> backlog_samples{0};
+  std::atomic<int> max_backlog{0};
+  // Tracking thread only.
   double last_timestamp = 0.0;
   bool exposures_known = false;
   bool exposure_decided = false;
   int input_width;
   int input_height;
   std::atomic<TrackingStatus> status{TrackingStatus::Initializing};
-  mutable pipeline::LatestValue<StampedPose> latest_pose;
+  mutable concurrency::LatestValue<StampedPose> latest_pose;
   StageTimer latency;
-  std::int64_t backlog_sum = 0;
-  std::int64_t backlog_samples = 0;
-  int max_backlog = 0;
   std::unique_ptr<FrameWorker> worker;
 };
 
@@ -133,9 +127,6 @@ System::System(const Config& config, const GeometricCalibration& geometric,
                const PhotometricCalibration& photometric) {
   validateConfig(config);
   impl_ = std::make_unique<Impl>(config, geometric, photometric);
-  impl_->odometry.setLoopHandler([impl = impl_.get()](const LoopClosureEvent& e) {
-    if (impl->listener) impl->listener->onLoopClosure(e);
-  });
   const SystemConfig& sc = config.system;
   if (sc.deterministic) {
     if (sc.tracking_cpu >= 0 || sc.mapping_cpu >= 0)
@@ -144,11 +135,9 @@ System::System(const Config& config, const GeometricCalibration& geometric,
           "stage runs on the caller's thread)");
     return;
   }
-  // Tracking on the frame worker's thread, mapping on the odometry's mapping thread.
-  impl_->odometry.startMappingThread([impl = impl_.get()](const KeyframeEvent& e) {
-    if (impl->listener) impl->listener->onKeyframe(e);
-  });
-  pinThreadToCpu(impl_->odometry.mappingThreadHandle(), sc.mapping_cpu, "mapping");
+  // Tracking on the frame worker's thread, mapping on the mapping stage's thread.
+  if (const auto mapping = impl_->pipeline.mapping().threadHandle())
+    pinThreadToCpu(*mapping, sc.mapping_cpu, "mapping");
   FrameWorkerOptions options;
   options.pool_size = sc.frame_pool_size;
   options.width = impl_->input_width;
@@ -167,7 +156,7 @@ System::~System() {
 }
 
 void System::setListener(SystemListener* listener) {
-  impl_->listener = listener;
+  impl_->pipeline.setListener(listener);
 }
 
 void System::submit(const FrameView& frame) {
@@ -186,10 +175,7 @@ void System::submit(const FrameView& frame) {
 
 void System::finish() {
   if (impl_->worker) impl_->worker->drain();
-  impl_->odometry.waitForMapping();
-  impl_->odometry.finishLoops();
-  std::lock_guard<std::mutex> lock(impl_->mutex);
-  impl_->odometry.flush();
+  impl_->pipeline.finish();
 }
 
 TrackingStatus System::status() const {
@@ -203,45 +189,29 @@ std::optional<StampedPose> System::latestPose() const {
 }
 
 Trajectory System::trajectory() const {
-  std::lock_guard<std::mutex> lock(impl_->mutex);
-  impl_->odometry.flush();
-  return impl_->odometry.store().frameTrajectory();
+  return impl_->pipeline.trajectory();
 }
 
 Trajectory System::keyframeTrajectory() const {
-  std::lock_guard<std::mutex> lock(impl_->mutex);
-  impl_->odometry.flush();
-  return impl_->odometry.store().keyframeTrajectory();
+  return impl_->pipeline.keyframeTrajectory();
 }
 
 std::vector<MapPoint> System::mapPoints() const {
-  std::lock_guard<std::mutex> lock(impl_->mutex);
-  return impl_->odometry.mapPoints();
+  return impl_->pipeline.mapPoints();
 }
 
 SystemStats System::stats() const {
   SystemStats s;
-  StageTimer latency({}, 0);
-  {
-    std::lock_guard<std::mutex> lock(impl_->mutex);
-    s.frames = impl_->frames;
-    s.tracked_frames = impl_->tracked;
-    s.keyframes = impl_->odometry.keyframes();
-    s.initializations = impl_->odometry.initializations();
-    s.tracking_losses = impl_->odometry.losses();
-    s.rejected_frames = impl_->rejected;
-    s.stages = impl_->odometry.timings();
-    s.loops = impl_->odometry.loops();
-    const Eigen::Vector2d radial = impl_->odometry.radialCorrection();
-    s.radial_estimate = radial.x();
-    s.radial_applied = radial.y();
-    latency = impl_->latency;  // copied under the lock, summarised outside it
-    s.max_mapping_backlog = impl_->max_backlog;
-    s.mean_mapping_backlog =
-        impl_->backlog_samples > 0
-            ? static_cast<double>(impl_->backlog_sum) / static_cast<double>(impl_->backlog_samples)
-            : 0.0;
-  }
+  s.frames = impl_->frames.load(std::memory_order_acquire);
+  s.tracked_frames = impl_->tracked.load(std::memory_order_relaxed);
+  s.rejected_frames = impl_->rejected.load(std::memory_order_relaxed);
+  impl_->pipeline.fillStats(s);
+  const std::int64_t samples = impl_->backlog_samples.load(std::memory_order_relaxed);
+  s.max_mapping_backlog = impl_->max_backlog.load(std::memory_order_relaxed);
+  s.mean_mapping_backlog =
+      samples > 0 ? static_cast<double>(impl_->backlog_sum.load(std::memory_order_relaxed)) /
+                        static_cast<double>(samples)
+                  : 0.0;
   // Read after `frames`: submitted >= frames + dropped holds in every snapshot.
   if (impl_->worker) {
     const FrameWorkerCounts c = impl_->worker->counts();
@@ -253,14 +223,13 @@ SystemStats System::stats() const {
   } else {
     s.submitted_frames = s.frames;
   }
-  s.mapping_backlog = static_cast<int>(impl_->odometry.mappingBacklog());
-  for (StageTiming& t : latency.summary())
+  for (StageTiming& t : impl_->latency.summary())
     if (impl_->worker || t.stage != "queue_wait") s.latency.push_back(std::move(t));
   return s;
 }
 
 PinholeIntrinsics System::rectifiedCamera() const {
-  const LevelCamera& c = impl_->odometry.camera()[0];
+  const LevelCamera& c = impl_->pipeline.camera()[0];
   return {c.fx, c.fy, c.cx, c.cy, c.width, c.height};
 }
 

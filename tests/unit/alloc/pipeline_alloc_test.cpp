@@ -1,19 +1,23 @@
-// The pipeline primitives (core/src/pipeline) must not touch the heap after construction: a frame
-// goes capture -> pool buffer -> ring -> tracking -> release for every camera frame.
+// The frame pipeline primitives (core/src/concurrency, core/src/pipeline/frame_pool.h) must not
+// touch the heap after construction: a frame goes capture -> pool buffer -> ring -> tracking ->
+// release for every camera frame.
 #include <gtest/gtest.h>
 
 #include <cstdint>
 
 #include "alloc_counter.h"
+#include "concurrency/drop_oldest_ring.h"
+#include "concurrency/latest_value.h"
+#include "concurrency/spsc_ring.h"
 #include "ldsm/types.h"
-#include "pipeline/drop_oldest_ring.h"
 #include "pipeline/frame_pool.h"
-#include "pipeline/latest_value.h"
-#include "pipeline/spsc_ring.h"
 
 namespace ldsm::pipeline {
 namespace {
 
+using concurrency::DropOldestRing;
+using concurrency::LatestValue;
+using concurrency::SpscRing;
 using test::AllocationScope;
 
 TEST(PipelineAllocation, SteadyStateFrameFlowAllocatesNothing) {

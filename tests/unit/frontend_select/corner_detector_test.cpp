@@ -1,4 +1,4 @@
-#include "frontend/corner_detector.h"
+#include "features/corner_detector.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "frontend/immature_point.h"
+#include "backend/immature_point.h"
 
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 #include <map>
 #include <vector>
 
-#include "frontend/pixel_selector.h"
+#include "features/pixel_selector.h"
 #include "ldsm/error.h"
 #include "synthetic_images.h"
 

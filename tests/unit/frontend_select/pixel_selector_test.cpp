@@ -1,4 +1,4 @@
-#include "frontend/pixel_selector.h"
+#include "features/pixel_selector.h"
 
 #include <gtest/gtest.h>
 

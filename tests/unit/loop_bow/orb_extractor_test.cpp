@@ -8,8 +8,8 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "features/orb_extractor.h"
 #include "ldsm/error.h"
-#include "loop/orb_extractor.h"
 
 namespace ldsm::loop {
 namespace {

@@ -17,7 +17,7 @@ namespace {
 
 std::vector<std::uint8_t> smallVocabulary() {
   loop::SplitMix64 rng(12);
-  std::vector<std::vector<loop::OrbDescriptor>> images;
+  std::vector<std::vector<OrbDescriptor>> images;
   for (int i = 0; i < 6; ++i) images.push_back(loop::test::randomDescriptors(80, rng));
   loop::VocabularyParams p;
   p.branching = 5;

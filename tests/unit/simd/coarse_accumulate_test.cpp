@@ -8,7 +8,7 @@
 #include <random>
 
 #include "frontend/coarse_residuals.h"
-#include "math/simd/coarse_accumulate.h"
+#include "kernels/coarse_accumulate.h"
 
 namespace ldsm {
 namespace {

@@ -8,9 +8,9 @@
 #include <limits>
 #include <random>
 
+#include "kernels/pattern_accumulate.h"
+#include "kernels/pattern_sampling.h"
 #include "ldsm/image.h"
-#include "math/simd/pattern_accumulate.h"
-#include "math/simd/pattern_sampling.h"
 
 namespace ldsm {
 namespace simd {

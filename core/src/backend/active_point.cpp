@@ -1,0 +1,40 @@
+#include "backend/active_point.h"
+
+#include <cmath>
+
+#include "backend/window_keyframe.h"
+#include "ldsm/image/interpolation.h"
+
+namespace ldsm {
+
+PatchPoint toPatchPoint(const ActivePoint& point) {
+  PatchPoint out;
+  out.u = point.u;
+  out.v = point.v;
+  out.idepth = point.idepth;
+  out.idepth_hessian = point.hessian_idepth;
+  for (int k = 0; k < kPatternSize; ++k) out.colors[k] = point.colors[k];
+  out.is_corner = point.is_corner;
+  return out;
+}
+
+bool initActivePoint(ActivePoint& point, WindowKeyframe& host, float u, float v, float idepth,
+                     float gradient_weight_c) {
+  const ImageView<const GradientPixel> img = host.pyramid().gradients(0);
+  if (!isInsideForBilinear(img, u, v, static_cast<float>(kPatternPadding) + 1.f)) return false;
+  point.host = &host;
+  point.u = u;
+  point.v = v;
+  point.idepth = point.idepth_backup = idepth;
+  const float c2 = gradient_weight_c * gradient_weight_c;
+  for (int k = 0; k < kPatternSize; ++k) {
+    const GradientPixel g = interpolateBilinear(img, u + static_cast<float>(kPatternOffsets[k][0]),
+                                                v + static_cast<float>(kPatternOffsets[k][1]));
+    if (!std::isfinite(g.intensity)) return false;
+    point.colors[k] = g.intensity;
+    point.grad_weights[k] = std::sqrt(c2 / (c2 + g.dx * g.dx + g.dy * g.dy));
+  }
+  return true;
+}
+
+}  // namespace ldsm

@@ -1,0 +1,103 @@
+// A keyframe while it is in the optimisation window: its image pyramid, its pose and affine
+// brightness (current estimate and the first-estimate linearisation point), and the points it
+// hosts.
+#pragma once
+
+#include <Eigen/Core>
+#include <memory>
+#include <vector>
+
+#include "backend/active_point.h"
+#include "backend/immature_point.h"
+#include "ldsm/image/image_pyramid.h"
+#include "ldsm/math/se3.h"
+#include "model/affine_light.h"
+#include "model/patch_point.h"
+
+namespace ldsm {
+
+/// Parameters of a keyframe in the optimiser: [xi (6, left increment of T_c_w), a, b].
+constexpr int kFrameParams = 8;
+
+/// A point candidate of a keyframe whose depth is still being searched for.
+struct ImmatureCandidate {
+  ImmaturePoint point;
+  bool is_corner = false;
+};
+using FrameVector = Eigen::Matrix<double, kFrameParams, 1>;
+
+class WindowKeyframe {
+ public:
+  WindowKeyframe(int id, std::int64_t frame_index, double timestamp, double exposure,
+                 std::unique_ptr<ImagePyramid> pyramid)
+      : id_(id),
+        frame_index_(frame_index),
+        timestamp_(timestamp),
+        exposure_(exposure),
+        pyramid_(std::move(pyramid)) {}
+
+  int id() const { return id_; }
+  std::int64_t frameIndex() const { return frame_index_; }
+  double timestamp() const { return timestamp_; }
+  double exposure() const { return exposure_; }
+  const ImagePyramid& pyramid() const { return *pyramid_; }
+  std::unique_ptr<ImagePyramid> releasePyramid() { return std::move(pyramid_); }
+
+  /// Sets the current estimate and makes it the linearisation point (first estimate).
+  void setInitialState(const SE3d& pose_c_w, const AffineLight& affine) {
+    T_c_w = T_c_w_eval = T_c_w_backup = pose_c_w;
+    aff = aff_eval = aff_backup = affine;
+  }
+  /// Current state minus the linearisation point, in the optimiser's parametrisation.
+  FrameVector delta() const {
+    FrameVector d;
+    d.head<6>() = (T_c_w * T_c_w_eval.inverse()).log();
+    d[6] = aff.a - aff_eval.a;
+    d[7] = aff.b - aff_eval.b;
+    return d;
+  }
+  void backup() {
+    T_c_w_backup = T_c_w;
+    aff_backup = aff;
+  }
+  void restore() {
+    T_c_w = T_c_w_backup;
+    aff = aff_backup;
+  }
+  void applyStep(const FrameVector& step) {
+    T_c_w = SE3d::exp(step.head<6>()) * T_c_w;
+    aff.a += step[6];
+    aff.b += step[7];
+  }
+
+  SE3d T_c_w;       ///< current estimate, world -> camera
+  AffineLight aff;  ///< current affine brightness
+  SE3d T_c_w_eval;  ///< first-estimate linearisation point of the geometric Jacobians
+  AffineLight aff_eval;
+  int window_index = -1;         ///< position in the window's Hessian (set by the window)
+  bool is_gauge_anchor = false;  ///< the first keyframe: anchors the gauge (pose, affine a and b)
+  std::vector<std::unique_ptr<ActivePoint>> points;
+  std::vector<ImmatureCandidate> immature;
+  int points_created = 0;  ///< active points ever hosted (for the marginalisation policy)
+  /// Outlier threshold (pattern energy) of residuals hosted in or aimed at this keyframe, adapted
+  /// to its residuals after its first optimisation; 0: the window's fixed threshold.
+  float outlier_energy = 0.f;
+  /// The corners selected in this keyframe (level-0 pixels; they carry ORB descriptors for loop
+  /// closure) and the inverse depth each got as an active point (NaN: none).
+  std::vector<Eigen::Vector2f> corners;
+  std::vector<float> corner_idepth;
+  /// Points this keyframe hosted that left the window with a converged depth (marginalised when
+  /// the newest keyframe stopped seeing them): kept for the map once the keyframe leaves too.
+  std::vector<PatchPoint> retired_points;
+
+ private:
+  SE3d T_c_w_backup;
+  AffineLight aff_backup;
+  int id_;
+  std::int64_t frame_index_;
+  double timestamp_;
+  double exposure_;
+  std::unique_ptr<ImagePyramid> pyramid_;
+};
+
+}  // namespace ldsm

@@ -1,0 +1,177 @@
+#include "features/corner_detector.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <string>
+
+#include "ldsm/error.h"
+
+namespace ldsm {
+namespace {
+
+constexpr int kWindow = 2 * CornerDetector::kWindowRadius + 1;
+constexpr float kInvWindowArea = 1.f / static_cast<float>(kWindow * kWindow);
+
+/// Offset in [-0.5, 0.5] of the vertex of the parabola through (-1, a), (0, b), (1, c).
+inline float parabolaPeak(float a, float b, float c) {
+  const float curvature = a - 2.f * b + c;
+  if (!(curvature < 0.f)) return 0.f;
+  return std::clamp(0.5f * (a - c) / curvature, -0.5f, 0.5f);
+}
+
+}  // namespace
+
+CornerDetector::CornerDetector(int width, int height) : width_(width), height_(height) {
+  if (width <= 0 || height <= 0) {
+    throw InputError("CornerDetector: image size must be positive (got " + std::to_string(width) +
+                     "x" + std::to_string(height) + ")");
+  }
+  row_sums_.resize(width, height);
+  column_acc_.resize(static_cast<std::size_t>(width));
+  score_.resize(width, height);
+  score_.fill(0.f);
+  // Strict 3x3 local maxima are at most one per 2x2 pixels.
+  candidates_.reserve(static_cast<std::size_t>(width / 2 + 1) *
+                      static_cast<std::size_t>(height / 2 + 1));
+}
+
+int CornerDetector::detect(ImageView<const GradientPixel> gradients, const CornerParams& params,
+                           std::vector<Corner>& out) {
+  if (gradients.width != width_ || gradients.height != height_) {
+    throw InputError("CornerDetector: gradient image is " + std::to_string(gradients.width) + "x" +
+                     std::to_string(gradients.height) + ", expected " + std::to_string(width_) +
+                     "x" + std::to_string(height_));
+  }
+  out.clear();
+  score_.fill(0.f);
+  candidates_.clear();
+  if (params.max_corners <= 0) return 0;
+  computeScores(gradients, params.border);
+  collectLocalMaxima(params);
+  suppressByDistance(params, out);
+  return static_cast<int>(out.size());
+}
+
+void CornerDetector::computeScores(ImageView<const GradientPixel> g, int border) {
+  // Scores are needed on [border - 1, size - border] (local maxima and their sub-pixel parabola);
+  // the 5x5 window must stay inside the image.
+  const int r = kWindowRadius;
+  const int x_lo = std::max(border - 1, r);
+  const int x_hi = std::min(width_ - border, width_ - 1 - r);
+  const int y_lo = std::max(border - 1, r);
+  const int y_hi = std::min(height_ - border, height_ - 1 - r);
+  if (x_lo > x_hi || y_lo > y_hi) return;
+
+  auto product = [](const GradientPixel& p) {
+    return Tensor{p.dx * p.dx, p.dx * p.dy, p.dy * p.dy};
+  };
+  // Horizontal running 5-sums for the rows the vertical sums will read.
+  for (int y = y_lo - r; y <= y_hi + r; ++y) {
+    const GradientPixel* in = g.row(y);
+    Tensor* out = row_sums_.row(y);
+    Tensor acc{0.f, 0.f, 0.f};
+    for (int x = x_lo - r; x <= x_lo + r; ++x) {
+      const Tensor t = product(in[x]);
+      acc.xx += t.xx;
+      acc.xy += t.xy;
+      acc.yy += t.yy;
+    }
+    out[x_lo] = acc;
+    for (int x = x_lo + 1; x <= x_hi; ++x) {
+      const Tensor add = product(in[x + r]);
+      const Tensor sub = product(in[x - r - 1]);
+      acc.xx += add.xx - sub.xx;
+      acc.xy += add.xy - sub.xy;
+      acc.yy += add.yy - sub.yy;
+      out[x] = acc;
+    }
+  }
+  // Vertical running sums, row by row, and the smaller eigenvalue of the mean tensor.
+  std::fill(column_acc_.begin(), column_acc_.end(), Tensor{0.f, 0.f, 0.f});
+  for (int y = y_lo - r; y <= y_lo + r; ++y) {
+    const Tensor* in = row_sums_.row(y);
+    for (int x = x_lo; x <= x_hi; ++x) {
+      column_acc_[x].xx += in[x].xx;
+      column_acc_[x].xy += in[x].xy;
+      column_acc_[x].yy += in[x].yy;
+    }
+  }
+  for (int y = y_lo;; ++y) {
+    float* s = score_.row(y);
+    for (int x = x_lo; x <= x_hi; ++x) {
+      const Tensor& t = column_acc_[x];
+      const float a = t.xx * kInvWindowArea;
+      const float b = t.xy * kInvWindowArea;
+      const float c = t.yy * kInvWindowArea;
+      const float half_diff = 0.5f * (a - c);
+      s[x] = std::max(0.5f * (a + c) - std::sqrt(half_diff * half_diff + b * b), 0.f);
+    }
+    if (y == y_hi) break;
+    const Tensor* add = row_sums_.row(y + r + 1);
+    const Tensor* sub = row_sums_.row(y - r);
+    for (int x = x_lo; x <= x_hi; ++x) {
+      column_acc_[x].xx += add[x].xx - sub[x].xx;
+      column_acc_[x].xy += add[x].xy - sub[x].xy;
+      column_acc_[x].yy += add[x].yy - sub[x].yy;
+    }
+  }
+}
+
+void CornerDetector::collectLocalMaxima(const CornerParams& params) {
+  const int b = std::max(params.border, 1);
+  const float min_score = std::max(params.min_score, 0.f);
+  for (int y = b; y <= height_ - 1 - b; ++y) {
+    const float* above = score_.row(y - 1);
+    const float* s = score_.row(y);
+    const float* below = score_.row(y + 1);
+    for (int x = b; x <= width_ - 1 - b; ++x) {
+      const float v = s[x];
+      if (v <= 0.f || v < min_score) continue;
+      // Strictly above the neighbours that come earlier in raster order, at least equal to the
+      // later ones: exactly one pixel of a plateau survives.
+      if (!(v > above[x - 1] && v > above[x] && v > above[x + 1] && v > s[x - 1])) continue;
+      if (!(v >= s[x + 1] && v >= below[x - 1] && v >= below[x] && v >= below[x + 1])) continue;
+      candidates_.push_back({v, x, y});
+    }
+  }
+  std::sort(candidates_.begin(), candidates_.end(), [](const Candidate& l, const Candidate& r) {
+    if (l.score != r.score) return l.score > r.score;
+    if (l.y != r.y) return l.y < r.y;
+    return l.x < r.x;
+  });
+}
+
+void CornerDetector::suppressByDistance(const CornerParams& params, std::vector<Corner>& out) {
+  // Each kept corner is the maximum of the score map over the (2r + 1)^2 square around it (ties
+  // broken by raster order as in collectLocalMaxima), so two kept corners are more than r pixels
+  // apart in x or y. Unlike a greedy strongest-first spacing, whether a corner survives depends
+  // only on the scores around it, which makes the choice stable under small image changes.
+  const int r = std::max(static_cast<int>(std::ceil(params.min_distance)) - 1, 1);
+  for (const Candidate& c : candidates_) {
+    if (static_cast<int>(out.size()) >= params.max_corners) break;
+    const float v = c.score;
+    bool is_max = true;
+    for (int y = std::max(c.y - r, 0); is_max && y <= std::min(c.y + r, height_ - 1); ++y) {
+      const float* s = score_.row(y);
+      for (int x = std::max(c.x - r, 0); x <= std::min(c.x + r, width_ - 1); ++x) {
+        const bool earlier = y < c.y || (y == c.y && x < c.x);
+        if (earlier ? s[x] >= v : s[x] > v) {
+          is_max = false;
+          break;
+        }
+      }
+    }
+    // Integer position for now; refined below.
+    if (is_max) out.push_back({static_cast<float>(c.x), static_cast<float>(c.y), c.score});
+  }
+  for (Corner& c : out) {
+    const int x = static_cast<int>(c.u);
+    const int y = static_cast<int>(c.v);
+    const float* s = score_.row(y);
+    c.u += parabolaPeak(s[x - 1], s[x], s[x + 1]);
+    c.v += parabolaPeak(score_(x, y - 1), s[x], score_(x, y + 1));
+  }
+}
+
+}  // namespace ldsm

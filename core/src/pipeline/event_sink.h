@@ -1,0 +1,52 @@
+// The one route by which events leave the engine: every stage reports to the EventSink, which
+// forwards to the application's listener and keeps the loop events for the statistics. In
+// deterministic mode every call comes on the caller's thread; in threaded mode frame and loss
+// events come from the tracking thread, and initialisation, keyframe and loop events from the
+// mapping thread (events.h).
+#pragma once
+
+#include <mutex>
+#include <vector>
+
+#include "ldsm/events.h"
+
+namespace ldsm {
+
+class EventSink {
+ public:
+  /// Set before the first frame; null: no listener.
+  void setListener(SystemListener* listener) { listener_ = listener; }
+
+  void frame(const FrameEvent& e) {
+    if (listener_) listener_->onFrame(e);
+  }
+  void keyframe(const KeyframeEvent& e) {
+    if (listener_) listener_->onKeyframe(e);
+  }
+  void initialized(const InitializedEvent& e) {
+    if (listener_) listener_->onInitialized(e);
+  }
+  void trackingLost(const TrackingLostEvent& e) {
+    if (listener_) listener_->onTrackingLost(e);
+  }
+  void loopClosed(const LoopClosureEvent& e) {
+    {
+      std::lock_guard<std::mutex> lock(loops_mutex_);
+      loops_.push_back(e);
+    }
+    if (listener_) listener_->onLoopClosure(e);
+  }
+
+  /// Every loop event so far, in order (a copy; never waits for the stages).
+  std::vector<LoopClosureEvent> loops() const {
+    std::lock_guard<std::mutex> lock(loops_mutex_);
+    return loops_;
+  }
+
+ private:
+  SystemListener* listener_ = nullptr;
+  mutable std::mutex loops_mutex_;
+  std::vector<LoopClosureEvent> loops_;
+};
+
+}  // namespace ldsm

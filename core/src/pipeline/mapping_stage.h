@@ -1,0 +1,133 @@
+// The mapping stage: everything that changes the window, as jobs over one queue (a
+// concurrency::BackgroundTask): inline on the caller's thread in deterministic mode, on the
+// mapping thread otherwise, through the very same code. A job is a tracked frame (trace its
+// pixels into the window's immature points), a keyframe (one integrateKeyframe() path), the
+// initialisation of a new map, or a reset after tracking was lost. After every change the stage
+//  * writes what the window hands on (MapUpdate) to the map store and loop closure,
+//  * applies the loop corrections that arrived (its safe point),
+//  * publishes a tracking reference for the newest keyframe (ReferenceExchange),
+//  * publishes a snapshot of the window for queries (MappingSnapshot), and
+//  * reports keyframe and initialisation events (EventSink).
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <vector>
+
+#include "backend/mapper.h"
+#include "concurrency/background_task.h"
+#include "frontend/coarse_tracker.h"
+#include "image/pyramid_pool.h"
+#include "ldsm/config.h"
+#include "loop/loop_closer.h"
+#include "map/map_store.h"
+#include "pipeline/event_sink.h"
+#include "pipeline/reference_exchange.h"
+#include "pipeline/stage_timer.h"
+
+namespace ldsm {
+
+/// One piece of mapping work.
+struct MappingJob {
+  enum class Kind { kTrace, kKeyframe, kInitialize, kReset };
+  Kind kind = Kind::kTrace;
+  std::unique_ptr<ImagePyramid> pyramid;  ///< the frame (kTrace, kKeyframe; kInitialize: last)
+  MapperFrame info;
+  // kInitialize only: the initializer's result and its reference frame.
+  InitializationResult initialization;
+  std::unique_ptr<ImagePyramid> reference_pyramid;
+  MapperFrame reference_info;
+};
+
+/// What queries read of the mapping (published after every job that changed the window).
+struct MappingSnapshot {
+  std::vector<MapPoint> active_points;  ///< the window's points, world coordinates
+  int active_point_count = 0;
+  double radial_estimate = 0.0;
+  double radial_applied = 0.0;
+  bool has_window = false;
+  SE3d newest_T_c_w;  ///< the newest keyframe's pose
+};
+
+/// How the last initialisation job ended.
+struct InitializationOutcome {
+  bool ok = false;
+  int points = 0;
+  int keyframe_id = -1;  ///< the second keyframe (the first has keyframe_id - 1)
+  SE3d T_c_w;            ///< the second keyframe's pose
+  AffineLight aff;
+};
+
+class MappingStage {
+ public:
+  enum Timing { kTrace, kMapping, kTimingCount };
+
+  /// `loop_closer` may be null (loop closure off). `inline_mode`: deterministic.
+  MappingStage(const Config& config, const PyramidCamera& camera, PyramidPool& pyramids,
+               MapStore& store, EventSink& events, loop::LoopCloser* loop_closer,
+               bool photometry_known, bool inline_mode);
+  ~MappingStage();
+  MappingStage(const MappingStage&) = delete;
+  MappingStage& operator=(const MappingStage&) = delete;
+
+  /// Queues a job (waits while the queue is full) or runs it now (deterministic mode).
+  void submit(MappingJob job);
+  /// Waits until every submitted job is done.
+  void waitIdle();
+  /// Jobs waiting for the mapping thread (a snapshot).
+  std::size_t backlog() const { return task_->backlog(); }
+  /// Tracking side, before submitting a keyframe job: its reference is on its way.
+  void setKeyframeInFlight() { keyframe_in_flight_.store(true, std::memory_order_release); }
+  /// The mapping thread (threaded mode), e.g. to pin it to a CPU.
+  std::optional<std::thread::native_handle_type> threadHandle() { return task_->workerHandle(); }
+  /// A keyframe job was submitted and its reference is not published yet.
+  bool keyframeInFlight() const { return keyframe_in_flight_.load(std::memory_order_acquire); }
+  /// Waits while a keyframe is in flight.
+  void waitForKeyframe();
+  ReferenceExchange& references() { return references_; }
+  /// How the last initialisation job ended (read after waitIdle()).
+  const InitializationOutcome& lastInitialization() const { return init_outcome_; }
+
+  /// End of a run: waits for the loop task, applies what it found and publishes the window.
+  void finish();
+
+  std::shared_ptr<const MappingSnapshot> snapshot() const;
+  std::vector<StageTiming> timings() const { return timer_.summary(); }
+  std::int64_t keyframes() const { return keyframes_.load(std::memory_order_relaxed); }
+
+ private:
+  struct Done {};
+  std::optional<Done> process(MappingJob& job);
+  void trace(MappingJob& job);
+  void integrateKeyframe(MappingJob& job);
+  void initialize(MappingJob& job);
+  void reset();
+  /// Hands the window's output to the map store and loop closure.
+  void publishMap(MapUpdate&& update);
+  void applyLoopCorrections();
+  void publishReference();
+  void publishSnapshot();
+
+  Config config_;
+  PyramidCamera camera_;
+  PyramidPool& pyramids_;
+  MapStore& store_;
+  EventSink& events_;
+  loop::LoopCloser* loop_closer_;
+  Mapper mapper_;
+  ReferenceExchange references_;
+  StageTimer timer_;
+  std::vector<DepthPoint> depth_points_;
+  std::atomic<bool> keyframe_in_flight_{false};
+  std::atomic<std::int64_t> keyframes_{0};
+  InitializationOutcome init_outcome_;
+  mutable std::mutex snapshot_mutex_;  ///< held only to swap the pointer
+  std::shared_ptr<const MappingSnapshot> snapshot_;
+  // Last: stopped (joined) first on destruction, before the state above goes away.
+  std::unique_ptr<concurrency::BackgroundTask<MappingJob, Done>> task_;
+};
+
+}  // namespace ldsm

@@ -1,0 +1,66 @@
+#include "pipeline/slam_pipeline.h"
+
+namespace ldsm {
+namespace {
+
+int usableLevels(const PinholeIntrinsics& k, int wanted) {
+  int levels = 1;
+  while (levels < wanted && (k.width >> levels) >= 20 && (k.height >> levels) >= 15) ++levels;
+  return levels;
+}
+
+bool photometryKnown(const FramePreprocessor& p, const Config& c) {
+  return p.photometricallyCalibrated() && c.photometric.use_exposure;
+}
+
+std::unique_ptr<loop::LoopCloser> makeLoopCloser(const Config& config,
+                                                 const PyramidCamera& camera) {
+  if (!config.loop.enabled) return nullptr;
+  const LevelCamera& c = camera[0];
+  return std::make_unique<loop::LoopCloser>(
+      config.loop, PinholeIntrinsics{c.fx, c.fy, c.cx, c.cy, c.width, c.height},
+      /*inline_mode=*/config.system.deterministic);
+}
+
+}  // namespace
+
+SlamPipeline::SlamPipeline(const Config& config, const GeometricCalibration& geometric,
+                           const PhotometricCalibration& photometric)
+    : config_(config),
+      preprocessor_(geometric, photometric, config.photometric),
+      camera_(preprocessor_.output(),
+              usableLevels(preprocessor_.output(), config.tracking.pyramid_levels)),
+      pyramids_(camera_[0].width, camera_[0].height, camera_.levels()),
+      loop_closer_(makeLoopCloser(config, camera_)),
+      mapping_(config, camera_, pyramids_, store_, events_, loop_closer_.get(),
+               photometryKnown(preprocessor_, config), config.system.deterministic),
+      tracking_(config, camera_, preprocessor_, pyramids_, store_, mapping_, events_,
+                photometryKnown(preprocessor_, config)) {}
+
+SlamPipeline::~SlamPipeline() = default;
+
+std::vector<MapPoint> SlamPipeline::mapPoints() const {
+  std::vector<MapPoint> pts = store_.points();
+  const std::shared_ptr<const MappingSnapshot> s = mapping_.snapshot();
+  pts.insert(pts.end(), s->active_points.begin(), s->active_points.end());
+  return pts;
+}
+
+void SlamPipeline::fillStats(SystemStats& stats) const {
+  stats.keyframes = mapping_.keyframes();
+  stats.initializations = tracking_.initializations();
+  stats.tracking_losses = tracking_.losses();
+  // Stage timings in the order preprocess, initialize, track, trace, mapping, total.
+  const std::vector<StageTiming> t = tracking_.timings();
+  const std::vector<StageTiming> m = mapping_.timings();
+  stats.stages = {t[TrackingStage::kPreprocess], t[TrackingStage::kInitialize],
+                  t[TrackingStage::kTrack],      m[MappingStage::kTrace],
+                  m[MappingStage::kMapping],     t[TrackingStage::kTotal]};
+  stats.loops = events_.loops();
+  const std::shared_ptr<const MappingSnapshot> s = mapping_.snapshot();
+  stats.radial_estimate = s->radial_estimate;
+  stats.radial_applied = s->radial_applied;
+  stats.mapping_backlog = static_cast<int>(mapping_.backlog());
+}
+
+}  // namespace ldsm

@@ -1,0 +1,76 @@
+// The engine's stages wired together, in one place:
+//
+//   frame --> TrackingStage ----------(MappingJob: frame, keyframe, init, reset)--> MappingStage
+//              |  ^                                                                   |   |
+//              |  +--------(ReferenceExchange: newest keyframe's coarse tracker)------+   |
+//              |                                                                          |
+//              +--(frame poses)--> MapStore <--(keyframe poses, points; corrections)------+
+//                                     ^                                                   |
+//              LoopCloser <--(keyframes that left the window, as values)------------------+
+//                  +--(corrections, taken by the mapping stage at its safe point)
+//
+// Every stage reports to one EventSink. Queries read the map store and the mapping stage's
+// published snapshot; none waits for the optimiser. Deterministic mode runs the mapping stage and
+// loop closure inline on the caller's thread; threaded mode gives each its own thread, through
+// the same code.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "camera/pyramid_camera.h"
+#include "image/pyramid_pool.h"
+#include "ldsm/camera/calibration.h"
+#include "ldsm/config.h"
+#include "ldsm/system.h"
+#include "loop/loop_closer.h"
+#include "map/map_store.h"
+#include "pipeline/event_sink.h"
+#include "pipeline/frame_preprocessor.h"
+#include "pipeline/mapping_stage.h"
+#include "pipeline/tracking_stage.h"
+
+namespace ldsm {
+
+class SlamPipeline {
+ public:
+  SlamPipeline(const Config& config, const GeometricCalibration& geometric,
+               const PhotometricCalibration& photometric);
+  ~SlamPipeline();
+  SlamPipeline(const SlamPipeline&) = delete;
+  SlamPipeline& operator=(const SlamPipeline&) = delete;
+
+  void setListener(SystemListener* listener) { events_.setListener(listener); }
+
+  /// Tracking thread (or the caller's, deterministic): one validated frame.
+  FrameEvent process(ImageView<const std::uint8_t> image, std::int64_t index, double timestamp,
+                     double exposure) {
+    return tracking_.process(image, index, timestamp, exposure);
+  }
+  /// End of a run (tracking idle): waits for mapping and loop closure, publishes the window.
+  void finish() { mapping_.finish(); }
+
+  TrackingStatus status() const { return tracking_.status(); }
+  const PyramidCamera& camera() const { return camera_; }
+  MappingStage& mapping() { return mapping_; }
+
+  // Queries, from any thread; they read published state and never wait for the optimiser.
+  Trajectory trajectory() const { return store_.frameTrajectory(); }
+  Trajectory keyframeTrajectory() const { return store_.keyframeTrajectory(); }
+  std::vector<MapPoint> mapPoints() const;
+  /// Fills the engine's part of the statistics (counts, stage timings, loops, calibration).
+  void fillStats(SystemStats& stats) const;
+
+ private:
+  Config config_;
+  FramePreprocessor preprocessor_;
+  PyramidCamera camera_;
+  PyramidPool pyramids_;
+  MapStore store_;
+  EventSink events_;
+  std::unique_ptr<loop::LoopCloser> loop_closer_;
+  MappingStage mapping_;
+  TrackingStage tracking_;
+};
+
+}  // namespace ldsm

@@ -1,0 +1,163 @@
+#include "pipeline/tracking_stage.h"
+
+#include <spdlog/spdlog.h>
+
+#include "frontend/coarse_initializer_settings.h"
+
+namespace ldsm {
+
+TrackingStage::TrackingStage(const Config& config, const PyramidCamera& camera,
+                             FramePreprocessor& preprocessor, PyramidPool& pyramids,
+                             MapStore& store, MappingStage& mapping, EventSink& events,
+                             bool photometry_known)
+    : preprocessor_(preprocessor),
+      pyramids_(pyramids),
+      store_(store),
+      mapping_(mapping),
+      events_(events),
+      initializer_(camera,
+                   CoarseInitializerSettings::fromConfig(config, camera.levels(), photometry_known),
+                   config.initializer.hypotheses),
+      tracker_(config, camera, photometry_known),
+      timer_({"preprocess", "initialize", "track", "total"}, 20000) {}
+
+FrameEvent TrackingStage::process(ImageView<const std::uint8_t> image, std::int64_t index,
+                                  double timestamp, double exposure) {
+  FrameEvent frame;
+  frame.frame_index = index;
+  frame.timestamp = timestamp;
+  {
+    StageTimer::Scope total(timer_, kTotal);
+    std::unique_ptr<ImagePyramid> pyr = pyramids_.acquire();
+    {
+      StageTimer::Scope t(timer_, kPreprocess);
+      preprocessor_.process(image, *pyr);
+    }
+    if (status_ == TrackingStatus::Tracking) {
+      trackStep(std::move(pyr), frame, exposure);
+    } else {
+      initializeStep(std::move(pyr), frame, exposure);
+    }
+  }
+  frame.status = status_;
+  events_.frame(frame);
+  return frame;
+}
+
+void TrackingStage::initializeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent& frame,
+                                   double exposure) {
+  StageTimer::Scope t(timer_, kInitialize);
+  const std::int64_t index = frame.frame_index;
+  const bool done = initializer_.addFrame(*pyr, exposure);
+  const InitFrameStats& is = initializer_.lastFrameStats();
+  spdlog::debug("frame {}: initialiser {} (flow {:.1f} px, rms {:.1f}, good {:.0f} %)", index,
+                toString(initializer_.status()), is.flow_translation, is.rms_residual,
+                100.0 * is.good_fraction);
+  if (initializer_.framesTracked() == 0 && !done) {
+    // This frame became the initializer's reference: keep its pyramid for the first keyframe.
+    pyramids_.release(std::move(init_reference_));
+    init_reference_ = std::move(pyr);
+    init_reference_info_ = {index, frame.timestamp, exposure, world_anchor_, AffineLight{}};
+    return;
+  }
+  if (!done) {
+    if (initializer_.failed())
+      spdlog::info("frame {}: initialisation restarts ({})", index,
+                   toString(initializer_.failure()));
+    pyramids_.release(std::move(pyr));
+    return;
+  }
+  // The map is made by the mapping stage; tracking needs it before the next frame.
+  const InitializationResult& r = initializer_.result();
+  MappingJob job;
+  job.kind = MappingJob::Kind::kInitialize;
+  job.pyramid = std::move(pyr);
+  job.info = {index, frame.timestamp, exposure, r.T_frame_ref * world_anchor_, r.affine_frame};
+  job.initialization = r;
+  job.reference_pyramid = std::move(init_reference_);
+  job.reference_info = init_reference_info_;
+  mapping_.submit(std::move(job));
+  mapping_.waitIdle();
+  const InitializationOutcome& outcome = mapping_.lastInitialization();
+  if (!outcome.ok) {
+    initializer_.reset();
+    return;
+  }
+  initializer_.releaseMemory();
+  status_ = TrackingStatus::Tracking;
+  ++initializations_;
+  store_.addFrame({init_reference_info_.frame_index, init_reference_info_.timestamp,
+                   outcome.keyframe_id - 1, SE3d()});
+  store_.addFrame({index, frame.timestamp, outcome.keyframe_id, SE3d()});
+  adoptNewestReference();
+  tracker_.resetMotion(outcome.T_c_w, outcome.aff);
+  last_tracked_index_ = index;
+  frame.has_pose = true;
+  frame.is_keyframe = true;
+  frame.pose = outcome.T_c_w.inverse().toPose();
+}
+
+void TrackingStage::trackStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent& frame,
+                              double exposure) {
+  adoptNewestReference();
+  const FrameTracker::MotionState motion = tracker_.motionState();
+  FrameTrackingOutcome outcome;
+  {
+    StageTimer::Scope t(timer_, kTrack);
+    outcome = tracker_.track(*pyr, exposure);
+  }
+  if ((!outcome.success || outcome.wants_keyframe) && mapping_.keyframeInFlight()) {
+    // Tracked against the reference before the keyframe the mapping stage is integrating, and
+    // not good enough (the camera moves fast): wait for the new reference and track again.
+    mapping_.waitForKeyframe();
+    adoptNewestReference();
+    tracker_.restoreMotion(motion);
+    StageTimer::Scope t(timer_, kTrack);
+    outcome = tracker_.track(*pyr, exposure);
+  }
+  if (!outcome.success) {
+    pyramids_.release(std::move(pyr));
+    loseTracking(frame, "frame " + std::to_string(frame.frame_index) + ": " + outcome.failure);
+    return;
+  }
+  const SE3d T_ref_w = tracker_.referencePose();
+  store_.addFrame({frame.frame_index, frame.timestamp, tracker_.referenceKeyframeId(),
+                   T_ref_w * outcome.T_c_w.inverse()});
+  last_tracked_index_ = frame.frame_index;
+  frame.has_pose = true;
+  frame.pose = outcome.T_c_w.inverse().toPose();
+  frame.residual_rmse = outcome.rmse;
+  frame.is_keyframe = outcome.wants_keyframe;
+  MappingJob job;
+  job.kind = outcome.wants_keyframe ? MappingJob::Kind::kKeyframe : MappingJob::Kind::kTrace;
+  job.pyramid = std::move(pyr);
+  job.info = {frame.frame_index, frame.timestamp, exposure, outcome.T_c_w, outcome.aff};
+  if (outcome.wants_keyframe) mapping_.setKeyframeInFlight();
+  mapping_.submit(std::move(job));
+}
+
+void TrackingStage::adoptNewestReference() {
+  PreparedReference ref;
+  if (!mapping_.references().takeNewest(ref)) return;
+  tracker_.adoptReference(ref.tracker, ref.keyframe_id, ref.T_c_w);
+  mapping_.references().recycle(std::move(ref.tracker));
+  // The keyframe was the last tracked frame: continue from its optimised pose.
+  if (ref.frame_index == last_tracked_index_) tracker_.refineLastPose(ref.T_c_w);
+}
+
+void TrackingStage::loseTracking(const FrameEvent& frame, const std::string& reason) {
+  spdlog::warn("tracking lost: {}", reason);
+  ++losses_;
+  events_.trackingLost(TrackingLostEvent{frame.frame_index, frame.timestamp, reason});
+  mapping_.waitIdle();
+  // The next map starts where the camera was last seen.
+  world_anchor_ = mapping_.snapshot()->newest_T_c_w;
+  MappingJob reset;
+  reset.kind = MappingJob::Kind::kReset;
+  mapping_.submit(std::move(reset));
+  mapping_.waitIdle();
+  initializer_.reset();
+  status_ = TrackingStatus::Lost;
+}
+
+}  // namespace ldsm

@@ -1,0 +1,69 @@
+// The tracking stage: what happens to every frame on the tracking thread (the caller's thread in
+// deterministic mode). The frame is preprocessed into a pyramid; until a map exists it goes to
+// the initializer, and a finished initialisation becomes a job for the mapping stage; afterwards
+// it is tracked against the newest reference the mapping stage published (ReferenceExchange),
+// its pose goes to the map store, and the frame goes on to the mapping stage (to trace, or as a
+// keyframe). A failed frame loses tracking: the mapping stage resets and initialisation starts
+// over where the camera was last seen.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "frontend/frame_tracker.h"
+#include "frontend/initializer_hypotheses.h"
+#include "image/pyramid_pool.h"
+#include "ldsm/config.h"
+#include "ldsm/events.h"
+#include "map/map_store.h"
+#include "pipeline/event_sink.h"
+#include "pipeline/frame_preprocessor.h"
+#include "pipeline/mapping_stage.h"
+#include "pipeline/stage_timer.h"
+
+namespace ldsm {
+
+class TrackingStage {
+ public:
+  enum Timing { kPreprocess, kInitialize, kTrack, kTotal, kTimingCount };
+
+  TrackingStage(const Config& config, const PyramidCamera& camera, FramePreprocessor& preprocessor,
+                PyramidPool& pyramids, MapStore& store, MappingStage& mapping, EventSink& events,
+                bool photometry_known);
+
+  /// Processes one validated frame (`exposure`: the exposure time to use, 1 when unknown) and
+  /// returns its event (also sent to the EventSink).
+  FrameEvent process(ImageView<const std::uint8_t> image, std::int64_t index, double timestamp,
+                     double exposure);
+
+  TrackingStatus status() const { return status_; }
+  std::int64_t initializations() const { return initializations_; }
+  std::int64_t losses() const { return losses_; }
+  std::vector<StageTiming> timings() const { return timer_.summary(); }
+
+ private:
+  void initializeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent& frame, double exposure);
+  void trackStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent& frame, double exposure);
+  /// Tracks from now on against the newest reference the mapping stage published, if any.
+  void adoptNewestReference();
+  void loseTracking(const FrameEvent& frame, const std::string& reason);
+
+  FramePreprocessor& preprocessor_;
+  PyramidPool& pyramids_;
+  MapStore& store_;
+  MappingStage& mapping_;
+  EventSink& events_;
+  InitializerHypotheses initializer_;
+  FrameTracker tracker_;
+  StageTimer timer_;
+  TrackingStatus status_ = TrackingStatus::Initializing;
+  std::unique_ptr<ImagePyramid> init_reference_;  ///< the initializer's reference frame
+  MapperFrame init_reference_info_;
+  SE3d world_anchor_;  ///< world -> camera pose given to a new map's first keyframe
+  std::int64_t last_tracked_index_ = -1;
+  std::int64_t initializations_ = 0;
+  std::int64_t losses_ = 0;
+};
+
+}  // namespace ldsm
