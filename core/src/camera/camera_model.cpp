@@ -5,7 +5,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "ldsm/camera/camera_models.h"
+#include "camera/camera_models.h"
 #include "ldsm/error.h"
 
 namespace ldsm {

@@ -1,7 +1,7 @@
 #include <cmath>
 
+#include "camera/camera_models.h"
 #include "camera_common.h"
-#include "ldsm/camera/camera_models.h"
 
 namespace ldsm {
 namespace {

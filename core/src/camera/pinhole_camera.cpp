@@ -1,5 +1,5 @@
+#include "camera/camera_models.h"
 #include "camera_common.h"
-#include "ldsm/camera/camera_models.h"
 
 namespace ldsm {
 

@@ -2,8 +2,8 @@
 #include <cmath>
 #include <limits>
 
+#include "camera/camera_models.h"
 #include "camera_common.h"
-#include "ldsm/camera/camera_models.h"
 
 namespace ldsm {
 namespace {

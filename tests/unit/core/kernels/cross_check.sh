@@ -3,16 +3,17 @@
 # cross compilers under qemu-user (AArch64, and ARMv7 hard float with -mfpu=neon), and the plain
 # C++ fallback (LDSM_SIMD=scalar) natively. Needs g++-aarch64-linux-gnu, g++-arm-linux-gnueabihf,
 # qemu-user and the GoogleTest sources in /usr/src/googletest.
-#   tests/unit/simd/cross_check.sh [work dir, default /tmp/ldsm-simd-check]
+#   tests/unit/core/kernels/cross_check.sh [work dir, default /tmp/ldsm-simd-check]
 set -eu
-root=$(cd "$(dirname "$0")/../../.." && pwd)
+root=$(cd "$(dirname "$0")/../../../.." && pwd)
 work=${1:-/tmp/ldsm-simd-check}
 gtest=/usr/src/googletest/googletest
 mkdir -p "$work"
 
-tests="$root/tests/unit/simd/vec4f_test.cpp $root/tests/unit/simd/pattern_kernels_test.cpp
-  $root/tests/unit/simd/coarse_accumulate_test.cpp $root/tests/unit/simd/evaluate_residual_test.cpp"
-sources="$root/core/src/backend/photometric_residual.cpp $root/core/src/map/active_point.cpp
+tests="$root/tests/unit/core/math/vec4f_test.cpp $root/tests/unit/core/kernels/pattern_kernels_test.cpp
+  $root/tests/unit/core/kernels/coarse_accumulate_test.cpp
+  $root/tests/unit/core/kernels/evaluate_residual_test.cpp"
+sources="$root/core/src/backend/photometric_residual.cpp $root/core/src/backend/active_point.cpp
   $root/core/src/image/image_pyramid.cpp $root/core/src/frontend/coarse_residuals.cpp"
 
 check() {  # name, compiler, SIMD, runner ("" = native), sysroot, extra flags

@@ -1,4 +1,4 @@
-#include "ldsm/math/robust_kernel.h"
+#include "math/robust_kernel.h"
 
 #include <gtest/gtest.h>
 

@@ -4,8 +4,8 @@
 #include <limits>
 #include <random>
 
+#include "camera/camera_models.h"
 #include "ldsm/camera/camera_model.h"
-#include "ldsm/camera/camera_models.h"
 #include "ldsm/error.h"
 #include "sample_cameras.h"
 
