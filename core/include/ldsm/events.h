@@ -68,9 +68,10 @@ struct LoopClosureEvent {
 };
 
 /// Receives events; every method has an empty default. In deterministic mode every call comes on
-/// the caller's thread; in threaded mode onFrame / onInitialized / onTrackingLost come from the
-/// tracking thread and onKeyframe from the mapping thread (possibly at the same time). Keep
-/// handlers short and never call back into the System from them.
+/// the caller's thread (inside submit() or finish()). In threaded mode onFrame and onTrackingLost
+/// come from the tracking thread, onInitialized, onKeyframe and onLoopClosure from the mapping
+/// thread (possibly at the same time as the former). Keep handlers short and never call back into
+/// the System from them.
 class SystemListener {
  public:
   virtual ~SystemListener() = default;
@@ -78,7 +79,7 @@ class SystemListener {
   virtual void onKeyframe(const KeyframeEvent&) {}
   virtual void onInitialized(const InitializedEvent&) {}
   virtual void onTrackingLost(const TrackingLostEvent&) {}
-  /// From the mapping thread (threaded mode), when the correction has been applied.
+  /// When the correction has been applied (or found not significant).
   virtual void onLoopClosure(const LoopClosureEvent&) {}
 };
 

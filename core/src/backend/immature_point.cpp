@@ -75,6 +75,78 @@ inline void clipAxis(float p, float d, float lo, float hi, float& s0, float& s1)
   s1 = std::min(s1, b);
 }
 
+/// The pattern matcher for a host point seen through the local linear map J of the rotation-only
+/// homography (identity unless settings.rotate_pattern): offsets, expected intensities (affine
+/// transfer (scale, offset) of the host colours) and the pattern's radius in target pixels.
+PatternMatcher orientedMatcher(ImageView<const GradientPixel> target, const Eigen::Matrix2f& J,
+                               const float* weights, const float* colors,
+                               const Eigen::Vector2f& affine, float huber, float* radius) {
+  PatternMatcher m;
+  m.image = target;
+  m.weights = weights;
+  m.huber = huber;
+  *radius = 0.f;
+  for (int k = 0; k < kPatternSize; ++k) {
+    const Eigen::Vector2f o = J * Eigen::Vector2f(static_cast<float>(kPatternOffsets[k][0]),
+                                                  static_cast<float>(kPatternOffsets[k][1]));
+    m.ox[k] = o.x();
+    m.oy[k] = o.y();
+    *radius = std::max({*radius, std::abs(o.x()), std::abs(o.y())});
+    m.expected[k] = affine.x() * colors[k] + affine.y();
+  }
+  return m;
+}
+
+/// The best match of the pattern on the line a + s dir, s in [s0, s1].
+struct LineMatch {
+  float s = 0.f;
+  float energy = 0.f;
+  float second = kInf;      ///< the lowest other local minimum (kInf: none)
+  float best_energy = 0.f;  ///< of the 1-pixel walk, before refinement
+};
+
+/// Exhaustive 1-pixel walk (best and second best outside the best's neighbourhood), then
+/// sub-pixel Gauss-Newton refinement along the line with steps of at most half a pixel.
+LineMatch matchAlongLine(const PatternMatcher& m, const Eigen::Vector2f& a,
+                         const Eigen::Vector2f& dir, float s0, float s1,
+                         const TraceSettings& settings) {
+  const int steps = static_cast<int>(s1 - s0) + 1;
+  std::array<float, ImmaturePoint::kMaxSearchLength + 1> energies{};
+  int best = 0;
+  for (int i = 0; i < steps; ++i) {
+    const float s = s0 + static_cast<float>(i);
+    energies[i] = m.energy(a.x() + s * dir.x(), a.y() + s * dir.y());
+    if (energies[i] < energies[best]) best = i;
+  }
+  LineMatch out;
+  // The second best is the lowest other local minimum, so that the flanks of a broad best basin
+  // do not count as ambiguity.
+  for (int i = 0; i < steps; ++i) {
+    if (std::abs(i - best) <= settings.second_best_radius || energies[i] >= out.second) continue;
+    const bool left_ok = i == 0 || energies[i] <= energies[i - 1];
+    const bool right_ok = i == steps - 1 || energies[i] <= energies[i + 1];
+    if (left_ok && right_ok) out.second = energies[i];
+  }
+  out.best_energy = energies[best];
+  float s = s0 + static_cast<float>(best);
+  float e = energies[best];
+  for (int it = 0; it < settings.refine_iterations; ++it) {
+    float e_lin, g, h;
+    m.linearize(a.x() + s * dir.x(), a.y() + s * dir.y(), dir.x(), dir.y(), e_lin, g, h);
+    if (!(h > 0.f)) break;
+    const float step = std::clamp(-g / h, -0.5f, 0.5f);
+    const float s_new = std::clamp(s + step, s0, s1);
+    const float e_new = m.energy(a.x() + s_new * dir.x(), a.y() + s_new * dir.y());
+    if (!(e_new < e)) break;
+    s = s_new;
+    e = e_new;
+    if (std::abs(step) < 1e-3f) break;
+  }
+  out.s = s;
+  out.energy = e;
+  return out;
+}
+
 }  // namespace
 
 const char* traceStatusName(TraceStatus status) {
@@ -174,19 +246,9 @@ TraceStatus ImmaturePoint::trace(ImageView<const GradientPixel> target, const Le
     }
     if (!(std::abs(J.determinant()) > 1e-3f)) J.setIdentity();
   }
-  PatternMatcher m;
-  m.image = target;
-  m.weights = weights_.data();
-  m.huber = settings.huber_threshold;
   float radius = 0.f;
-  for (int k = 0; k < kPatternSize; ++k) {
-    const Eigen::Vector2f o = J * Eigen::Vector2f(static_cast<float>(kPatternOffsets[k][0]),
-                                                  static_cast<float>(kPatternOffsets[k][1]));
-    m.ox[k] = o.x();
-    m.oy[k] = o.y();
-    radius = std::max({radius, std::abs(o.x()), std::abs(o.y())});
-    m.expected[k] = affine.x() * colors_[k] + affine.y();
-  }
+  const PatternMatcher m = orientedMatcher(target, J, weights_.data(), colors_.data(), affine,
+                                           settings.huber_threshold, &radius);
   // Pattern samples stay inside the image, where bilinear interpolation reads valid pixels.
   const float margin = radius + 1.f;
   const float x_max = static_cast<float>(target.width - 1) - margin - 1e-3f;
@@ -248,41 +310,10 @@ TraceStatus ImmaturePoint::trace(ImageView<const GradientPixel> target, const Le
     return status_ = TraceStatus::kBadCondition;
   }
 
-  // Exhaustive 1-pixel walk: best and second best (outside the best's neighbourhood).
-  const int steps = static_cast<int>(s1 - s0) + 1;
-  std::array<float, kMaxSearchLength + 1> energies{};
-  int best = 0;
-  for (int i = 0; i < steps; ++i) {
-    const float s = s0 + static_cast<float>(i);
-    energies[i] = m.energy(a_px.x() + s * dir.x(), a_px.y() + s * dir.y());
-    if (energies[i] < energies[best]) best = i;
-  }
-  // The second best is the lowest other local minimum, so that the flanks of a broad best basin
-  // do not count as ambiguity.
-  float second = kInf;
-  for (int i = 0; i < steps; ++i) {
-    if (std::abs(i - best) <= settings.second_best_radius || energies[i] >= second) continue;
-    const bool left_ok = i == 0 || energies[i] <= energies[i - 1];
-    const bool right_ok = i == steps - 1 || energies[i] <= energies[i + 1];
-    if (left_ok && right_ok) second = energies[i];
-  }
-  if (std::isfinite(second)) quality_ = second / std::max(energies[best], 1e-3f);
-
-  // Sub-pixel refinement along the line (Gauss-Newton, steps of at most half a pixel).
-  float s = s0 + static_cast<float>(best);
-  float e = energies[best];
-  for (int it = 0; it < settings.refine_iterations; ++it) {
-    float e_lin, g, h;
-    m.linearize(a_px.x() + s * dir.x(), a_px.y() + s * dir.y(), dir.x(), dir.y(), e_lin, g, h);
-    if (!(h > 0.f)) break;
-    const float step = std::clamp(-g / h, -0.5f, 0.5f);
-    const float s_new = std::clamp(s + step, s0, s1);
-    const float e_new = m.energy(a_px.x() + s_new * dir.x(), a_px.y() + s_new * dir.y());
-    if (!(e_new < e)) break;
-    s = s_new;
-    e = e_new;
-    if (std::abs(step) < 1e-3f) break;
-  }
+  const LineMatch match = matchAlongLine(m, a_px, dir, s0, s1, settings);
+  if (std::isfinite(match.second)) quality_ = match.second / std::max(match.best_energy, 1e-3f);
+  const float s = match.s;
+  const float e = match.energy;
   last_match_ = a_px + s * dir;
   last_energy_ = e;
   const float max_energy =

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <limits>
 
-#include "backend/corner_depths.h"
+#include "backend/loop_description.h"
 
 namespace ldsm {
 namespace {
@@ -28,16 +28,28 @@ WindowOptimizerSettings optimizerSettings(const Config& c, bool photometry_known
 
 }  // namespace
 
-Mapper::Mapper(const Config& config, const PyramidCamera& camera, PyramidPool& pyramids,
-               bool photometry_known)
-    : config_(config),
+MapperSettings MapperSettings::fromConfig(const Config& config, bool photometry_known) {
+  MapperSettings s;
+  s.window = config.window;
+  s.points = config.points;
+  s.calibration = config.calibration;
+  s.optimizer = optimizerSettings(config, photometry_known);
+  s.trace_huber_threshold = static_cast<float>(config.tracking.huber_threshold);
+  s.trace_outlier_threshold = static_cast<float>(config.window.outlier_threshold);
+  s.loop_corners = config.loop.corners_per_keyframe;
+  s.loop_corner_min_score = static_cast<float>(config.loop.corner_min_score);
+  return s;
+}
+
+Mapper::Mapper(const MapperSettings& settings, const PyramidCamera& camera, PyramidPool& pyramids)
+    : settings_(settings),
       camera_(camera),
       pyramids_(pyramids),
-      optimizer_(optimizerSettings(config, photometry_known), camera[0]),
-      radial_(config.calibration),
-      selector_(camera[0].width, camera[0].height, config.points) {
-  trace_settings_.huber_threshold = static_cast<float>(config.tracking.huber_threshold);
-  trace_settings_.outlier_threshold = static_cast<float>(config.window.outlier_threshold);
+      optimizer_(settings.optimizer, camera[0]),
+      radial_(settings.calibration),
+      selector_(camera[0].width, camera[0].height, settings.points) {
+  trace_settings_.huber_threshold = settings.trace_huber_threshold;
+  trace_settings_.outlier_threshold = settings.trace_outlier_threshold;
 }
 
 Mapper::~Mapper() = default;
@@ -69,7 +81,7 @@ bool Mapper::initialize(const InitializationResult& result, const MapperFrame& r
   for (const auto& p : result.points)
     if (p.good && p.idepth > 0.f && std::isfinite(p.idepth)) usable.push_back(&p);
   const double keep =
-      std::min(1.0, config_.window.active_points / std::max<double>(1, usable.size()));
+      std::min(1.0, settings_.window.active_points / std::max<double>(1, usable.size()));
   double acc = 0.0;
   const float c = optimizer_.settings().residual.gradient_weight_c;
   for (const InitializedPoint* ip : usable) {
@@ -122,7 +134,8 @@ void Mapper::traceFrame(const ImagePyramid& frame, const MapperFrame& info) {
 
 void Mapper::refineRadialCorrection(const WindowOptimizationResult& opt) {
   // Only full windows: the first keyframes' short baselines say little about k.
-  if (!opt.radial_valid || static_cast<int>(window_.size()) <= config_.window.max_keyframes) return;
+  if (!opt.radial_valid || static_cast<int>(window_.size()) <= settings_.window.max_keyframes)
+    return;
   const bool was_engaged = radial_.engaged();
   radial_.addWindowStep(opt.radial_step, opt.radial_curvature);
   optimizer_.setRadialCorrection(radial_.applied());
@@ -176,7 +189,7 @@ KeyframeInsertion Mapper::addKeyframe(std::unique_ptr<ImagePyramid> pyramid,
 }
 
 void Mapper::adaptOutlierThreshold(WindowKeyframe& kf) {
-  if (!config_.window.adaptive_outlier_threshold) return;
+  if (!settings_.window.adaptive_outlier_threshold) return;
   energies_.clear();
   for (const auto& host : window_)
     for (const auto& p : host->points)
@@ -210,7 +223,7 @@ std::vector<int> Mapper::framesToMarginalize() const {
   const WindowKeyframe& newest = *window_.back();
   int remaining = n;
   // Keyframes that lost most of their points or whose brightness changed too much.
-  for (int i = 0; i + 2 < n && remaining > config_.window.min_keyframes; ++i) {
+  for (int i = 0; i + 2 < n && remaining > settings_.window.min_keyframes; ++i) {
     const WindowKeyframe& kf = *window_[i];
     const double in_fraction =
         kf.points_created > 0 ? static_cast<double>(kf.points.size()) / kf.points_created : 1.0;
@@ -222,7 +235,7 @@ std::vector<int> Mapper::framesToMarginalize() const {
     }
   }
   // Still too many: drop the keyframe that is closest to the others and far from the newest.
-  while (remaining > config_.window.max_keyframes) {
+  while (remaining > settings_.window.max_keyframes) {
     int best = -1;
     double best_score = -1.0;
     const Eigen::Vector3d c_new = newest.T_c_w.inverse().translation();
@@ -310,27 +323,9 @@ MarginalizedKeyframe Mapper::describeLeavingKeyframe(WindowKeyframe& f,
   out.T_w_c = f.T_c_w.inverse();
   out.radial_k = radialK();
   out.points = std::move(points);
-  if (!describe_leaving_) return out;
-  // Loop closure describes the keyframe: more corners than the odometry's (weaker ones too),
-  // then depths for as many as possible.
-  selector_.detectCorners(f.pyramid(), config_.loop.corners_per_keyframe,
-                          static_cast<float>(config_.loop.corner_min_score), loop_corners_);
-  const std::size_t own = f.corners.size();
-  for (const Corner& c : loop_corners_) {
-    bool taken = false;
-    for (std::size_t i = 0; i < own && !taken; ++i)
-      taken = (f.corners[i] - Eigen::Vector2f(c.u, c.v)).squaredNorm() < 16.f;
-    if (!taken) f.corners.emplace_back(c.u, c.v);
-  }
-  const CornerDepthFill fill = fillCornerDepths(f, window_, camera_[0]);
-  spdlog::debug(
-      "keyframe {} leaves: {} odometry + {} more corners ({} detected); depths: {} own, {} "
-      "immature, {} nearby, {} none",
-      f.id(), own, f.corners.size() - own, loop_corners_.size(), fill.from_points,
-      fill.from_immature, fill.from_neighbours, fill.without);
-  out.corners = f.corners;
-  out.corner_idepth = f.corner_idepth;
-  out.image.copyFrom(f.pyramid().intensity(0));
+  if (describe_leaving_)
+    describeForLoopClosure(f, window_, camera_[0], selector_, settings_.loop_corners,
+                           settings_.loop_corner_min_score, loop_corners_, out);
   return out;
 }
 

@@ -31,6 +31,22 @@ struct MapperFrame {
   AffineLight aff;
 };
 
+/// The Mapper's settings: its sections of the configuration and what is derived from them.
+struct MapperSettings {
+  WindowConfig window;
+  PointSelectionConfig points;
+  CalibrationRefinementConfig calibration;
+  WindowOptimizerSettings optimizer;
+  float trace_huber_threshold = 9.f;
+  float trace_outlier_threshold = 12.f;
+  int loop_corners = 400;             ///< loop.corners_per_keyframe
+  float loop_corner_min_score = 9.f;  ///< loop.corner_min_score
+
+  /// `photometry_known`: response, vignette and exposure times are known, so affine brightness
+  /// is held near zero by the strong prior (photometric.affine_prior_weight_known).
+  static MapperSettings fromConfig(const Config& config, bool photometry_known);
+};
+
 /// What the window hands to the map after an operation, as values, in the order they arose.
 struct MapUpdate {
   std::vector<HostedPoint> points;         ///< points that left the window
@@ -52,10 +68,7 @@ struct KeyframeInsertion {
 
 class Mapper {
  public:
-  /// `photometry_known`: response, vignette and exposure times are known, so affine brightness
-  /// is held near zero by the strong prior (photometric.affine_prior_weight_known).
-  Mapper(const Config& config, const PyramidCamera& camera, PyramidPool& pyramids,
-         bool photometry_known);
+  Mapper(const MapperSettings& settings, const PyramidCamera& camera, PyramidPool& pyramids);
   ~Mapper();
 
   bool initialized() const { return !window_.empty(); }
@@ -117,7 +130,7 @@ class Mapper {
   /// Keeps the inverse depth of a corner point in its host's corner list.
   static void recordCornerDepth(const ActivePoint& p);
 
-  Config config_;
+  MapperSettings settings_;
   PyramidCamera camera_;
   PyramidPool& pyramids_;
   WindowOptimizer optimizer_;

@@ -116,7 +116,7 @@ int Mapper::activatePoints() {
 
   // Spacing control: fewer points than wanted -> activate closer to existing ones.
   const int active = activePointCount();
-  const double ratio = active / std::max(1.0, static_cast<double>(config_.window.active_points));
+  const double ratio = active / std::max(1.0, static_cast<double>(settings_.window.active_points));
   if (ratio < 0.66)
     min_activation_distance_ -= 0.8f;
   else if (ratio < 0.8)
@@ -147,11 +147,11 @@ int Mapper::activatePoints() {
       if (h != t) pairs[static_cast<size_t>(h) * n + t].set(*window_[h], *window_[t], cam);
 
   // Never grow far beyond the target: the window's cost is linear in the points.
-  const int budget = static_cast<int>(1.2 * config_.window.active_points) - active;
+  const int budget = static_cast<int>(1.2 * settings_.window.active_points) - active;
   if (budget <= 0) return 0;
   const float c = optimizer_.settings().residual.gradient_weight_c;
-  const float min_quality = static_cast<float>(config_.window.min_trace_quality);
-  const float max_interval = static_cast<float>(config_.window.max_trace_interval);
+  const float min_quality = static_cast<float>(settings_.window.min_trace_quality);
+  const float max_interval = static_cast<float>(settings_.window.max_trace_interval);
   int activated = 0;
   for (int h = 0; h + 1 < n; ++h) {
     WindowKeyframe& kf = *window_[h];

@@ -31,6 +31,68 @@ float huberCost(float r, float k) {
   return a <= k ? 0.5f * r * r : k * (a - 0.5f * k);
 }
 
+/// What one point's pattern contributes: its energy and the weighted sums its 8 residuals reduce
+/// to (image-gradient moments with the residual and the affine derivatives).
+struct PatternSums {
+  bool ok = false;  ///< every pattern pixel in front of the camera and inside the image
+  float e = 0.f;    ///< weighted Huber energy
+  float a00 = 0, a01 = 0, a11 = 0, b0 = 0, b1 = 0, ca0 = 0, ca1 = 0, cb0 = 0, cb1 = 0;
+  float saa = 0, sab = 0, sbb = 0, sar = 0, sbr = 0;
+};
+
+/// The photometric terms shared by all points of a level.
+struct PatternModel {
+  const Eigen::Vector3f* dq;  ///< pattern offsets rotated into the frame
+  ImageView<const GradientPixel> img;
+  float fx, fy, cx, cy;
+  float scale, offset, huber, c2;
+};
+
+inline PatternSums patternSums(const PatternModel& m, const Eigen::Vector3f& qc,
+                               const float* ref_colors) {
+  PatternSums s;
+  s.ok = qc.z() > kMinDepth;
+  for (int k = 0; s.ok && k < kPatternSize; ++k) {
+    const Eigen::Vector3f q = qc + m.dq[k];
+    if (!(q.z() > kMinDepth)) {
+      s.ok = false;
+      break;
+    }
+    const float iz = 1.f / q.z();
+    const float x = m.fx * q.x() * iz + m.cx;
+    const float y = m.fy * q.y() * iz + m.cy;
+    if (!isInsideForBilinear(x, y, m.img.width, m.img.height, 1.f)) {
+      s.ok = false;
+      break;
+    }
+    const GradientPixel g = interpolateBilinear(m.img, x, y);
+    const float ref = ref_colors[k];
+    const float res = g.intensity - (m.scale * ref + m.offset);
+    const float wg = m.c2 > 0.f ? m.c2 / (m.c2 + g.dx * g.dx + g.dy * g.dy) : 1.f;
+    const float ares = std::abs(res);
+    const float hw = ares <= m.huber ? 1.f : m.huber / ares;
+    s.e += wg * huberCost(res, m.huber);
+    const float w = wg * hw;
+    const float ja = -m.scale * ref;  // dr/da; dr/db = -1
+    const float wgx = w * g.dx, wgy = w * g.dy;
+    s.a00 += wgx * g.dx;
+    s.a01 += wgx * g.dy;
+    s.a11 += wgy * g.dy;
+    s.b0 += wgx * res;
+    s.b1 += wgy * res;
+    s.ca0 += wgx * ja;
+    s.ca1 += wgy * ja;
+    s.cb0 -= wgx;
+    s.cb1 -= wgy;
+    s.saa += w * ja * ja;
+    s.sab -= w * ja;
+    s.sbb += w;
+    s.sar += w * ja * res;
+    s.sbr -= w * res;
+  }
+  return s;
+}
+
 }  // namespace
 
 void CoarseInitializer::evaluate(int lvl, const SE3d& T, const AffineLight& affine,
@@ -54,7 +116,8 @@ void CoarseInitializer::evaluate(int lvl, const SE3d& T, const AffineLight& affi
   const float ws = smoothness_weight_;
   const float wp = settings_.idepth_prior_weight;
   const float to_level0 = static_cast<float>(1 << lvl);
-  const float fx = cam.fx, fy = cam.fy, cx = cam.cx, cy = cam.cy;
+  const float fx = cam.fx, fy = cam.fy;
+  const PatternModel model{dq, img, fx, fy, cam.cx, cam.cy, scale, offset, huber, c2};
 
   out.H.setZero();
   out.b.setZero();
@@ -84,48 +147,9 @@ void CoarseInitializer::evaluate(int lvl, const SE3d& T, const AffineLight& affi
     good[i] = 0;
 
     const Eigen::Vector3f qc = R * cam.unproject(L.u[i].x(), L.u[i].y()) + t * d;
-    float e = 0.f;
-    float a00 = 0, a01 = 0, a11 = 0, b0 = 0, b1 = 0, ca0 = 0, ca1 = 0, cb0 = 0, cb1 = 0;
-    float saa = 0, sab = 0, sbb = 0, sar = 0, sbr = 0;
-    bool ok = qc.z() > kMinDepth;
-    for (int k = 0; ok && k < kPatternSize; ++k) {
-      const Eigen::Vector3f q = qc + dq[k];
-      if (!(q.z() > kMinDepth)) {
-        ok = false;
-        break;
-      }
-      const float iz = 1.f / q.z();
-      const float x = fx * q.x() * iz + cx;
-      const float y = fy * q.y() * iz + cy;
-      if (!isInsideForBilinear(x, y, img.width, img.height, 1.f)) {
-        ok = false;
-        break;
-      }
-      const GradientPixel g = interpolateBilinear(img, x, y);
-      const float ref = L.ref[i][k];
-      const float res = g.intensity - (scale * ref + offset);
-      const float wg = c2 > 0.f ? c2 / (c2 + g.dx * g.dx + g.dy * g.dy) : 1.f;
-      const float ares = std::abs(res);
-      const float hw = ares <= huber ? 1.f : huber / ares;
-      e += wg * huberCost(res, huber);
-      const float w = wg * hw;
-      const float ja = -scale * ref;  // dr/da; dr/db = -1
-      const float wgx = w * g.dx, wgy = w * g.dy;
-      a00 += wgx * g.dx;
-      a01 += wgx * g.dy;
-      a11 += wgy * g.dy;
-      b0 += wgx * res;
-      b1 += wgy * res;
-      ca0 += wgx * ja;
-      ca1 += wgy * ja;
-      cb0 -= wgx;
-      cb1 -= wgy;
-      saa += w * ja * ja;
-      sab -= w * ja;
-      sbb += w;
-      sar += w * ja * res;
-      sbr -= w * res;
-    }
+    const PatternSums ps = patternSums(model, qc, L.ref[i].data());
+    const bool ok = ps.ok;
+    const float e = ps.e;
     if (ok && !std::isfinite(e)) out.finite = false;
     if (!ok || !(e <= cap)) {
       out.energy += cap;
@@ -148,21 +172,21 @@ void CoarseInitializer::evaluate(int lvl, const SE3d& T, const AffineLight& affi
         0.f, fy * dz, -fy * ny * dz, -fy * (1.f + ny * ny), fy * nx * ny, fy * nx;
     const Eigen::Vector2f v(fx * iz * (t.x() - nx * t.z()), fy * iz * (t.y() - ny * t.z()));
     Eigen::Matrix2f A;
-    A << a00, a01, a01, a11;
-    const Eigen::Vector2f B(b0, b1);
-    const Eigen::Vector2f Ca(ca0, ca1);
-    const Eigen::Vector2f Cb(cb0, cb1);
+    A << ps.a00, ps.a01, ps.a01, ps.a11;
+    const Eigen::Vector2f B(ps.b0, ps.b1);
+    const Eigen::Vector2f Ca(ps.ca0, ps.ca1);
+    const Eigen::Vector2f Cb(ps.cb0, ps.cb1);
 
     const Eigen::Matrix<float, 2, 6> AG = A * G;
     Hf.topLeftCorner<6, 6>().noalias() += G.transpose() * AG;
     Hf.block<6, 1>(0, 6).noalias() += G.transpose() * Ca;
     Hf.block<6, 1>(0, 7).noalias() += G.transpose() * Cb;
-    Hf(6, 6) += saa;
-    Hf(6, 7) += sab;
-    Hf(7, 7) += sbb;
+    Hf(6, 6) += ps.saa;
+    Hf(6, 7) += ps.sab;
+    Hf(7, 7) += ps.sbb;
     bf.head<6>().noalias() += G.transpose() * B;
-    bf(6) += sar;
-    bf(7) += sbr;
+    bf(6) += ps.sar;
+    bf(7) += ps.sbr;
 
     const Eigen::Vector2f Av = A * v;
     P.hphoto = v.dot(Av);

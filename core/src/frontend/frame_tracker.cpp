@@ -5,12 +5,11 @@
 
 namespace ldsm {
 
-FrameTracker::FrameTracker(const Config& config, const PyramidCamera& camera, bool exposures_known)
-    : kf_config_(config.keyframes),
+FrameTracker::FrameTracker(const FrameTrackerSettings& settings, const PyramidCamera& camera)
+    : kf_config_(settings.keyframes),
       camera_(camera),
-      tracker_(std::make_unique<CoarseTracker>(
-          camera[0].width, camera[0].height, camera.levels(),
-          CoarseTrackerSettings::fromConfig(config, exposures_known))) {}
+      tracker_(std::make_unique<CoarseTracker>(camera[0].width, camera[0].height, camera.levels(),
+                                               settings.coarse)) {}
 
 void FrameTracker::setReference(const TrackingReference& reference,
                                 const std::vector<DepthPoint>& points) {

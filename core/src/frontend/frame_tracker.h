@@ -26,9 +26,18 @@ struct FrameTrackingOutcome {
   int hypotheses_tried = 0;
 };
 
+/// The tracker's settings: when to make a keyframe, and the coarse tracker's.
+struct FrameTrackerSettings {
+  KeyframeConfig keyframes;
+  CoarseTrackerSettings coarse;
+  static FrameTrackerSettings fromConfig(const Config& config, bool exposures_known) {
+    return {config.keyframes, CoarseTrackerSettings::fromConfig(config, exposures_known)};
+  }
+};
+
 class FrameTracker {
  public:
-  FrameTracker(const Config& config, const PyramidCamera& camera, bool exposures_known);
+  FrameTracker(const FrameTrackerSettings& settings, const PyramidCamera& camera);
 
   /// Tracks from now on against `reference`, whose pyramid must stay alive, with the window's
   /// points projected into it.

@@ -15,7 +15,7 @@ MappingStage::MappingStage(const Config& config, const PyramidCamera& camera, Py
       store_(store),
       events_(events),
       loop_closer_(loop_closer),
-      mapper_(config, camera, pyramids, photometry_known),
+      mapper_(MapperSettings::fromConfig(config, photometry_known), camera, pyramids),
       references_([camera, settings = CoarseTrackerSettings::fromConfig(config, photometry_known)] {
         return std::make_unique<CoarseTracker>(camera[0].width, camera[0].height, camera.levels(),
                                                settings);

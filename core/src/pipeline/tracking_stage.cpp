@@ -18,7 +18,7 @@ TrackingStage::TrackingStage(const Config& config, const PyramidCamera& camera,
       initializer_(camera,
                    CoarseInitializerSettings::fromConfig(config, camera.levels(), photometry_known),
                    config.initializer.hypotheses),
-      tracker_(config, camera, photometry_known),
+      tracker_(FrameTrackerSettings::fromConfig(config, photometry_known), camera),
       timer_({"preprocess", "initialize", "track", "total"}, 20000) {}
 
 FrameEvent TrackingStage::process(ImageView<const std::uint8_t> image, std::int64_t index,

@@ -1,4 +1,6 @@
-#include "backend/corner_depths.h"
+#include "backend/loop_description.h"
+
+#include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <cmath>
@@ -115,6 +117,30 @@ CornerDepthFill fillCornerDepths(WindowKeyframe& kf,
     ++fill.from_neighbours;
   }
   return fill;
+}
+
+void describeForLoopClosure(WindowKeyframe& f,
+                            const std::vector<std::unique_ptr<WindowKeyframe>>& window,
+                            const LevelCamera& camera, PixelSelector& selector, int max_corners,
+                            float min_score, std::vector<Corner>& scratch,
+                            MarginalizedKeyframe& out) {
+  selector.detectCorners(f.pyramid(), max_corners, min_score, scratch);
+  const std::size_t own = f.corners.size();
+  for (const Corner& c : scratch) {
+    bool taken = false;
+    for (std::size_t i = 0; i < own && !taken; ++i)
+      taken = (f.corners[i] - Eigen::Vector2f(c.u, c.v)).squaredNorm() < 16.f;
+    if (!taken) f.corners.emplace_back(c.u, c.v);
+  }
+  const CornerDepthFill fill = fillCornerDepths(f, window, camera);
+  spdlog::debug(
+      "keyframe {} leaves: {} odometry + {} more corners ({} detected); depths: {} own, {} "
+      "immature, {} nearby, {} none",
+      f.id(), own, f.corners.size() - own, scratch.size(), fill.from_points, fill.from_immature,
+      fill.from_neighbours, fill.without);
+  out.corners = f.corners;
+  out.corner_idepth = f.corner_idepth;
+  out.image.copyFrom(f.pyramid().intensity(0));
 }
 
 }  // namespace ldsm

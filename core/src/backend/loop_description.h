@@ -1,4 +1,5 @@
-// Depths for a keyframe's corners when it leaves the window, for loop closure: verification needs
+// What loop closure gets of a keyframe leaving the window: more corners than the odometry's own
+// (describeForLoopClosure) and depths for them (fillCornerDepths). Verification needs
 // 3D points on the candidate keyframe (PnP) and helps itself with depths on the current one
 // (Sim(3) 3D-3D terms), but only the corners that became active points have a depth of their own
 // (about a third of them on vamr_desk_loop). The others get one from
@@ -14,6 +15,8 @@
 
 #include "backend/window_keyframe.h"
 #include "camera/pyramid_camera.h"
+#include "features/pixel_selector.h"
+#include "model/marginalized_keyframe.h"
 
 namespace ldsm {
 
@@ -35,5 +38,14 @@ struct CornerDepthFill {
 CornerDepthFill fillCornerDepths(WindowKeyframe& kf,
                                  const std::vector<std::unique_ptr<WindowKeyframe>>& window,
                                  const LevelCamera& camera);
+
+/// Fills the loop-closure description of `f` (in `window`) into `out`: the odometry's corners plus
+/// up to `max_corners` more Shi-Tomasi corners of at least `min_score` (detected with `selector`,
+/// 4 px away from the odometry's), their depths, and the level-0 image.
+void describeForLoopClosure(WindowKeyframe& f,
+                            const std::vector<std::unique_ptr<WindowKeyframe>>& window,
+                            const LevelCamera& camera, PixelSelector& selector, int max_corners,
+                            float min_score, std::vector<Corner>& scratch,
+                            MarginalizedKeyframe& out);
 
 }  // namespace ldsm
