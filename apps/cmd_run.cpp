@@ -240,9 +240,9 @@ int run(const RunOptions& o) {
       const auto now = std::chrono::steady_clock::now();
       const double since = std::chrono::duration<double>(now - last_print).count();
       const bool milestone = total > 0 ? (n * 10 / total) != ((n - 1) * 10 / total) : since >= 5.0;
-      // Live: stats() briefly holds the lock the tracking thread needs: refresh once a second.
-      const double refresh_s = live_input ? 1.0 : 0.25;
-      if ((tty && since > refresh_s) || (!tty && milestone) || n == total) {
+      // stats() reads published counters and snapshots: it never makes tracking wait.
+      constexpr double kRefreshS = 0.25;
+      if ((tty && since > kRefreshS) || (!tty && milestone) || n == total) {
         const double el = std::chrono::duration<double, std::milli>(now - start).count();
         const std::string extra = live_input ? pipelineProgress(system.stats()) : std::string();
         std::fprintf(stderr, "%s[%lld/%s] %.1f ms/frame, %d keyframes, %s%s%s", tty ? "\r" : "",
