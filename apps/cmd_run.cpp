@@ -46,6 +46,7 @@ struct RunOptions {
   std::string out = "ldsm_out";
   bool deterministic = false;
   bool no_loop = false;
+  bool no_reuse = false;
   std::int64_t max_frames = 0;
   bool no_eval = false;
   // Real-time replay of the dataset through the live pipeline.
@@ -200,6 +201,7 @@ int run(const RunOptions& o) {
   Config config = o.config.empty() ? Config{} : drivers::loadConfigYaml(o.config);
   if (o.deterministic) config.system.deterministic = true;
   if (o.no_loop) config.loop.enabled = false;
+  if (o.no_reuse) config.reuse.enabled = false;
   if (live_input) {
     config.system.deterministic = false;
     config.system.live = true;
@@ -318,6 +320,8 @@ void addRunCommand(CLI::App& app, CommandResult& result) {
   cmd->add_option("--out", o->out, "Output folder")->capture_default_str();
   cmd->add_flag("--deterministic", o->deterministic, "One thread, bit-identical results");
   cmd->add_flag("--no-loop", o->no_loop, "Turn loop closure off");
+  cmd->add_flag("--no-reuse", o->no_reuse,
+                "Turn map reuse off (no map keyframes back in the window)");
   cmd->add_option("--max-frames", o->max_frames, "Stop after N frames");
   cmd->add_flag("--no-eval", o->no_eval, "Do not evaluate against the dataset's ground truth");
   auto* realtime = cmd->add_flag("--realtime", o->realtime,

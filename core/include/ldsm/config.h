@@ -287,6 +287,78 @@ struct CalibrationRefinementConfig {
   }
 };
 
+/// Map reuse (DSM's local map covisibility window, with LDSM's neighbourhood search and feature
+/// check; docs/map-reuse.md): when the camera comes back, map keyframes that see the current view
+/// are brought back into the window (fixed), so revisits are tracked and optimised against the
+/// existing map; new points are not selected where map points are seen, and keyframes that add
+/// less than the map already had there are kept as poses only.
+struct ReuseConfig {
+  bool enabled = true;
+  int max_reactivated = 3;  ///< map keyframes in the window at once
+  /// Keyframes made since a candidate left the window (a revisit, not the recent past).
+  int min_keyframe_age = 10;
+  /// A revisit: since the candidate the camera travelled this many times the straight-line
+  /// distance between them, or it is closer than same_place_distance times the view's median
+  /// depth (a camera panning back).
+  double revisit_ratio = 3.0;
+  double same_place_distance = 0.1;
+  int search_hops = 8;               ///< covisibility-graph hops searched from the window
+  double search_radius = 1.0;        ///< spatial search radius, times the view's median depth
+  int max_candidates = 24;           ///< candidates checked per keyframe
+  double min_overlap = 0.3;          ///< share of a candidate's points projecting into the view
+  int min_points_in_view = 100;      ///< and at least this many
+  double max_view_angle_deg = 60.0;  ///< between the candidate's and the view's optical axes
+  /// ORB matches consistent with the projection. On vamr_desk_loop about two thirds of the ORB
+  /// matches between revisiting keyframes are wrong (a repetitive desk) and land 50-400 px from
+  /// the projection, the right ones within 0.2-6 px; a wrong match lands within
+  /// feature_radius_px of the projection with a probability of ~0.07 % in a 640x480 image, so
+  /// five consistent ones do not happen by chance (~1e-11 among 30 matches).
+  int min_feature_matches = 5;
+  double feature_radius_px = 8.0;  ///< how far a match may lie from the projected corner
+  /// A reactivated keyframe stays while at least this share of its points' residuals in the
+  /// newest keyframe are inliers.
+  double min_inlier_fraction = 0.5;
+  double coverage_radius_px = 3.0;  ///< no new point this close to a map point seen (0: off)
+  /// Keyframes that saw more map points than they host themselves keep only their pose.
+  bool cull_redundant = true;
+
+  template <typename V>
+  void visit(V& v) {
+    v.field("enabled", enabled,
+            "bring map keyframes that see the current view back into the window");
+    v.field("max_reactivated", max_reactivated, Range<int>{1, 20},
+            "map keyframes reactivated in the window at once");
+    v.field("min_keyframe_age", min_keyframe_age, Range<int>{1, 100000},
+            "keyframes made since a reactivation candidate left the window");
+    v.field("revisit_ratio", revisit_ratio, Range<double>{1.0, 1000.0},
+            "a revisit travelled this many times the straight-line distance since the candidate");
+    v.field("same_place_distance", same_place_distance, Range<double>{0.0, 10.0},
+            "a candidate closer than this times the median depth is at the same place");
+    v.field("search_hops", search_hops, Range<int>{0, 1000},
+            "covisibility-graph hops searched from the window for candidates");
+    v.field("search_radius", search_radius, Range<double>{0.0, 100.0},
+            "spatial candidate search radius, times the newest keyframe's median depth");
+    v.field("max_candidates", max_candidates, Range<int>{1, 1000},
+            "reactivation candidates checked per keyframe");
+    v.field("min_overlap", min_overlap, Range<double>{0.0, 1.0},
+            "share of a candidate's points that must project into the current view");
+    v.field("min_points_in_view", min_points_in_view, Range<int>{1, 100000},
+            "candidate points that must project into the current view");
+    v.field("max_view_angle_deg", max_view_angle_deg, Range<double>{0.0, 180.0},
+            "largest angle between a candidate's and the current optical axis");
+    v.field("min_feature_matches", min_feature_matches, Range<int>{0, 10000},
+            "ORB matches consistent with the projection a candidate needs");
+    v.field("feature_radius_px", feature_radius_px, Range<double>{0.5, 1000.0},
+            "largest distance of a consistent match from the projected corner (pixels)");
+    v.field("min_inlier_fraction", min_inlier_fraction, Range<double>{0.0, 1.0},
+            "inlier share of a reactivated keyframe's residuals in the newest keyframe to stay");
+    v.field("coverage_radius_px", coverage_radius_px, Range<double>{0.0, 50.0},
+            "no new point this close to a map point seen in the keyframe (0: off)");
+    v.field("cull_redundant", cull_redundant,
+            "keep only the pose of keyframes that saw more map points than they host");
+  }
+};
+
 struct Config {
   SystemConfig system;
   PhotometricConfig photometric;
@@ -297,6 +369,7 @@ struct Config {
   InitializerConfig initializer;
   LoopConfig loop;
   CalibrationRefinementConfig calibration;
+  ReuseConfig reuse;
 
   template <typename V>
   void visit(V& v) {
@@ -309,6 +382,7 @@ struct Config {
     v.section("initializer", initializer, "monocular initialisation from the first frames");
     v.section("loop", loop, "loop closure");
     v.section("calibration", calibration, "online refinement of the camera calibration");
+    v.section("reuse", reuse, "map reuse: map keyframes brought back into the window");
   }
 };
 

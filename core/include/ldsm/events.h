@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "ldsm/types.h"
 
@@ -67,6 +68,15 @@ struct LoopClosureEvent {
   int corrected_keyframes = 0;  ///< 0 when the drift was not significant
 };
 
+/// Map reuse brought map keyframes back into the optimisation window for a new keyframe: they
+/// see its view (geometric and ORB check) and now anchor it to the existing map.
+struct ReuseEvent {
+  int keyframe_id = -1;  ///< the new keyframe
+  std::int64_t frame_index = 0;
+  double timestamp = 0.0;
+  std::vector<int> reactivated;  ///< ids of the map keyframes brought back
+};
+
 /// Receives events; every method has an empty default. In deterministic mode every call comes on
 /// the caller's thread (inside submit() or finish()). In threaded mode onFrame and onTrackingLost
 /// come from the tracking thread, onInitialized, onKeyframe and onLoopClosure from the mapping
@@ -81,6 +91,8 @@ class SystemListener {
   virtual void onTrackingLost(const TrackingLostEvent&) {}
   /// When the correction has been applied (or found not significant).
   virtual void onLoopClosure(const LoopClosureEvent&) {}
+  /// When map keyframes are brought back into the window (mapping thread in threaded mode).
+  virtual void onReuse(const ReuseEvent&) {}
 };
 
 }  // namespace ldsm

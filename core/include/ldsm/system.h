@@ -36,6 +36,27 @@ struct StageTiming {
   double max_ms = 0.0;
 };
 
+/// What map reuse did during the run (config section reuse, docs/map-reuse.md).
+struct ReuseStats {
+  std::int64_t reactivations = 0;  ///< map keyframes brought back into the window
+  std::int64_t deactivations = 0;  ///< taken back out (no longer fitting)
+  std::int64_t candidates_checked = 0;
+  std::int64_t rejected_geometry = 0;  ///< failed the viewing-angle or projection check
+  std::int64_t rejected_features = 0;  ///< failed the ORB check
+  std::int64_t culled_keyframes = 0;   ///< kept as poses only (redundant with the map)
+  std::int64_t map_points_seen = 0;    ///< inlier map points in new keyframes, summed
+};
+
+/// The size of the map: keyframes (created, and kept with their points and features), points,
+/// and the memory the kept keyframes and points take.
+struct MapStats {
+  std::int64_t keyframes = 0;       ///< keyframe poses (every keyframe ever made)
+  std::int64_t data_keyframes = 0;  ///< keyframes that keep points and features
+  std::int64_t points = 0;          ///< points that left the window
+  std::int64_t bytes = 0;           ///< kept keyframe data and points
+  double bytes_per_keyframe = 0.0;  ///< bytes / data_keyframes
+};
+
 struct SystemStats {
   std::int64_t frames = 0;
   std::int64_t tracked_frames = 0;
@@ -50,6 +71,8 @@ struct SystemStats {
   /// normalized coordinates, as estimated and as applied (0 while inside the dead band).
   double radial_estimate = 0.0;
   double radial_applied = 0.0;
+  ReuseStats reuse;
+  MapStats map;
 
   // The frame pipeline between submit() and tracking. `frames` above counts the frames the
   // tracking received; submitted_frames == frames + dropped_frames once finish() returned.

@@ -13,9 +13,25 @@ PatchPoint toPatchPoint(const ActivePoint& point) {
   out.v = point.v;
   out.idepth = point.idepth;
   out.idepth_hessian = point.hessian_idepth;
-  for (int k = 0; k < kPatternSize; ++k) out.colors[k] = point.colors[k];
+  for (int k = 0; k < kPatternSize; ++k) {
+    out.colors[k] = point.colors[k];
+    out.grad_weights[k] = point.grad_weights[k];
+  }
   out.is_corner = point.is_corner;
   return out;
+}
+
+void fromPatchPoint(const PatchPoint& patch, WindowKeyframe& host, ActivePoint& point) {
+  point.host = &host;
+  point.u = patch.u;
+  point.v = patch.v;
+  point.idepth = point.idepth_backup = patch.idepth;
+  point.is_corner = patch.is_corner;
+  point.fixed = true;
+  for (int k = 0; k < kPatternSize; ++k) {
+    point.colors[k] = patch.colors[k];
+    point.grad_weights[k] = patch.grad_weights[k];
+  }
 }
 
 bool initActivePoint(ActivePoint& point, WindowKeyframe& host, float u, float v, float idepth,

@@ -30,6 +30,9 @@ struct ActivePoint {
   float idepth = 1.f;
   float idepth_backup = 1.f;
   bool is_corner = false;
+  /// A point of a reactivated map keyframe: its depth is the map's and stays fixed; its
+  /// residuals constrain the active keyframes only.
+  bool fixed = false;
   float colors[kPatternSize] = {};        ///< host intensities of the pattern
   float grad_weights[kPatternSize] = {};  ///< c^2 / (c^2 + |grad I_host|^2) per pattern pixel
   std::vector<PointResidual> residuals;
@@ -48,6 +51,8 @@ namespace ldsm {
 /// level 0 (gradient weight constant c). Returns false when the pattern leaves the image.
 /// The point as the map keeps it once it left the window.
 PatchPoint toPatchPoint(const ActivePoint& point);
+/// A fixed point hosted by a reactivated map keyframe.
+void fromPatchPoint(const PatchPoint& patch, WindowKeyframe& host, ActivePoint& point);
 
 bool initActivePoint(ActivePoint& point, WindowKeyframe& host, float u, float v, float idepth,
                      float gradient_weight_c);

@@ -55,10 +55,93 @@ Mapper::Mapper(const MapperSettings& settings, const PyramidCamera& camera, Pyra
 Mapper::~Mapper() = default;
 
 std::vector<WindowKeyframe*> Mapper::windowView() const {
+  std::vector<WindowKeyframe*> w = activeView();
+  for (const auto& kf : reactivated_) w.push_back(kf.get());
+  return w;
+}
+
+std::vector<WindowKeyframe*> Mapper::activeView() const {
   std::vector<WindowKeyframe*> w;
-  w.reserve(window_.size());
+  w.reserve(window_.size() + reactivated_.size());
   for (const auto& kf : window_) w.push_back(kf.get());
   return w;
+}
+
+void Mapper::reactivate(const MarginalizedKeyframe& keyframe, const SE3d& T_w_c, double scale) {
+  deactivate(keyframe.id);
+  auto kf = std::make_unique<WindowKeyframe>(keyframe.id, keyframe.frame_index, keyframe.timestamp,
+                                             keyframe.exposure, nullptr);
+  kf->setInitialState(T_w_c.inverse(), keyframe.aff);
+  kf->is_reactivated = true;
+  const float inv_scale = static_cast<float>(1.0 / scale);
+  kf->points.reserve(keyframe.points.size());
+  for (const PatchPoint& pp : keyframe.points) {
+    auto p = std::make_unique<ActivePoint>();
+    fromPatchPoint(pp, *kf, *p);
+    p->idepth = p->idepth_backup = pp.idepth * inv_scale;
+    p->id = next_point_id_++;
+    p->residuals.reserve(window_.size());
+    for (const auto& target : window_) p->residuals.push_back({target.get()});
+    kf->points.push_back(std::move(p));
+  }
+  kf->points_created = static_cast<int>(kf->points.size());
+  reactivated_.push_back(std::move(kf));
+}
+
+std::vector<Eigen::Vector2f> Mapper::newestDescribableCorners() {
+  const WindowKeyframe& kf = *window_.back();
+  std::vector<Eigen::Vector2f> out = kf.corners;
+  selector_.detectCorners(kf.pyramid(), settings_.loop_corners, settings_.loop_corner_min_score,
+                          loop_corners_);
+  const std::size_t own = out.size();
+  for (const Corner& c : loop_corners_) {
+    bool taken = false;
+    for (std::size_t i = 0; i < own && !taken; ++i)
+      taken = (out[i] - Eigen::Vector2f(c.u, c.v)).squaredNorm() < 16.f;
+    if (!taken) out.emplace_back(c.u, c.v);
+  }
+  return out;
+}
+
+void Mapper::deactivate(int keyframe_id) {
+  reactivated_fit_.erase(
+      std::remove_if(reactivated_fit_.begin(), reactivated_fit_.end(),
+                     [&](const ReactivatedFit& f) { return f.id == keyframe_id; }),
+      reactivated_fit_.end());
+  reactivated_.erase(std::remove_if(reactivated_.begin(), reactivated_.end(),
+                                    [&](const std::unique_ptr<WindowKeyframe>& k) {
+                                      return k->id() == keyframe_id;
+                                    }),
+                     reactivated_.end());
+}
+
+void Mapper::deactivateAll() {
+  reactivated_fit_.clear();
+  reactivated_.clear();
+}
+
+std::vector<int> Mapper::reactivatedIds() const {
+  std::vector<int> ids;
+  for (const auto& kf : reactivated_) ids.push_back(kf->id());
+  return ids;
+}
+
+std::vector<Mapper::ReactivatedFit> Mapper::measureReactivatedFit() const {
+  std::vector<ReactivatedFit> out;
+  if (window_.empty()) return out;
+  const WindowKeyframe* newest = window_.back().get();
+  for (const auto& kf : reactivated_) {
+    ReactivatedFit f;
+    f.id = kf->id();
+    for (const auto& p : kf->points)
+      for (const PointResidual& r : p->residuals)
+        if (r.target == newest && r.state != ResidualState::OutOfBounds) {
+          ++f.residuals;
+          f.inliers += r.state == ResidualState::Inlier ? 1 : 0;
+        }
+    out.push_back(f);
+  }
+  return out;
 }
 
 WindowKeyframe& Mapper::insertKeyframe(std::unique_ptr<ImagePyramid> pyramid,
@@ -66,6 +149,12 @@ WindowKeyframe& Mapper::insertKeyframe(std::unique_ptr<ImagePyramid> pyramid,
   auto kf = std::make_unique<WindowKeyframe>(next_keyframe_id_++, info.frame_index, info.timestamp,
                                              info.exposure, std::move(pyramid));
   kf->setInitialState(info.T_c_w, info.aff);
+  if (!window_.empty()) {
+    const WindowKeyframe& prev = *window_.back();
+    kf->path_length =
+        prev.path_length +
+        (kf->T_c_w.inverse().translation() - prev.T_c_w.inverse().translation()).norm();
+  }
   window_.push_back(std::move(kf));
   return *window_.back();
 }
@@ -150,6 +239,8 @@ void Mapper::addResidualsToNewest() {
   WindowKeyframe* newest = window_.back().get();
   for (size_t i = 0; i + 1 < window_.size(); ++i)
     for (auto& p : window_[i]->points) p->residuals.push_back({newest});
+  for (auto& kf : reactivated_)
+    for (auto& p : kf->points) p->residuals.push_back({newest});
 }
 
 KeyframeInsertion Mapper::addKeyframe(std::unique_ptr<ImagePyramid> pyramid,
@@ -166,6 +257,9 @@ KeyframeInsertion Mapper::addKeyframe(std::unique_ptr<ImagePyramid> pyramid,
   ins.optimization = optimizer_.optimize(windowView(), prior_);
   refineRadialCorrection(ins.optimization);
   adaptOutlierThreshold(*window_.back());
+  reactivated_fit_ = measureReactivatedFit();
+  for (const ReactivatedFit& f : reactivated_fit_) ins.map_points_in_view += f.inliers;
+  window_.back()->map_points_in_view = ins.map_points_in_view;
   const auto t2 = Clock::now();
   ins.retired_points = retireLostPoints();
   removeBadResiduals();
@@ -200,7 +294,7 @@ void Mapper::adaptOutlierThreshold(WindowKeyframe& kf) {
 }
 
 void Mapper::removeBadResiduals() {
-  for (auto& kf : window_) {
+  for (auto* kf : windowView()) {
     auto& pts = kf->points;
     for (auto& p : pts) {
       auto& rs = p->residuals;
@@ -303,6 +397,19 @@ void Mapper::marginalizeFrame(int window_index) {
                        [](const std::unique_ptr<ActivePoint>& p) { return p->residuals.empty(); }),
         pts.end());
   }
+  for (auto& kf : reactivated_) {
+    auto& pts = kf->points;
+    for (auto& p : pts) {
+      auto& rs = p->residuals;
+      rs.erase(std::remove_if(rs.begin(), rs.end(),
+                              [&](const PointResidual& r) { return r.target == &f; }),
+               rs.end());
+    }
+    pts.erase(
+        std::remove_if(pts.begin(), pts.end(),
+                       [](const std::unique_ptr<ActivePoint>& p) { return p->residuals.empty(); }),
+        pts.end());
+  }
   optimizer_.marginalizeFrame(view, f, prior_);
   update_.keyframes.push_back({f.id(), f.frameIndex(), f.timestamp(), f.T_c_w.inverse()});
   leaving.T_w_c = f.T_c_w.inverse();
@@ -323,10 +430,29 @@ MarginalizedKeyframe Mapper::describeLeavingKeyframe(WindowKeyframe& f,
   out.T_w_c = f.T_c_w.inverse();
   out.radial_k = radialK();
   out.points = std::move(points);
+  out.map_points_in_view = f.map_points_in_view;
+  out.newest_when_left = window_.back()->id();
+  out.path_length = f.path_length;
   if (describe_leaving_)
     describeForLoopClosure(f, window_, camera_[0], selector_, settings_.loop_corners,
                            settings_.loop_corner_min_score, loop_corners_, out);
   return out;
+}
+
+void Mapper::markMapCoverage(const WindowKeyframe& kf) {
+  const int w = camera_[0].width, h = camera_[0].height;
+  coverage_.assign(static_cast<std::size_t>(w) * h, 0);
+  const int r = static_cast<int>(std::ceil(coverage_radius_));
+  for (const auto& host : reactivated_)
+    for (const auto& p : host->points)
+      for (const PointResidual& res : p->residuals) {
+        if (res.target != &kf || res.state != ResidualState::Inlier) continue;
+        const int cx = static_cast<int>(std::lround(res.projection.x()));
+        const int cy = static_cast<int>(std::lround(res.projection.y()));
+        for (int y = std::max(0, cy - r); y <= std::min(h - 1, cy + r); ++y)
+          for (int x = std::max(0, cx - r); x <= std::min(w - 1, cx + r); ++x)
+            coverage_[static_cast<std::size_t>(y) * w + x] = 1;
+      }
 }
 
 void Mapper::makeImmaturePoints(WindowKeyframe& kf) {
@@ -334,8 +460,16 @@ void Mapper::makeImmaturePoints(WindowKeyframe& kf) {
   kf.immature.clear();
   kf.immature.reserve(selected_.size());
   kf.corners.clear();
+  // Where map points (reactivated keyframes) are seen, the map has points already.
+  const bool covered = coverage_radius_ > 0.f && !reactivated_.empty();
+  if (covered) markMapCoverage(kf);
+  const int width = camera_[0].width;
   const ImageView<const GradientPixel> img = kf.pyramid().gradients(0);
   for (const SelectedPixel& s : selected_) {
+    if (covered && !s.is_corner &&
+        coverage_[static_cast<std::size_t>(std::lround(s.v)) * width +
+                  static_cast<std::size_t>(std::lround(s.u))] != 0)
+      continue;
     kf.immature.push_back({ImmaturePoint(img, s.u, s.v), s.is_corner});
     if (s.is_corner) kf.corners.emplace_back(s.u, s.v);
   }
@@ -392,7 +526,7 @@ void Mapper::trackingPoints(std::vector<DepthPoint>& out) const {
   if (window_.empty()) return;
   const WindowKeyframe& newest = *window_.back();
   const LevelCamera& cam = camera_[0];
-  for (const auto& kf : window_) {
+  for (const WindowKeyframe* kf : windowView()) {
     const SE3f T_nh = (newest.T_c_w * kf->T_c_w.inverse()).cast<float>();
     for (const auto& p : kf->points) {
       const Eigen::Vector3f q = T_nh * (radialRay(cam, radialK(), p->u, p->v) / p->idepth);
@@ -409,6 +543,8 @@ MapUpdate Mapper::reset() {
   out.keyframes = windowPoses();
   for (auto& kf : window_) pyramids_.release(kf->releasePyramid());
   window_.clear();
+  reactivated_.clear();
+  reactivated_fit_.clear();
   prior_ = MarginalizationPrior();
   update_ = MapUpdate();
   return out;

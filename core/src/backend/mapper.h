@@ -63,6 +63,8 @@ struct KeyframeInsertion {
   int retired_points = 0;  ///< points that left the view (marginalised or dropped)
   int active_points = 0;
   int immature_points = 0;
+  /// Points of reactivated map keyframes that are inliers in the new keyframe.
+  int map_points_in_view = 0;
   MapUpdate map;  ///< for the map store and loop closure
 };
 
@@ -98,6 +100,31 @@ class Mapper {
   std::vector<KeyframeRecord> windowPoses() const;
   /// World positions of the active points.
   std::vector<MapPoint> activeMapPoints() const;
+  // ---- Map reuse: map keyframes brought back into the window (reuse/, docs/map-reuse.md) ----
+  /// Brings a map keyframe back: it hosts its points (fixed depths, scaled by 1/scale after a
+  /// loop correction of the map) with residuals in every active keyframe; its pose T_w_c and
+  /// brightness stay fixed. Replaces an earlier reactivation of the same keyframe.
+  void reactivate(const MarginalizedKeyframe& keyframe, const SE3d& T_w_c, double scale);
+  /// Takes a reactivated keyframe out of the window again (its points and residuals go).
+  void deactivate(int keyframe_id);
+  void deactivateAll();
+  /// Ids of the reactivated keyframes.
+  std::vector<int> reactivatedIds() const;
+  /// For each reactivated keyframe: inlier and total residuals (in the image) of its points in
+  /// the newest keyframe, as the last optimisation left them (before outliers were dropped).
+  struct ReactivatedFit {
+    int id = -1;
+    int inliers = 0;
+    int residuals = 0;
+  };
+  const std::vector<ReactivatedFit>& reactivatedFit() const { return reactivated_fit_; }
+  /// The newest keyframe's corners plus as many more as loop closure describes (the same
+  /// detector and thresholds), for matching it against map keyframes.
+  std::vector<Eigen::Vector2f> newestDescribableCorners();
+  /// New points are not selected within this many pixels of a map point seen in the new keyframe
+  /// (0: no such check).
+  void setCoverageRadius(float pixels) { coverage_radius_ = pixels; }
+
   /// Whether keyframes that leave the window are described for loop closure (more corners with
   /// depths, the level-0 image in MapUpdate::left); off, they carry pose and points only.
   void setDescribeLeavingKeyframes(bool on) { describe_leaving_ = on; }
@@ -108,7 +135,14 @@ class Mapper {
   double radialEstimate() const { return radial_.estimate(); }
 
  private:
+  /// The optimisation window: the active keyframes, then the reactivated ones.
   std::vector<WindowKeyframe*> windowView() const;
+  /// The active keyframes only (marginalisation).
+  std::vector<WindowKeyframe*> activeView() const;
+  /// Drops residuals of reactivated points that are no longer inliers, and points without any.
+  void pruneReactivatedPoints();
+  /// Marks the pixels of `kf` within coverage_radius_ of an inlier map point (coverage_).
+  void markMapCoverage(const WindowKeyframe& kf);
   WindowKeyframe& insertKeyframe(std::unique_ptr<ImagePyramid> pyramid, const MapperFrame& info);
   void addResidualsToNewest();
   /// Fuses the window's radial step and hands the resulting correction to the optimiser.
@@ -139,12 +173,18 @@ class Mapper {
   PixelSelector selector_;
   TraceSettings trace_settings_;
   std::vector<std::unique_ptr<WindowKeyframe>> window_;
-  std::vector<float> energies_;  // scratch of adaptOutlierThreshold()
+  std::vector<std::unique_ptr<WindowKeyframe>> reactivated_;  ///< map keyframes brought back
+  std::vector<float> energies_;                               // scratch of adaptOutlierThreshold()
   std::vector<SelectedPixel> selected_;
   int next_keyframe_id_ = 0;
   std::uint64_t next_point_id_ = 0;
   float min_activation_distance_ = 2.f;
   MapUpdate update_;  ///< collected during the current operation
+  float coverage_radius_ = 0.f;
+  std::vector<ReactivatedFit> reactivated_fit_;
+  /// The fit of each reactivated keyframe in the newest keyframe now.
+  std::vector<ReactivatedFit> measureReactivatedFit() const;
+  std::vector<std::uint8_t> coverage_;  ///< scratch of makeImmaturePoints()
   bool describe_leaving_ = false;
   /// Corners detected on a keyframe leaving the window, for loop closure (at most
   /// loop.corners_per_keyframe, Shi-Tomasi score >= loop.corner_min_score).

@@ -41,6 +41,8 @@ class WindowKeyframe {
   double timestamp() const { return timestamp_; }
   double exposure() const { return exposure_; }
   const ImagePyramid& pyramid() const { return *pyramid_; }
+  /// False for a reactivated map keyframe: it hosts points but is never a residual's target.
+  bool hasImage() const { return pyramid_ != nullptr; }
   std::unique_ptr<ImagePyramid> releasePyramid() { return std::move(pyramid_); }
 
   /// Sets the current estimate and makes it the linearisation point (first estimate).
@@ -76,6 +78,13 @@ class WindowKeyframe {
   AffineLight aff_eval;
   int window_index = -1;         ///< position in the window's Hessian (set by the window)
   bool is_gauge_anchor = false;  ///< the first keyframe: anchors the gauge (pose, affine a and b)
+  /// A map keyframe brought back into the window (reuse): pose, brightness and its points' depths
+  /// stay as the map has them; it has no image.
+  bool is_reactivated = false;
+  /// Map points (of reactivated keyframes) that were inliers in this keyframe when it was made.
+  int map_points_in_view = 0;
+  /// Distance the camera travelled (keyframe to keyframe, map units) up to this keyframe.
+  double path_length = 0.0;
   std::vector<std::unique_ptr<ActivePoint>> points;
   std::vector<ImmatureCandidate> immature;
   int points_created = 0;  ///< active points ever hosted (for the marginalisation policy)

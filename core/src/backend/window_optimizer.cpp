@@ -92,7 +92,7 @@ void WindowOptimizer::precalcPairs(const std::vector<WindowKeyframe*>& window) {
   for (size_t i = 0; i < n; ++i) window[i]->window_index = static_cast<int>(i);
   for (size_t h = 0; h < n; ++h)
     for (size_t t = 0; t < n; ++t) {
-      if (h == t) continue;
+      if (h == t || !window[t]->hasImage()) continue;
       pairs_[h * n + t].set(*window[h], *window[t], camera_);
       pairs_[h * n + t].radial_k = static_cast<float>(radial_k_);
       adjoints_[h * n + t] = (window[t]->T_c_w_eval * window[h]->T_c_w_eval.inverse()).adjoint();
@@ -114,11 +114,12 @@ double WindowOptimizer::addPriors(const std::vector<WindowKeyframe*>& window,
       (*b)[k * i + 6] += settings_.affine_prior_a * a;
       (*b)[k * i + 7] += settings_.affine_prior_b * bb;
     }
-    if (kf.is_gauge_anchor) {
+    if (kf.is_gauge_anchor || kf.is_reactivated) {
       // The gauge anchor: pose and affine brightness stay at their first estimate. Without the
       // affine part, the offsets b of all keyframes drift together (the cost hardly changes when
       // every b moves by the same amount; on kitti00_200 by -500 grey levels in 200 frames), away
-      // from the first estimates their Jacobians are taken at.
+      // from the first estimates their Jacobians are taken at. A reactivated map keyframe is held
+      // the same way: the map's estimate.
       const FrameVector d = kf.delta();
       energy += 0.5 * settings_.gauge_anchor_weight * d.squaredNorm();
       if (H) {
@@ -242,7 +243,8 @@ void WindowOptimizer::solve(const System& sys, double lambda, Eigen::VectorXd& f
   Eigen::VectorXd inv_dd(np);
   for (Eigen::Index i = 0; i < np; ++i) {
     const double hdd = sys.H_dd[i] * (1.0 + lambda);
-    inv_dd[i] = hdd > 1e-10 ? 1.0 / hdd : 0.0;
+    // A fixed point (reactivated map keyframe) keeps its depth: no step, no Schur term.
+    inv_dd[i] = hdd > 1e-10 && !sys.points[i]->fixed ? 1.0 / hdd : 0.0;
   }
   Eigen::MatrixXd Hs = sys.H;
   subtractDepthSchur(Hs, sys.coupling, inv_dd);
@@ -366,6 +368,7 @@ void WindowOptimizer::marginalizePoints(const std::vector<WindowKeyframe*>& wind
   Eigen::VectorXd b = Eigen::VectorXd::Zero(dim);
   Eigen::VectorXd c(dim);
   for (const ActivePoint* point : points) {
+    if (point->fixed) continue;  // the map's points never enter the prior
     const int h = point->host->window_index;
     c.setZero();
     double H_dd = 0.0, b_d = 0.0;

@@ -19,8 +19,8 @@
 
 #include <Eigen/Core>
 
-#include "features/orb_descriptor.h"
 #include "ldsm/image.h"
+#include "model/orb_descriptor.h"
 
 namespace ldsm {
 

@@ -12,10 +12,7 @@
 namespace ldsm::loop {
 
 LoopCloser::LoopCloser(const LoopConfig& config, const PinholeIntrinsics& camera, bool inline_mode)
-    : config_(config),
-      camera_(camera),
-      drift_(OdometryDriftModel::fromConfig(config)),
-      orb_(camera.width, camera.height) {
+    : config_(config), camera_(camera), drift_(OdometryDriftModel::fromConfig(config)) {
   verification_.min_inliers = config.min_inliers;
   concurrency::TaskOptions options;
   options.mode = inline_mode ? concurrency::TaskMode::kInline : concurrency::TaskMode::kThreaded;
@@ -61,18 +58,17 @@ void LoopCloser::addToGraph(const LoopJob& job, bool new_map) {
 
 std::optional<LoopCorrection> LoopCloser::process(LoopJob& job, const std::atomic<bool>& abort) {
   const int id = job.id;
+  addToGraph(job, new_map_.exchange(false));
+  // A culled keyframe (redundant with the map) only keeps the pose graph's chain intact.
+  if (job.culled) return std::nullopt;
   KeyframeFeatures f;
   f.keyframe_id = id;
   f.timestamp = job.timestamp;
   f.camera = camera_;
-  orb_.compute(job.image.view(), job.corners, f.descriptors, kept_);
-  f.pixels.reserve(kept_.size());
-  f.idepth.reserve(kept_.size());
-  for (const std::uint32_t i : kept_) {
-    f.pixels.push_back(job.corners[i]);
-    f.idepth.push_back(i < job.corner_idepth.size() ? job.corner_idepth[i] : NAN);
-  }
-  addToGraph(job, new_map_.exchange(false));
+  f.pixels = std::move(job.corners);
+  f.idepth = std::move(job.corner_idepth);
+  f.descriptors = std::move(job.descriptors);
+  f.idepth.resize(f.pixels.size(), NAN);
   index_.add(id, f.descriptors);
   index_.retrainIfDue(&abort);
   features_[id] = std::move(f);

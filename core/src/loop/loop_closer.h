@@ -14,7 +14,6 @@
 #include <vector>
 
 #include "concurrency/background_task.h"
-#include "features/orb_extractor.h"
 #include "ldsm/camera/calibration.h"
 #include "ldsm/config.h"
 #include "ldsm/math/se3.h"
@@ -38,7 +37,9 @@ class LoopCloser {
   LoopCloser(const LoopCloser&) = delete;
   LoopCloser& operator=(const LoopCloser&) = delete;
 
-  /// Mapping thread: `kf` left the window. It is described (ORB) and queued for the task.
+  /// Mapping thread: `kf` left the window, described (corners with ORB descriptors and depths;
+  /// its points and image are not needed); queued for the task. A culled keyframe only extends
+  /// the pose graph.
   void keyframeLeftWindow(MarginalizedKeyframe&& kf);
   /// Mapping thread, at a safe point: corrections published since the last call.
   std::vector<LoopCorrection> takeCorrections() { return task_->tryTakeResults(); }
@@ -65,8 +66,6 @@ class LoopCloser {
   LoopConfig config_;
   PinholeIntrinsics camera_;
   OdometryDriftModel drift_;
-  OrbExtractor orb_;
-  std::vector<std::uint32_t> kept_;
   std::atomic<bool> new_map_{false};
   // Used only by the background task.
   BowIndex index_;

@@ -10,10 +10,10 @@
 
 #include <Eigen/Core>
 
-#include "features/orb_descriptor.h"
 #include "ldsm/camera/calibration.h"
 #include "ldsm/math/se3.h"
 #include "ldsm/math/sim3.h"
+#include "model/orb_descriptor.h"
 
 namespace ldsm::loop {
 

@@ -34,6 +34,89 @@ void MapStore::addPoints(const std::vector<HostedPoint>& points) {
   points_.insert(points_.end(), points.begin(), points.end());
 }
 
+KeyframeRecord MapStore::keyframe(int id) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (id < 0 || id >= static_cast<int>(keyframes_.size())) {
+    KeyframeRecord none;
+    none.id = -1;
+    return none;
+  }
+  return keyframes_[id];
+}
+
+std::size_t MapStore::bytesOf(const MarginalizedKeyframe& kf) {
+  return sizeof(MarginalizedKeyframe) + kf.points.capacity() * sizeof(PatchPoint) +
+         kf.corners.capacity() * sizeof(Eigen::Vector2f) +
+         kf.corner_idepth.capacity() * sizeof(float) +
+         kf.descriptors.capacity() * sizeof(OrbDescriptor);
+}
+
+void MapStore::setKeyframeData(std::shared_ptr<const MarginalizedKeyframe> data) {
+  if (!data) return;
+  std::lock_guard<std::mutex> lock(mutex_);
+  const int id = data->id;
+  const auto old = data_.find(id);
+  if (old != data_.end()) data_bytes_ -= bytesOf(*old->second);
+  data_bytes_ += bytesOf(*data);
+  data_[id] = std::move(data);
+  if (id >= 0 && id < static_cast<int>(keyframes_.size()) && keyframes_[id].id >= 0)
+    spatial_.set(id, keyframes_[id].T_w_c.translation());
+}
+
+std::shared_ptr<const MarginalizedKeyframe> MapStore::keyframeData(int id) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const auto it = data_.find(id);
+  return it == data_.end() ? nullptr : it->second;
+}
+
+void MapStore::cullKeyframe(int id) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const auto it = data_.find(id);
+  if (it != data_.end()) {
+    data_bytes_ -= bytesOf(*it->second);
+    data_.erase(it);
+  }
+  spatial_.remove(id);
+  covisibility_.remove(id);
+  points_.erase(std::remove_if(points_.begin(), points_.end(),
+                               [&](const HostedPoint& p) { return p.host == id; }),
+                points_.end());
+}
+
+void MapStore::connect(int a, int b, int weight) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  covisibility_.connect(a, b, weight);
+}
+
+std::vector<int> MapStore::covisibleNeighbourhood(const std::vector<int>& start, int hops,
+                                                  std::size_t max_count) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::vector<int> out;
+  for (const int id : covisibility_.neighbourhood(start, hops, max_count))
+    if (data_.count(id) != 0) out.push_back(id);
+  return out;
+}
+
+std::vector<int> MapStore::keyframesNear(const Eigen::Vector3d& centre, double radius) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return spatial_.near(centre, radius);
+}
+
+std::size_t MapStore::dataKeyframeCount() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return data_.size();
+}
+
+std::size_t MapStore::pointCount() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return points_.size();
+}
+
+std::size_t MapStore::dataBytes() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return data_bytes_ + points_.capacity() * sizeof(HostedPoint);
+}
+
 int MapStore::applyCorrection(const std::map<int, Sim3d>& S_world_camera) {
   std::lock_guard<std::mutex> lock(mutex_);
   // Old -> new world transform of every keyframe that moves.
@@ -45,6 +128,7 @@ int MapStore::applyCorrection(const std::map<int, Sim3d>& S_world_camera) {
     moves[id] = S_new * S_old.inverse();
     kf.T_w_c = SE3d(S_new.so3(), S_new.translation());
     kf.scale = S_new.scale();
+    if (data_.count(id) != 0) spatial_.set(id, kf.T_w_c.translation());
   }
   for (HostedPoint& p : points_) {
     const auto it = moves.find(p.host);

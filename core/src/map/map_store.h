@@ -1,17 +1,23 @@
 // The map store: every keyframe ever created (pose kept up to date while it is in the window, final
-// once it leaves), every processed frame's pose relative to its reference keyframe, and the
-// points that left the window. Thread-safe: tracking, mapping and readers of results use it from
-// different threads.
+// once it leaves), every processed frame's pose relative to its reference keyframe, the points
+// that left the window, and for map reuse what a keyframe that left the window keeps (its points
+// with depths and pattern intensities, its corners with ORB descriptors), the covisibility graph
+// and a spatial index of keyframe centres. Thread-safe: tracking, mapping and readers of results
+// use it from different threads.
 #pragma once
 
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <vector>
 
 #include "ldsm/math/sim3.h"
 #include "ldsm/types.h"
+#include "map/covisibility_graph.h"
+#include "map/spatial_index.h"
 #include "model/map_records.h"
+#include "model/marginalized_keyframe.h"
 
 namespace ldsm {
 
@@ -31,12 +37,39 @@ class MapStore {
   std::vector<MapPoint> points() const;
   std::size_t keyframeCount() const;
   bool hasKeyframe(int id) const;
+  /// The keyframe's current pose record (id -1 when unknown).
+  KeyframeRecord keyframe(int id) const;
+
+  // ---- What map reuse needs ----
+  /// Keeps what a keyframe that left the window needs for reuse (its image is not kept).
+  void setKeyframeData(std::shared_ptr<const MarginalizedKeyframe> data);
+  /// The kept data of a keyframe, null when none is kept (still in the window, or culled).
+  std::shared_ptr<const MarginalizedKeyframe> keyframeData(int id) const;
+  /// Drops a redundant keyframe's data and the points it hosted; its pose stays (frames were
+  /// tracked against it).
+  void cullKeyframe(int id);
+  void connect(int a, int b, int weight = 1);
+  /// Keyframes with data within `hops` covisibility edges of `start`.
+  std::vector<int> covisibleNeighbourhood(const std::vector<int>& start, int hops,
+                                          std::size_t max_count) const;
+  /// Keyframes with data whose camera centre is within `radius` of `centre`.
+  std::vector<int> keyframesNear(const Eigen::Vector3d& centre, double radius) const;
+  /// Keyframes whose data is kept, and the bytes that data and the points take.
+  std::size_t dataKeyframeCount() const;
+  std::size_t pointCount() const;
+  std::size_t dataBytes() const;
 
  private:
+  static std::size_t bytesOf(const MarginalizedKeyframe& kf);
+
   mutable std::mutex mutex_;
   std::vector<KeyframeRecord> keyframes_;  ///< indexed by id
   std::vector<FrameRecord> frames_;
   std::vector<HostedPoint> points_;
+  std::map<int, std::shared_ptr<const MarginalizedKeyframe>> data_;
+  std::size_t data_bytes_ = 0;
+  CovisibilityGraph covisibility_;
+  SpatialIndex spatial_;
 };
 
 }  // namespace ldsm

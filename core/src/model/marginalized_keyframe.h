@@ -12,6 +12,7 @@
 #include "ldsm/image.h"
 #include "ldsm/math/se3.h"
 #include "model/affine_light.h"
+#include "model/orb_descriptor.h"
 #include "model/patch_point.h"
 
 namespace ldsm {
@@ -27,7 +28,18 @@ struct MarginalizedKeyframe {
   std::vector<PatchPoint> points;        ///< hosted points with a converged depth
   std::vector<Eigen::Vector2f> corners;  ///< level-0 corner pixels (ORB is computed there)
   std::vector<float> corner_idepth;      ///< per corner, NaN: unknown
-  ImageF image;                          ///< level-0 intensity (photometrically corrected)
+  /// ORB descriptors, one per corner once described (describing drops the corners too close to
+  /// the border for a descriptor); empty before.
+  std::vector<OrbDescriptor> descriptors;
+  ImageF image;  ///< level-0 intensity (photometrically corrected); dropped once described
+  /// Map points (reactivated keyframes) that were inliers in this keyframe when it was made.
+  int map_points_in_view = 0;
+  /// Distance the camera travelled (keyframe to keyframe, map units) up to this keyframe.
+  double path_length = 0.0;
+  /// The newest keyframe of the window when this one left it.
+  int newest_when_left = -1;
+  /// Redundant with the map (reuse): only its pose is kept.
+  bool culled = false;
 };
 
 }  // namespace ldsm

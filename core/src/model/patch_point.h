@@ -11,10 +11,11 @@
 namespace ldsm {
 
 struct PatchPoint {
-  float u = 0.f, v = 0.f;           ///< level-0 pixel in the host keyframe
-  float idepth = 0.f;               ///< inverse depth in the host keyframe (> 0)
-  float idepth_hessian = 0.f;       ///< the window's last J_d^T W J_d of the inverse depth
-  float colors[kPatternSize] = {};  ///< host intensities of the pattern
+  float u = 0.f, v = 0.f;                 ///< level-0 pixel in the host keyframe
+  float idepth = 0.f;                     ///< inverse depth in the host keyframe (> 0)
+  float idepth_hessian = 0.f;             ///< the window's last J_d^T W J_d of the inverse depth
+  float colors[kPatternSize] = {};        ///< host intensities of the pattern
+  float grad_weights[kPatternSize] = {};  ///< c^2 / (c^2 + |grad I_host|^2), square-rooted
   bool is_corner = false;
 };
 

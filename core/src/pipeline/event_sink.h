@@ -29,6 +29,9 @@ class EventSink {
   void trackingLost(const TrackingLostEvent& e) {
     if (listener_) listener_->onTrackingLost(e);
   }
+  void reactivated(const ReuseEvent& e) {
+    if (listener_) listener_->onReuse(e);
+  }
   void loopClosed(const LoopClosureEvent& e) {
     {
       std::lock_guard<std::mutex> lock(loops_mutex_);

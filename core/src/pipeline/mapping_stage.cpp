@@ -4,6 +4,9 @@
 
 #include "concurrency/backoff.h"
 
+#include <algorithm>
+#include <limits>
+
 namespace ldsm {
 
 MappingStage::MappingStage(const Config& config, const PyramidCamera& camera, PyramidPool& pyramids,
@@ -21,8 +24,14 @@ MappingStage::MappingStage(const Config& config, const PyramidCamera& camera, Py
                                                settings);
       }),
       timer_({"trace", "mapping"}, 20000),
+      describe_(loop_closer != nullptr || config.reuse.enabled),
       snapshot_(std::make_shared<const MappingSnapshot>()) {
-  mapper_.setDescribeLeavingKeyframes(loop_closer_ != nullptr);
+  mapper_.setDescribeLeavingKeyframes(describe_);
+  if (describe_) orb_ = std::make_unique<OrbExtractor>(camera[0].width, camera[0].height);
+  if (config.reuse.enabled) {
+    reuse_ = std::make_unique<ReactivationSearch>(config.reuse);
+    mapper_.setCoverageRadius(static_cast<float>(config.reuse.coverage_radius_px));
+  }
   depth_points_.reserve(64 * 1024);
   concurrency::TaskOptions options;
   options.mode = inline_mode ? concurrency::TaskMode::kInline : concurrency::TaskMode::kThreaded;
@@ -91,8 +100,10 @@ void MappingStage::integrateKeyframe(MappingJob& job) {
   StageTimer::Scope t(timer_, kMapping);
   KeyframeInsertion ins = mapper_.addKeyframe(std::move(job.pyramid), job.info);
   keyframes_.fetch_add(1, std::memory_order_relaxed);
+  reuse_stats_.map_points_seen += ins.map_points_in_view;
   publishMap(std::move(ins.map));
   applyLoopCorrections();
+  if (reuse_) reuseMap(job.info.frame_index, job.info.timestamp);
   publishReference();
   publishSnapshot();
   keyframe_in_flight_.store(false, std::memory_order_release);
@@ -128,6 +139,7 @@ void MappingStage::initialize(MappingJob& job) {
 
 void MappingStage::reset() {
   publishMap(mapper_.reset());
+  last_left_id_ = -1;
   if (loop_closer_) loop_closer_->startNewMap();
   references_.clear();
   keyframe_in_flight_.store(false, std::memory_order_release);
@@ -137,8 +149,111 @@ void MappingStage::reset() {
 void MappingStage::publishMap(MapUpdate&& update) {
   store_.addPoints(update.points);
   for (const KeyframeRecord& r : update.keyframes) store_.setKeyframe(r);
-  if (loop_closer_)
-    for (MarginalizedKeyframe& kf : update.left) loop_closer_->keyframeLeftWindow(std::move(kf));
+  for (MarginalizedKeyframe& kf : update.left) {
+    if (describe_) describeOrb(kf);
+    // A keyframe that saw more map points than it hosts adds nothing the map lacks.
+    kf.culled = reuse_ && config_.reuse.cull_redundant &&
+                kf.map_points_in_view > static_cast<int>(kf.points.size());
+    if (kf.culled) {
+      store_.cullKeyframe(kf.id);
+      ++reuse_stats_.culled_keyframes;
+    } else if (reuse_) {
+      auto data = std::make_shared<MarginalizedKeyframe>(kf);
+      store_.setKeyframeData(std::move(data));
+      if (last_left_id_ >= 0) store_.connect(last_left_id_, kf.id);
+      last_left_id_ = kf.id;
+    }
+    if (loop_closer_) {
+      kf.points.clear();  // loop closure needs the corners only
+      loop_closer_->keyframeLeftWindow(std::move(kf));
+    }
+  }
+}
+
+void MappingStage::describeOrb(MarginalizedKeyframe& kf) {
+  if (kf.image.empty()) return;
+  orb_->compute(kf.image.view(), kf.corners, kf.descriptors, orb_kept_);
+  std::vector<Eigen::Vector2f> corners;
+  std::vector<float> idepth;
+  corners.reserve(orb_kept_.size());
+  idepth.reserve(orb_kept_.size());
+  for (const std::uint32_t i : orb_kept_) {
+    corners.push_back(kf.corners[i]);
+    idepth.push_back(i < kf.corner_idepth.size() ? kf.corner_idepth[i]
+                                                 : std::numeric_limits<float>::quiet_NaN());
+  }
+  kf.corners = std::move(corners);
+  kf.corner_idepth = std::move(idepth);
+  kf.image = ImageF();
+}
+
+void MappingStage::reuseMap(int newest_frame_index, double newest_timestamp) {
+  // Take back what no longer fits the newest keyframe.
+  for (const Mapper::ReactivatedFit& f : mapper_.reactivatedFit()) {
+    const bool fits = f.residuals > 0 && f.inliers >= config_.reuse.min_inlier_fraction *
+                                                          static_cast<double>(f.residuals);
+    if (fits) continue;
+    mapper_.deactivate(f.id);
+    ++reuse_stats_.deactivations;
+  }
+  const int room =
+      config_.reuse.max_reactivated - static_cast<int>(mapper_.reactivatedIds().size());
+  if (room <= 0) return;
+  // The newest keyframe as the search sees it: its corners with ORB descriptors.
+  const WindowKeyframe& newest = mapper_.newestKeyframe();
+  ReuseView view;
+  view.keyframe_id = newest.id();
+  view.T_c_w = newest.T_c_w;
+  view.camera = camera_[0];
+  view.radial_k = mapper_.radialK();
+  view.path_length = newest.path_length;
+  const std::vector<Eigen::Vector2f> corners = mapper_.newestDescribableCorners();
+  orb_->compute(newest.pyramid().intensity(0), corners, view.descriptors, orb_kept_);
+  for (const std::uint32_t i : orb_kept_) view.corners.push_back(corners[i]);
+  mapper_.trackingPoints(depth_points_);
+  if (!depth_points_.empty()) {
+    std::vector<float> idepths;
+    idepths.reserve(depth_points_.size());
+    for (const DepthPoint& p : depth_points_) idepths.push_back(p.idepth);
+    std::nth_element(idepths.begin(),
+                     idepths.begin() + static_cast<std::ptrdiff_t>(idepths.size() / 2),
+                     idepths.end());
+    view.median_depth = 1.0 / std::max(1e-6f, idepths[idepths.size() / 2]);
+  }
+  for (const KeyframeRecord& r : mapper_.windowPoses()) view.window_ids.push_back(r.id);
+  const std::vector<int> exclude = mapper_.reactivatedIds();
+  ReuseEvent event;
+  event.keyframe_id = newest.id();
+  event.frame_index = newest_frame_index;
+  event.timestamp = newest_timestamp;
+  int added = 0;
+  const std::vector<ReuseCheck> checks = reuse_->search(view, store_, exclude);
+  spdlog::trace("reuse: keyframe {}: {} candidates (median depth {:.3f})", newest.id(),
+                checks.size(), view.median_depth);
+  for (const ReuseCheck& c : checks) {
+    ++reuse_stats_.candidates_checked;
+    if (!c.accepted) {
+      ++(c.matches > 0 || c.reason.find("ORB") != std::string::npos
+             ? reuse_stats_.rejected_features
+             : reuse_stats_.rejected_geometry);
+      spdlog::trace("reuse: keyframe {} for {} rejected: {}", c.id, newest.id(), c.reason);
+      continue;
+    }
+    if (added >= room) break;
+    const std::shared_ptr<const MarginalizedKeyframe> data = store_.keyframeData(c.id);
+    const KeyframeRecord pose = store_.keyframe(c.id);
+    if (!data || pose.id < 0) continue;
+    mapper_.reactivate(*data, pose.T_w_c, pose.scale);
+    store_.connect(newest.id(), c.id);
+    ++reuse_stats_.reactivations;
+    ++added;
+    event.reactivated.push_back(c.id);
+    spdlog::debug(
+        "reuse: keyframe {} brought back for keyframe {} ({} points in view, {} %, {} "
+        "ORB matches)",
+        c.id, newest.id(), c.in_view, static_cast<int>(100 * c.overlap), c.matches);
+  }
+  if (!event.reactivated.empty()) events_.reactivated(event);
 }
 
 void MappingStage::applyLoopCorrections() {
@@ -152,6 +267,9 @@ void MappingStage::applyLoopCorrections() {
     e.time_ms = c.time_ms;
     e.drift_chi2 = c.drift_chi2;
     e.corrected_keyframes = store_.applyCorrection(c.S_world_camera);
+    store_.connect(c.current_keyframe_id, c.candidate_keyframe_id);
+    // Reactivated keyframes carry their old poses: bring them back corrected, if at all.
+    if (e.corrected_keyframes > 0) mapper_.deactivateAll();
     events_.loopClosed(e);
   }
 }
@@ -174,6 +292,8 @@ void MappingStage::publishSnapshot() {
   s->active_point_count = static_cast<int>(s->active_points.size());
   s->radial_estimate = mapper_.radialEstimate();
   s->radial_applied = mapper_.radialK();
+  s->reactivated = mapper_.reactivatedIds();
+  s->reuse = reuse_stats_;
   std::lock_guard<std::mutex> lock(snapshot_mutex_);
   snapshot_ = std::move(s);
 }

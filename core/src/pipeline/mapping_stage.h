@@ -3,8 +3,11 @@
 // mapping thread otherwise, through the very same code. A job is a tracked frame (trace its
 // pixels into the window's immature points), a keyframe (one integrateKeyframe() path), the
 // initialisation of a new map, or a reset after tracking was lost. After every change the stage
-//  * writes what the window hands on (MapUpdate) to the map store and loop closure,
+//  * describes the keyframes that left the window (ORB), keeps them in the map store (or only
+//    their pose when they were redundant with the map) and hands them to loop closure,
 //  * applies the loop corrections that arrived (its safe point),
+//  * brings map keyframes that see the newest keyframe back into the window (map reuse,
+//    reuse/reactivation_search.h) and takes back those that no longer fit,
 //  * publishes a tracking reference for the newest keyframe (ReferenceExchange),
 //  * publishes a snapshot of the window for queries (MappingSnapshot), and
 //  * reports keyframe and initialisation events (EventSink).
@@ -19,6 +22,7 @@
 
 #include "backend/mapper.h"
 #include "concurrency/background_task.h"
+#include "features/orb_extractor.h"
 #include "frontend/coarse_tracker.h"
 #include "image/pyramid_pool.h"
 #include "ldsm/config.h"
@@ -27,6 +31,7 @@
 #include "pipeline/event_sink.h"
 #include "pipeline/reference_exchange.h"
 #include "pipeline/stage_timer.h"
+#include "reuse/reactivation_search.h"
 
 namespace ldsm {
 
@@ -49,7 +54,9 @@ struct MappingSnapshot {
   double radial_estimate = 0.0;
   double radial_applied = 0.0;
   bool has_window = false;
-  SE3d newest_T_c_w;  ///< the newest keyframe's pose
+  SE3d newest_T_c_w;             ///< the newest keyframe's pose
+  std::vector<int> reactivated;  ///< map keyframes in the window
+  ReuseStats reuse;
 };
 
 /// How the last initialisation job ended.
@@ -110,6 +117,12 @@ class MappingStage {
   void applyLoopCorrections();
   void publishReference();
   void publishSnapshot();
+  /// ORB descriptors at the corners of a described keyframe (drops the ones without, and the
+  /// image).
+  void describeOrb(MarginalizedKeyframe& kf);
+  /// Map reuse after a keyframe: take back reactivated keyframes that no longer fit, bring back
+  /// those that see the newest keyframe.
+  void reuseMap(int newest_frame_index, double newest_timestamp);
 
   Config config_;
   PyramidCamera camera_;
@@ -121,6 +134,12 @@ class MappingStage {
   ReferenceExchange references_;
   StageTimer timer_;
   std::vector<DepthPoint> depth_points_;
+  bool describe_;  ///< keyframes leaving the window are described (loop closure or reuse)
+  std::unique_ptr<OrbExtractor> orb_;
+  std::vector<std::uint32_t> orb_kept_;
+  std::unique_ptr<ReactivationSearch> reuse_;
+  ReuseStats reuse_stats_;
+  int last_left_id_ = -1;
   std::atomic<bool> keyframe_in_flight_{false};
   std::atomic<std::int64_t> keyframes_{0};
   InitializationOutcome init_outcome_;

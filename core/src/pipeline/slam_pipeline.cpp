@@ -60,6 +60,15 @@ void SlamPipeline::fillStats(SystemStats& stats) const {
   const std::shared_ptr<const MappingSnapshot> s = mapping_.snapshot();
   stats.radial_estimate = s->radial_estimate;
   stats.radial_applied = s->radial_applied;
+  stats.reuse = s->reuse;
+  stats.map.keyframes = static_cast<std::int64_t>(store_.keyframeCount());
+  stats.map.data_keyframes = static_cast<std::int64_t>(store_.dataKeyframeCount());
+  stats.map.points = static_cast<std::int64_t>(store_.pointCount());
+  stats.map.bytes = static_cast<std::int64_t>(store_.dataBytes());
+  stats.map.bytes_per_keyframe =
+      stats.map.data_keyframes > 0
+          ? static_cast<double>(stats.map.bytes) / static_cast<double>(stats.map.data_keyframes)
+          : 0.0;
   stats.mapping_backlog = static_cast<int>(mapping_.backlog());
 }
 

@@ -1,0 +1,71 @@
+// Which map keyframes to bring back into the window (DSM's local map covisibility window, with
+// LDSM's changes): candidates come from the covisibility-graph neighbourhood of the window and
+// from the keyframes near the current camera (a spatial index, never a scan of the whole map);
+// recent keyframes (the odometry's own past) are not candidates. A candidate must
+//   1. look the same way (optical axes within max_view_angle_deg),
+//   2. see the current view (geometric check: enough of its points project into the newest
+//      keyframe in front of the camera), and
+//   3. match it (feature check: enough ORB matches between its corners and the newest keyframe's
+//      whose 3D corner projects near the matched corner), which rejects false covisibility from
+//      a drifted pose or a repeated structure.
+// A candidate must also be a revisit, not the odometry's recent past: it left the window at least
+// min_keyframe_age keyframes ago, and the camera came back to it (it travelled revisit_ratio
+// times the straight-line distance since, or is practically where the candidate was). Moving
+// forward, earlier keyframes still see the road or corridor ahead; bringing them back would only
+// stretch the window over what the odometry measures anyway.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "camera/pyramid_camera.h"
+#include "ldsm/config.h"
+#include "ldsm/math/se3.h"
+#include "map/map_store.h"
+#include "model/marginalized_keyframe.h"
+#include "model/orb_descriptor.h"
+
+namespace ldsm {
+
+/// The newest keyframe as the search sees it.
+struct ReuseView {
+  int keyframe_id = -1;
+  SE3d T_c_w;  ///< world -> camera
+  LevelCamera camera;
+  float radial_k = 0.f;
+  std::vector<Eigen::Vector2f> corners;  ///< with descriptors, one each
+  std::vector<OrbDescriptor> descriptors;
+  double median_depth = 1.0;    ///< of the window's points seen from it
+  double path_length = 0.0;     ///< distance travelled up to it (map units)
+  std::vector<int> window_ids;  ///< the active keyframes (searched from, never candidates)
+};
+
+/// The outcome of checking one candidate.
+struct ReuseCheck {
+  int id = -1;
+  bool accepted = false;
+  std::string reason;  ///< why it was rejected
+  double overlap = 0.0;
+  int in_view = 0;
+  int matches = 0;  ///< consistent ORB matches
+};
+
+class ReactivationSearch {
+ public:
+  explicit ReactivationSearch(const ReuseConfig& config) : config_(config) {}
+
+  /// Candidate ids (excluding `exclude` and recent keyframes), without checking them.
+  std::vector<int> candidates(const ReuseView& view, const MapStore& map,
+                              const std::vector<int>& exclude) const;
+  /// Checks one map keyframe (its data and current pose record) against the view.
+  ReuseCheck check(const ReuseView& view, const MarginalizedKeyframe& keyframe,
+                   const KeyframeRecord& pose) const;
+  /// Candidates checked, the accepted ones first, best (most consistent matches) first.
+  std::vector<ReuseCheck> search(const ReuseView& view, const MapStore& map,
+                                 const std::vector<int>& exclude) const;
+
+ private:
+  ReuseConfig config_;
+};
+
+}  // namespace ldsm
