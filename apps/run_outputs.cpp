@@ -96,6 +96,9 @@ void writeRunOutputs(const std::string& dir, const System& system, const RunSumm
   j.key("rejected_features").value(s.reuse.rejected_features);
   j.key("culled_keyframes").value(s.reuse.culled_keyframes);
   j.key("map_points_seen").value(s.reuse.map_points_seen);
+  j.key("relocalizations").value(s.reuse.relocalizations);
+  j.key("relocalization_attempts").value(s.reuse.relocalization_attempts);
+  j.key("new_maps").value(s.reuse.new_maps);
   j.endObject();
   j.key("map").beginObject();
   j.key("keyframes").value(s.map.keyframes);

@@ -319,8 +319,23 @@ struct ReuseConfig {
   /// newest keyframe are inliers.
   double min_inlier_fraction = 0.5;
   double coverage_radius_px = 3.0;  ///< no new point this close to a map point seen (0: off)
-  /// Keyframes that saw more map points than they host themselves keep only their pose.
+  /// A keyframe leaving the window keeps only its pose when a map keyframe of an earlier visit
+  /// stands within redundancy_distance times its median depth, looks within
+  /// redundancy_angle_deg the same way and sees redundancy_coverage of its points.
   bool cull_redundant = true;
+  double redundancy_distance = 0.3;
+  double redundancy_angle_deg = 30.0;
+  double redundancy_coverage = 0.8;
+  /// The map keeps the points the window measured in at least this many other keyframes.
+  int min_point_observations = 3;
+  /// After tracking is lost, look for the camera in the map (relocalisation) for this long before
+  /// a new map is started (0: start a new map at once).
+  double relocalization_timeout_s = 5.0;
+  int relocalization_min_inliers = 15;  ///< PnP inliers of a relocalisation
+  /// Share of the keyframe's points in view that must be photometric inliers.
+  double relocalization_min_direct_inliers = 0.5;
+  /// Keyframes searched around the last known pose, times the last median depth.
+  double relocalization_search_radius = 3.0;
 
   template <typename V>
   void visit(V& v) {
@@ -355,7 +370,25 @@ struct ReuseConfig {
     v.field("coverage_radius_px", coverage_radius_px, Range<double>{0.0, 50.0},
             "no new point this close to a map point seen in the keyframe (0: off)");
     v.field("cull_redundant", cull_redundant,
-            "keep only the pose of keyframes that saw more map points than they host");
+            "keep only the pose of keyframes an earlier map keyframe already covers");
+    v.field("redundancy_distance", redundancy_distance, Range<double>{0.0, 10.0},
+            "a covering map keyframe stands within this times the keyframe's median depth");
+    v.field("redundancy_angle_deg", redundancy_angle_deg, Range<double>{0.0, 180.0},
+            "and looks within this angle the same way");
+    v.field("redundancy_coverage", redundancy_coverage, Range<double>{0.0, 1.0},
+            "and sees this share of the keyframe's points");
+    v.field("min_point_observations", min_point_observations, Range<int>{1, 100},
+            "the map keeps points measured in at least this many other keyframes");
+    v.field("relocalization_timeout_s", relocalization_timeout_s, Range<double>{0.0, 1e6},
+            "seconds of relocalisation attempts after a tracking loss before a new map starts");
+    v.field("relocalization_min_inliers", relocalization_min_inliers, Range<int>{6, 10000},
+            "PnP inliers a relocalisation needs");
+    v.field("relocalization_min_direct_inliers", relocalization_min_direct_inliers,
+            Range<double>{0.0, 1.0},
+            "share of the keyframe's points in view that must be photometric inliers");
+    v.field("relocalization_search_radius", relocalization_search_radius,
+            Range<double>{0.0, 1000.0},
+            "keyframes searched around the last known pose, times the last median depth");
   }
 };
 

@@ -68,6 +68,16 @@ struct LoopClosureEvent {
   int corrected_keyframes = 0;  ///< 0 when the drift was not significant
 };
 
+/// Tracking was lost and the camera was found again in the existing map (relocalisation): the
+/// poses that follow are in the same map frame as before the loss.
+struct RelocalizedEvent {
+  std::int64_t frame_index = 0;
+  double timestamp = 0.0;
+  int keyframe_id = -1;       ///< the new keyframe made of the relocalised frame
+  int map_keyframe_id = -1;   ///< the map keyframe it was found in
+  double lost_seconds = 0.0;  ///< how long tracking was lost
+};
+
 /// Map reuse brought map keyframes back into the optimisation window for a new keyframe: they
 /// see its view (geometric and ORB check) and now anchor it to the existing map.
 struct ReuseEvent {
@@ -78,10 +88,10 @@ struct ReuseEvent {
 };
 
 /// Receives events; every method has an empty default. In deterministic mode every call comes on
-/// the caller's thread (inside submit() or finish()). In threaded mode onFrame and onTrackingLost
-/// come from the tracking thread, onInitialized, onKeyframe and onLoopClosure from the mapping
-/// thread (possibly at the same time as the former). Keep handlers short and never call back into
-/// the System from them.
+/// the caller's thread (inside submit() or finish()). In threaded mode onFrame, onTrackingLost and
+/// onRelocalized come from the tracking thread, onInitialized, onKeyframe, onReuse and
+/// onLoopClosure from the mapping thread (possibly at the same time as the former). Keep handlers
+/// short and never call back into the System from them.
 class SystemListener {
  public:
   virtual ~SystemListener() = default;
@@ -93,6 +103,8 @@ class SystemListener {
   virtual void onLoopClosure(const LoopClosureEvent&) {}
   /// When map keyframes are brought back into the window (mapping thread in threaded mode).
   virtual void onReuse(const ReuseEvent&) {}
+  /// When tracking resumes in the existing map after a loss (tracking thread in threaded mode).
+  virtual void onRelocalized(const RelocalizedEvent&) {}
 };
 
 }  // namespace ldsm

@@ -45,6 +45,9 @@ struct ReuseStats {
   std::int64_t rejected_features = 0;  ///< failed the ORB check
   std::int64_t culled_keyframes = 0;   ///< kept as poses only (redundant with the map)
   std::int64_t map_points_seen = 0;    ///< inlier map points in new keyframes, summed
+  std::int64_t relocalizations = 0;    ///< tracking resumed in the existing map after a loss
+  std::int64_t relocalization_attempts = 0;
+  std::int64_t new_maps = 0;  ///< maps started because relocalisation timed out
 };
 
 /// The size of the map: keyframes (created, and kept with their points and features), points,

@@ -17,6 +17,7 @@ PatchPoint toPatchPoint(const ActivePoint& point) {
     out.colors[k] = point.colors[k];
     out.grad_weights[k] = point.grad_weights[k];
   }
+  out.observations = point.inlier_residuals;
   out.is_corner = point.is_corner;
   return out;
 }

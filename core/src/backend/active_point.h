@@ -33,6 +33,9 @@ struct ActivePoint {
   /// A point of a reactivated map keyframe: its depth is the map's and stays fixed; its
   /// residuals constrain the active keyframes only.
   bool fixed = false;
+  /// For a fixed point: an inlier in the newest keyframe at the last optimisation (or a point of
+  /// the keyframe relocalisation found the frame in). Only verified map points guide tracking.
+  bool verified = false;
   float colors[kPatternSize] = {};        ///< host intensities of the pattern
   float grad_weights[kPatternSize] = {};  ///< c^2 / (c^2 + |grad I_host|^2) per pattern pixel
   std::vector<PointResidual> residuals;

@@ -258,6 +258,12 @@ KeyframeInsertion Mapper::addKeyframe(std::unique_ptr<ImagePyramid> pyramid,
   refineRadialCorrection(ins.optimization);
   adaptOutlierThreshold(*window_.back());
   reactivated_fit_ = measureReactivatedFit();
+  for (auto& host : reactivated_)
+    for (auto& p : host->points) {
+      p->verified = false;
+      for (const PointResidual& r : p->residuals)
+        if (r.target == window_.back().get()) p->verified = r.state == ResidualState::Inlier;
+    }
   for (const ReactivatedFit& f : reactivated_fit_) ins.map_points_in_view += f.inliers;
   window_.back()->map_points_in_view = ins.map_points_in_view;
   const auto t2 = Clock::now();
@@ -455,13 +461,13 @@ void Mapper::markMapCoverage(const WindowKeyframe& kf) {
       }
 }
 
-void Mapper::makeImmaturePoints(WindowKeyframe& kf) {
+void Mapper::makeImmaturePoints(WindowKeyframe& kf, bool use_coverage) {
   selector_.select(kf.pyramid(), 1.f, selected_);
   kf.immature.clear();
   kf.immature.reserve(selected_.size());
   kf.corners.clear();
   // Where map points (reactivated keyframes) are seen, the map has points already.
-  const bool covered = coverage_radius_ > 0.f && !reactivated_.empty();
+  const bool covered = use_coverage && coverage_radius_ > 0.f && !reactivated_.empty();
   if (covered) markMapCoverage(kf);
   const int width = camera_[0].width;
   const ImageView<const GradientPixel> img = kf.pyramid().gradients(0);
@@ -529,6 +535,7 @@ void Mapper::trackingPoints(std::vector<DepthPoint>& out) const {
   for (const WindowKeyframe* kf : windowView()) {
     const SE3f T_nh = (newest.T_c_w * kf->T_c_w.inverse()).cast<float>();
     for (const auto& p : kf->points) {
+      if (p->fixed && !p->verified) continue;
       const Eigen::Vector3f q = T_nh * (radialRay(cam, radialK(), p->u, p->v) / p->idepth);
       if (!(q.z() > 1e-3f)) continue;
       const Eigen::Vector2f px = radialProject(cam, radialK(), q);
@@ -538,9 +545,39 @@ void Mapper::trackingPoints(std::vector<DepthPoint>& out) const {
   }
 }
 
+KeyframeInsertion Mapper::relocalize(std::unique_ptr<ImagePyramid> pyramid, const MapperFrame& info,
+                                     const MarginalizedKeyframe& anchor, const SE3d& anchor_T_w_c,
+                                     double anchor_scale) {
+  KeyframeInsertion ins;
+  ins.map = reset();
+  WindowKeyframe& kf = insertKeyframe(std::move(pyramid), info);
+  // Held near where relocalisation found it (the reactivated keyframe fixes the gauge; this keeps
+  // it once that one leaves), not fixed: its pose is a measurement from one map keyframe, and the
+  // window corrects it (on vamr_desk_loop by up to half a degree).
+  kf.anchor_weight = kRelocalizationAnchorWeight;
+  ins.keyframe_id = kf.id();
+  reactivate(anchor, anchor_T_w_c, anchor_scale);
+  for (auto& p : reactivated_.back()->points) p->verified = true;  // relocalisation aligned them
+  makeImmaturePoints(kf, /*use_coverage=*/false);
+  for (KeyframeRecord& r : windowPoses()) ins.map.keyframes.push_back(r);
+  for (const auto& host : reactivated_)
+    ins.map_points_in_view += static_cast<int>(host->points.size());
+  return ins;
+}
+
 MapUpdate Mapper::reset() {
   MapUpdate out;
   out.keyframes = windowPoses();
+  // The window's keyframes go to the map as if they had left it (reuse and relocalisation can
+  // find them), with the points they host.
+  if (describe_leaving_) {
+    for (auto& kf : window_) {
+      std::vector<PatchPoint> points = std::move(kf->retired_points);
+      for (const auto& p : kf->points)
+        if (p->inlier_residuals >= 1 && p->hessian_idepth > 0.f) points.push_back(toPatchPoint(*p));
+      out.left.push_back(describeLeavingKeyframe(*kf, std::move(points)));
+    }
+  }
   for (auto& kf : window_) pyramids_.release(kf->releasePyramid());
   window_.clear();
   reactivated_.clear();

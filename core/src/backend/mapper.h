@@ -94,8 +94,15 @@ class Mapper {
   /// Every active point of the window projected into the newest keyframe.
   void trackingPoints(std::vector<DepthPoint>& out) const;
   int activePointCount() const;
-  /// Drops the window (tracking lost); returns the window keyframes' last poses for the map.
+  /// Drops the window (tracking lost); returns the window keyframes' last poses for the map and,
+  /// when leaving keyframes are described, the keyframes themselves (as if they had left).
   MapUpdate reset();
+  /// Starts a window from a relocalised frame: it becomes the first keyframe (gauge anchor) at
+  /// `info.T_c_w`, and `anchor` (the map keyframe it was found in, at pose T_w_c and scale) is
+  /// reactivated so that tracking has the map's points to follow. Returns its insertion.
+  KeyframeInsertion relocalize(std::unique_ptr<ImagePyramid> pyramid, const MapperFrame& info,
+                               const MarginalizedKeyframe& anchor, const SE3d& anchor_T_w_c,
+                               double anchor_scale);
   /// The window keyframes' current poses.
   std::vector<KeyframeRecord> windowPoses() const;
   /// World positions of the active points.
@@ -157,13 +164,18 @@ class Mapper {
   int marginalizeFrames();
   std::vector<int> framesToMarginalize() const;
   void marginalizeFrame(int window_index);
-  void makeImmaturePoints(WindowKeyframe& kf);
+  /// New immature points (and corners) for `kf`, not where map points are seen when
+  /// `use_coverage` (their residuals in `kf` must have been evaluated).
+  void makeImmaturePoints(WindowKeyframe& kf, bool use_coverage = true);
   MapPoint worldPoint(const ActivePoint& p) const;
   /// The keyframe as it leaves the window (its corners and their depths filled in first).
   MarginalizedKeyframe describeLeavingKeyframe(WindowKeyframe& f, std::vector<PatchPoint> points);
   /// Keeps the inverse depth of a corner point in its host's corner list.
   static void recordCornerDepth(const ActivePoint& p);
 
+  /// Soft anchor of a relocalised keyframe (per parameter; the photometric terms of a keyframe
+  /// are 1e5-1e8 on its pose's diagonal).
+  static constexpr double kRelocalizationAnchorWeight = 1e3;
   MapperSettings settings_;
   PyramidCamera camera_;
   PyramidPool& pyramids_;

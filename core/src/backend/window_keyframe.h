@@ -78,6 +78,9 @@ class WindowKeyframe {
   AffineLight aff_eval;
   int window_index = -1;         ///< position in the window's Hessian (set by the window)
   bool is_gauge_anchor = false;  ///< the first keyframe: anchors the gauge (pose, affine a and b)
+  /// A soft anchor of pose and affine brightness to the first estimate (weight per parameter;
+  /// 0: none): a relocalised keyframe is held near where it was found, not fixed there.
+  double anchor_weight = 0.0;
   /// A map keyframe brought back into the window (reuse): pose, brightness and its points' depths
   /// stay as the map has them; it has no image.
   bool is_reactivated = false;

@@ -114,17 +114,19 @@ double WindowOptimizer::addPriors(const std::vector<WindowKeyframe*>& window,
       (*b)[k * i + 6] += settings_.affine_prior_a * a;
       (*b)[k * i + 7] += settings_.affine_prior_b * bb;
     }
-    if (kf.is_gauge_anchor || kf.is_reactivated) {
+    const double anchor =
+        kf.is_gauge_anchor || kf.is_reactivated ? settings_.gauge_anchor_weight : kf.anchor_weight;
+    if (anchor > 0.0) {
       // The gauge anchor: pose and affine brightness stay at their first estimate. Without the
       // affine part, the offsets b of all keyframes drift together (the cost hardly changes when
       // every b moves by the same amount; on kitti00_200 by -500 grey levels in 200 frames), away
       // from the first estimates their Jacobians are taken at. A reactivated map keyframe is held
       // the same way: the map's estimate.
       const FrameVector d = kf.delta();
-      energy += 0.5 * settings_.gauge_anchor_weight * d.squaredNorm();
+      energy += 0.5 * anchor * d.squaredNorm();
       if (H) {
-        H->block<k, k>(k * i, k * i).diagonal().array() += settings_.gauge_anchor_weight;
-        b->segment<k>(k * i) += settings_.gauge_anchor_weight * d;
+        H->block<k, k>(k * i, k * i).diagonal().array() += anchor;
+        b->segment<k>(k * i) += anchor * d;
       }
     }
   }
@@ -401,9 +403,10 @@ void WindowOptimizer::marginalizeFrame(const std::vector<WindowKeyframe*>& windo
   H(7, 7) = settings_.affine_prior_b;
   b[6] = settings_.affine_prior_a * frame.aff.a;
   b[7] = settings_.affine_prior_b * frame.aff.b;
-  if (frame.is_gauge_anchor) {
-    H.diagonal().array() += settings_.gauge_anchor_weight;
-    b += settings_.gauge_anchor_weight * frame.delta();
+  const double anchor = frame.is_gauge_anchor ? settings_.gauge_anchor_weight : frame.anchor_weight;
+  if (anchor > 0.0) {
+    H.diagonal().array() += anchor;
+    b += anchor * frame.delta();
   }
   prior.add({frame.id()}, H, b, frame.delta());
   for (const auto* kf : window) prior.ensureFrame(kf->id());

@@ -59,8 +59,6 @@ void LoopCloser::addToGraph(const LoopJob& job, bool new_map) {
 std::optional<LoopCorrection> LoopCloser::process(LoopJob& job, const std::atomic<bool>& abort) {
   const int id = job.id;
   addToGraph(job, new_map_.exchange(false));
-  // A culled keyframe (redundant with the map) only keeps the pose graph's chain intact.
-  if (job.culled) return std::nullopt;
   KeyframeFeatures f;
   f.keyframe_id = id;
   f.timestamp = job.timestamp;
@@ -72,7 +70,13 @@ std::optional<LoopCorrection> LoopCloser::process(LoopJob& job, const std::atomi
   index_.add(id, f.descriptors);
   index_.retrainIfDue(&abort);
   features_[id] = std::move(f);
-  return closeLoop(id, abort);
+  std::optional<LoopCorrection> result = closeLoop(id, abort);
+  if (job.culled) {
+    // Redundant with the map: it looks for loops, but is no place to be found itself.
+    index_.remove(id);
+    features_.erase(id);
+  }
+  return result;
 }
 
 std::optional<LoopCorrection> LoopCloser::closeLoop(int id, const std::atomic<bool>& abort) {

@@ -38,8 +38,8 @@ class LoopCloser {
   LoopCloser& operator=(const LoopCloser&) = delete;
 
   /// Mapping thread: `kf` left the window, described (corners with ORB descriptors and depths;
-  /// its points and image are not needed); queued for the task. A culled keyframe only extends
-  /// the pose graph.
+  /// its points and image are not needed); queued for the task. A culled keyframe (redundant with
+  /// the map) looks for loops but is not kept as a place to be found.
   void keyframeLeftWindow(MarginalizedKeyframe&& kf);
   /// Mapping thread, at a safe point: corrections published since the last call.
   std::vector<LoopCorrection> takeCorrections() { return task_->tryTakeResults(); }

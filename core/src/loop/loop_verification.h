@@ -15,9 +15,9 @@
 #include <string>
 #include <vector>
 
+#include "alignment/pnp_ransac.h"
 #include "loop/descriptor_matcher.h"
 #include "loop/loop_types.h"
-#include "loop/pnp_ransac.h"
 #include "loop/sim3_refinement.h"
 
 namespace ldsm::loop {

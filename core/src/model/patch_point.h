@@ -16,6 +16,7 @@ struct PatchPoint {
   float idepth_hessian = 0.f;             ///< the window's last J_d^T W J_d of the inverse depth
   float colors[kPatternSize] = {};        ///< host intensities of the pattern
   float grad_weights[kPatternSize] = {};  ///< c^2 / (c^2 + |grad I_host|^2), square-rooted
+  int observations = 0;  ///< inlier residuals (other keyframes) when it left the window
   bool is_corner = false;
 };
 

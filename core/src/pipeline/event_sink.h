@@ -29,6 +29,9 @@ class EventSink {
   void trackingLost(const TrackingLostEvent& e) {
     if (listener_) listener_->onTrackingLost(e);
   }
+  void relocalized(const RelocalizedEvent& e) {
+    if (listener_) listener_->onRelocalized(e);
+  }
   void reactivated(const ReuseEvent& e) {
     if (listener_) listener_->onReuse(e);
   }

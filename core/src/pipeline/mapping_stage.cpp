@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include "concurrency/backoff.h"
+#include "reuse/redundancy.h"
 
 #include <algorithm>
 #include <limits>
@@ -75,6 +76,14 @@ std::optional<MappingStage::Done> MappingStage::process(MappingJob& job) {
       case MappingJob::Kind::kReset:
         reset();
         break;
+      case MappingJob::Kind::kRelocalize:
+        relocalize(job);
+        break;
+      case MappingJob::Kind::kNewMap:
+        // Relocalisation gave up: what follows is a new map, not chained to the old one.
+        if (loop_closer_) loop_closer_->startNewMap();
+        ++reuse_stats_.new_maps;
+        break;
     }
   } catch (const std::exception& e) {
     spdlog::error("mapping failed on frame {}: {}", job.info.frame_index, e.what());
@@ -137,10 +146,30 @@ void MappingStage::initialize(MappingJob& job) {
   spdlog::info("frame {}: initialised with {} points", job.info.frame_index, init_outcome_.points);
 }
 
+void MappingStage::relocalize(MappingJob& job) {
+  init_outcome_ = InitializationOutcome();
+  const std::shared_ptr<const MarginalizedKeyframe> anchor =
+      store_.keyframeData(job.anchor_keyframe);
+  const KeyframeRecord pose = store_.keyframe(job.anchor_keyframe);
+  if (!anchor || pose.id < 0) return;
+  KeyframeInsertion ins =
+      mapper_.relocalize(std::move(job.pyramid), job.info, *anchor, pose.T_w_c, pose.scale);
+  publishMap(std::move(ins.map));
+  keyframes_.fetch_add(1, std::memory_order_relaxed);
+  ++reuse_stats_.relocalizations;
+  ++reuse_stats_.reactivations;
+  const WindowKeyframe& newest = mapper_.newestKeyframe();
+  init_outcome_ = {true, ins.map_points_in_view, newest.id(), newest.T_c_w, newest.aff};
+  store_.connect(newest.id(), job.anchor_keyframe);
+  publishReference();
+  publishSnapshot();
+  events_.keyframe(KeyframeEvent{newest.id(), job.info.frame_index, job.info.timestamp,
+                                 newest.T_c_w.inverse().toPose(), ins.map_points_in_view});
+}
+
 void MappingStage::reset() {
   publishMap(mapper_.reset());
   last_left_id_ = -1;
-  if (loop_closer_) loop_closer_->startNewMap();
   references_.clear();
   keyframe_in_flight_.store(false, std::memory_order_release);
   publishSnapshot();
@@ -151,14 +180,28 @@ void MappingStage::publishMap(MapUpdate&& update) {
   for (const KeyframeRecord& r : update.keyframes) store_.setKeyframe(r);
   for (MarginalizedKeyframe& kf : update.left) {
     if (describe_) describeOrb(kf);
-    // A keyframe that saw more map points than it hosts adds nothing the map lacks.
-    kf.culled = reuse_ && config_.reuse.cull_redundant &&
-                kf.map_points_in_view > static_cast<int>(kf.points.size());
+    // A keyframe an earlier visit's map keyframe already covers adds nothing the map lacks.
+    if (reuse_ && config_.reuse.cull_redundant) {
+      const RedundancyCheck r =
+          checkRedundancy(kf, store_.keyframe(kf.id), store_, camera_[0], config_.reuse);
+      kf.culled = r.redundant;
+      if (r.redundant)
+        spdlog::trace("reuse: keyframe {} is covered by map keyframe {} ({:.0f} %)", kf.id,
+                      r.covered_by, 100.0 * r.coverage);
+    }
     if (kf.culled) {
       store_.cullKeyframe(kf.id);
       ++reuse_stats_.culled_keyframes;
     } else if (reuse_) {
       auto data = std::make_shared<MarginalizedKeyframe>(kf);
+      // Only points the window measured from several keyframes: a keyframe marginalised soon
+      // after it was made hosts many points seen once, whose depths are guesses.
+      auto& pts = data->points;
+      pts.erase(std::remove_if(pts.begin(), pts.end(),
+                               [&](const PatchPoint& p) {
+                                 return p.observations < config_.reuse.min_point_observations;
+                               }),
+                pts.end());
       store_.setKeyframeData(std::move(data));
       if (last_left_id_ >= 0) store_.connect(last_left_id_, kf.id);
       last_left_id_ = kf.id;
@@ -276,6 +319,14 @@ void MappingStage::applyLoopCorrections() {
 
 void MappingStage::publishReference() {
   mapper_.trackingPoints(depth_points_);
+  if (!depth_points_.empty()) {
+    std::vector<float> idepths;
+    idepths.reserve(depth_points_.size());
+    for (const DepthPoint& p : depth_points_) idepths.push_back(p.idepth);
+    const auto mid = idepths.begin() + static_cast<std::ptrdiff_t>(idepths.size() / 2);
+    std::nth_element(idepths.begin(), mid, idepths.end());
+    median_depth_ = 1.0 / std::max(1e-6f, *mid);
+  }
   std::unique_ptr<CoarseTracker> tracker = references_.acquire();
   const TrackingReference r = mapper_.newestReference();
   tracker->setReference(*r.pyramid, camera_, depth_points_, r.exposure, r.aff);
@@ -288,7 +339,12 @@ void MappingStage::publishSnapshot() {
   if (s->has_window) {
     s->active_points = mapper_.activeMapPoints();
     s->newest_T_c_w = mapper_.newestKeyframe().T_c_w;
+    for (const KeyframeRecord& r : mapper_.windowPoses()) s->window_ids.push_back(r.id);
+  } else {
+    s->newest_T_c_w = snapshot()->newest_T_c_w;  // where the camera was last seen
+    s->window_ids = snapshot()->window_ids;
   }
+  s->median_depth = median_depth_;
   s->active_point_count = static_cast<int>(s->active_points.size());
   s->radial_estimate = mapper_.radialEstimate();
   s->radial_applied = mapper_.radialK();

@@ -37,7 +37,7 @@ namespace ldsm {
 
 /// One piece of mapping work.
 struct MappingJob {
-  enum class Kind { kTrace, kKeyframe, kInitialize, kReset };
+  enum class Kind { kTrace, kKeyframe, kInitialize, kReset, kRelocalize, kNewMap };
   Kind kind = Kind::kTrace;
   std::unique_ptr<ImagePyramid> pyramid;  ///< the frame (kTrace, kKeyframe; kInitialize: last)
   MapperFrame info;
@@ -45,6 +45,8 @@ struct MappingJob {
   InitializationResult initialization;
   std::unique_ptr<ImagePyramid> reference_pyramid;
   MapperFrame reference_info;
+  // kRelocalize only: the map keyframe the frame was found in.
+  int anchor_keyframe = -1;
 };
 
 /// What queries read of the mapping (published after every job that changed the window).
@@ -54,12 +56,14 @@ struct MappingSnapshot {
   double radial_estimate = 0.0;
   double radial_applied = 0.0;
   bool has_window = false;
-  SE3d newest_T_c_w;             ///< the newest keyframe's pose
+  SE3d newest_T_c_w;             ///< the newest keyframe's pose (or the last one, no window)
+  std::vector<int> window_ids;   ///< the active keyframes (or the last ones, no window)
+  double median_depth = 1.0;     ///< of the window's points seen from the newest keyframe
   std::vector<int> reactivated;  ///< map keyframes in the window
   ReuseStats reuse;
 };
 
-/// How the last initialisation job ended.
+/// How the last initialisation or relocalisation job ended.
 struct InitializationOutcome {
   bool ok = false;
   int points = 0;
@@ -95,7 +99,7 @@ class MappingStage {
   /// Waits while a keyframe is in flight.
   void waitForKeyframe();
   ReferenceExchange& references() { return references_; }
-  /// How the last initialisation job ended (read after waitIdle()).
+  /// How the last initialisation or relocalisation job ended (read after waitIdle()).
   const InitializationOutcome& lastInitialization() const { return init_outcome_; }
 
   /// End of a run: waits for the loop task, applies what it found and publishes the window.
@@ -111,6 +115,7 @@ class MappingStage {
   void trace(MappingJob& job);
   void integrateKeyframe(MappingJob& job);
   void initialize(MappingJob& job);
+  void relocalize(MappingJob& job);
   void reset();
   /// Hands the window's output to the map store and loop closure.
   void publishMap(MapUpdate&& update);
@@ -140,6 +145,7 @@ class MappingStage {
   std::unique_ptr<ReactivationSearch> reuse_;
   ReuseStats reuse_stats_;
   int last_left_id_ = -1;
+  double median_depth_ = 1.0;
   std::atomic<bool> keyframe_in_flight_{false};
   std::atomic<std::int64_t> keyframes_{0};
   InitializationOutcome init_outcome_;

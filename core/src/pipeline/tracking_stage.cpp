@@ -19,7 +19,11 @@ TrackingStage::TrackingStage(const Config& config, const PyramidCamera& camera,
                    CoarseInitializerSettings::fromConfig(config, camera.levels(), photometry_known),
                    config.initializer.hypotheses),
       tracker_(FrameTrackerSettings::fromConfig(config, photometry_known), camera),
-      timer_({"preprocess", "initialize", "track", "total"}, 20000) {}
+      timer_({"preprocess", "initialize", "track", "total"}, 20000),
+      relocalization_timeout_s_(config.reuse.relocalization_timeout_s) {
+  if (config.reuse.enabled && relocalization_timeout_s_ > 0.0)
+    relocalizer_ = std::make_unique<Relocalizer>(config.reuse, camera);
+}
 
 FrameEvent TrackingStage::process(ImageView<const std::uint8_t> image, std::int64_t index,
                                   double timestamp, double exposure) {
@@ -33,8 +37,11 @@ FrameEvent TrackingStage::process(ImageView<const std::uint8_t> image, std::int6
       StageTimer::Scope t(timer_, kPreprocess);
       preprocessor_.process(image, *pyr);
     }
+    if (relocalizing_ && timestamp - lost_since_ > relocalization_timeout_s_) startNewMap();
     if (status_ == TrackingStatus::Tracking) {
       trackStep(std::move(pyr), frame, exposure);
+    } else if (relocalizing_) {
+      relocalizeStep(std::move(pyr), frame, exposure);
     } else {
       initializeStep(std::move(pyr), frame, exposure);
     }
@@ -120,6 +127,11 @@ void TrackingStage::trackStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent& fra
     loseTracking(frame, "frame " + std::to_string(frame.frame_index) + ": " + outcome.failure);
     return;
   }
+  acceptTrackedFrame(std::move(pyr), frame, exposure, outcome);
+}
+
+void TrackingStage::acceptTrackedFrame(std::unique_ptr<ImagePyramid> pyr, FrameEvent& frame,
+                                       double exposure, const FrameTrackingOutcome& outcome) {
   const SE3d T_ref_w = tracker_.referencePose();
   store_.addFrame({frame.frame_index, frame.timestamp, tracker_.referenceKeyframeId(),
                    T_ref_w * outcome.T_c_w.inverse()});
@@ -150,14 +162,97 @@ void TrackingStage::loseTracking(const FrameEvent& frame, const std::string& rea
   ++losses_;
   events_.trackingLost(TrackingLostEvent{frame.frame_index, frame.timestamp, reason});
   mapping_.waitIdle();
-  // The next map starts where the camera was last seen.
+  status_ = TrackingStatus::Lost;
+  lost_since_ = frame.timestamp;
+  last_good_ = tracker_.motionState();
+  // The window and the tracking reference stay while the frame is looked for (relocalizeStep):
+  // after a short loss tracking resumes in them.
+  relocalizing_ = relocalizer_ != nullptr;
+  window_kept_ = true;
+  if (!relocalizing_) startNewMap();
+}
+
+void TrackingStage::resetWindow() {
+  if (!window_kept_) return;
+  mapping_.waitIdle();
+  // A new map would start where the camera was last seen.
   world_anchor_ = mapping_.snapshot()->newest_T_c_w;
   MappingJob reset;
   reset.kind = MappingJob::Kind::kReset;
   mapping_.submit(std::move(reset));
   mapping_.waitIdle();
+  window_kept_ = false;
+}
+
+void TrackingStage::startNewMap() {
+  resetWindow();
   initializer_.reset();
-  status_ = TrackingStatus::Lost;
+  relocalizing_ = false;
+  MappingJob job;
+  job.kind = MappingJob::Kind::kNewMap;
+  mapping_.submit(std::move(job));
+  mapping_.waitIdle();
+}
+
+void TrackingStage::relocalizeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent& frame,
+                                   double exposure) {
+  StageTimer::Scope t(timer_, kTrack);
+  ++relocalization_attempts_;
+  const std::shared_ptr<const MappingSnapshot> snap = mapping_.snapshot();
+  const RelocalizationResult r = relocalizer_->relocalize(
+      *pyr, exposure, store_, snap->newest_T_c_w, snap->window_ids, snap->median_depth);
+  if (window_kept_) {
+    // The window is still there: track the frame against its reference, from where the map says
+    // the camera is (or, not found, from where it was last seen).
+    FrameTracker::MotionState start = last_good_;
+    start.has_velocity = false;
+    if (r.success) {
+      start.T_last_w = r.T_c_w;
+      start.last_aff = r.aff;
+    }
+    tracker_.restoreMotion(start);
+    const FrameTrackingOutcome outcome = tracker_.track(*pyr, exposure);
+    if (outcome.success) {
+      resumeTracking(frame, r.success ? r.keyframe_id : -1, "the window");
+      acceptTrackedFrame(std::move(pyr), frame, exposure, outcome);
+      return;
+    }
+  }
+  if (!r.success) {
+    spdlog::debug("frame {}: not relocalised: {}", frame.frame_index, r.failure);
+    pyramids_.release(std::move(pyr));
+    return;
+  }
+  // Found in the map but away from the window: a new window from the map keyframe.
+  resetWindow();
+  MappingJob job;
+  job.kind = MappingJob::Kind::kRelocalize;
+  job.pyramid = std::move(pyr);
+  job.info = {frame.frame_index, frame.timestamp, exposure, r.T_c_w, r.aff};
+  job.anchor_keyframe = r.keyframe_id;
+  mapping_.submit(std::move(job));
+  mapping_.waitIdle();
+  const InitializationOutcome& outcome = mapping_.lastInitialization();
+  if (!outcome.ok) return;
+  store_.addFrame({frame.frame_index, frame.timestamp, outcome.keyframe_id, SE3d()});
+  adoptNewestReference();
+  tracker_.resetMotion(outcome.T_c_w, outcome.aff);
+  last_tracked_index_ = frame.frame_index;
+  frame.has_pose = true;
+  frame.is_keyframe = true;
+  frame.pose = outcome.T_c_w.inverse().toPose();
+  resumeTracking(frame, r.keyframe_id, "map keyframe " + std::to_string(r.keyframe_id));
+}
+
+void TrackingStage::resumeTracking(const FrameEvent& frame, int map_keyframe,
+                                   const std::string& where) {
+  relocalizing_ = false;
+  status_ = TrackingStatus::Tracking;
+  spdlog::info("frame {}: relocalised in {} after {:.2f} s", frame.frame_index, where,
+               frame.timestamp - lost_since_);
+  events_.relocalized(RelocalizedEvent{frame.frame_index, frame.timestamp,
+                                       tracker_.referenceKeyframeId(), map_keyframe,
+                                       frame.timestamp - lost_since_});
 }
 
 }  // namespace ldsm

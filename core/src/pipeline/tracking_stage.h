@@ -3,8 +3,10 @@
 // the initializer, and a finished initialisation becomes a job for the mapping stage; afterwards
 // it is tracked against the newest reference the mapping stage published (ReferenceExchange),
 // its pose goes to the map store, and the frame goes on to the mapping stage (to trace, or as a
-// keyframe). A failed frame loses tracking: the mapping stage resets and initialisation starts
-// over where the camera was last seen.
+// keyframe). A failed frame loses tracking: the window goes to the map, and the next frames are
+// looked for in the map (reuse/relocalizer.h); found, tracking resumes in the same map frame.
+// Only when that fails for reuse.relocalization_timeout_s does a new map start, initialised where
+// the camera was last seen.
 #pragma once
 
 #include <cstdint>
@@ -21,6 +23,7 @@
 #include "pipeline/frame_preprocessor.h"
 #include "pipeline/mapping_stage.h"
 #include "pipeline/stage_timer.h"
+#include "reuse/relocalizer.h"
 
 namespace ldsm {
 
@@ -40,6 +43,7 @@ class TrackingStage {
   TrackingStatus status() const { return status_; }
   std::int64_t initializations() const { return initializations_; }
   std::int64_t losses() const { return losses_; }
+  std::int64_t relocalizationAttempts() const { return relocalization_attempts_; }
   std::vector<StageTiming> timings() const { return timer_.summary(); }
 
  private:
@@ -48,6 +52,16 @@ class TrackingStage {
   /// Tracks from now on against the newest reference the mapping stage published, if any.
   void adoptNewestReference();
   void loseTracking(const FrameEvent& frame, const std::string& reason);
+  /// While lost: looks for the frame in the map; found, tracking resumes there.
+  void relocalizeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent& frame, double exposure);
+  /// Relocalisation gave up: a new map starts with the next initialisation.
+  void startNewMap();
+  /// The window goes to the map (kept while relocalising after a short loss).
+  void resetWindow();
+  /// A tracked frame's pose goes to the map store, the frame to the mapping stage.
+  void acceptTrackedFrame(std::unique_ptr<ImagePyramid> pyr, FrameEvent& frame, double exposure,
+                          const FrameTrackingOutcome& outcome);
+  void resumeTracking(const FrameEvent& frame, int map_keyframe, const std::string& where);
 
   FramePreprocessor& preprocessor_;
   PyramidPool& pyramids_;
@@ -62,6 +76,13 @@ class TrackingStage {
   MapperFrame init_reference_info_;
   SE3d world_anchor_;  ///< world -> camera pose given to a new map's first keyframe
   std::int64_t last_tracked_index_ = -1;
+  std::unique_ptr<Relocalizer> relocalizer_;  ///< null: no relocalisation (reuse off)
+  double relocalization_timeout_s_ = 0.0;
+  bool relocalizing_ = false;
+  double lost_since_ = 0.0;
+  bool window_kept_ = false;             ///< lost, but the window and its reference are still there
+  FrameTracker::MotionState last_good_;  ///< the motion before the loss
+  std::int64_t relocalization_attempts_ = 0;
   std::int64_t initializations_ = 0;
   std::int64_t losses_ = 0;
 };

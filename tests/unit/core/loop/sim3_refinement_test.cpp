@@ -6,8 +6,8 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "alignment/pnp_ransac.h"
 #include "ldsm/error.h"
-#include "loop/pnp_ransac.h"
 #include "loop/sim3_refinement.h"
 #include "synthetic_keyframes.h"
 

@@ -1,5 +1,6 @@
 // Robust camera pose from 3D-2D correspondences (RANSAC over minimal PnP solutions, then a
-// least-squares refinement on the inliers): the first step of the geometric loop verification.
+// least-squares refinement on the inliers): the first step of the geometric loop verification
+// and of relocalisation.
 #pragma once
 
 #include <vector>
@@ -9,7 +10,7 @@
 #include "ldsm/camera/calibration.h"
 #include "ldsm/math/se3.h"
 
-namespace ldsm::loop {
+namespace ldsm {
 
 /// Settings of solvePnpRansac().
 struct PnpRansacSettings {
@@ -34,4 +35,4 @@ PnpRansacResult solvePnpRansac(const std::vector<Eigen::Vector3d>& points,
                                const std::vector<Eigen::Vector2d>& pixels,
                                const PinholeIntrinsics& camera, const PnpRansacSettings& settings);
 
-}  // namespace ldsm::loop
+}  // namespace ldsm

@@ -1,4 +1,4 @@
-#include "loop/pnp_ransac.h"
+#include "alignment/pnp_ransac.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,7 @@
 
 #include "ldsm/error.h"
 
-namespace ldsm::loop {
+namespace ldsm {
 
 PnpRansacResult solvePnpRansac(const std::vector<Eigen::Vector3d>& points,
                                const std::vector<Eigen::Vector2d>& pixels,
@@ -71,4 +71,4 @@ PnpRansacResult solvePnpRansac(const std::vector<Eigen::Vector3d>& points,
   return result;
 }
 
-}  // namespace ldsm::loop
+}  // namespace ldsm

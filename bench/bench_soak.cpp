@@ -1,0 +1,144 @@
+// A long revisiting run, pass by pass: a sequence made by scripts/pingpong-sequence.sh (a real
+// sequence played forward and backward N times) through the System, with per pass the ATE of
+// that pass (its own Sim(3) alignment) and of everything so far, keyframes (made, kept with data),
+// map points, resident memory and the latency of the pass. What map reuse must keep bounded:
+// after the first pass, memory should hardly grow.
+//
+//   bench_soak --dataset DIR --frames-per-pass K [--realtime] [--no-reuse] [--no-loop]
+//
+// Default: deterministic, one thread, as fast as possible. --realtime: the live pipeline
+// (threaded, frames dropped when tracking is behind) paced at the recorded frame rate.
+#include <spdlog/spdlog.h>
+
+#include <unistd.h>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <string>
+#include <thread>
+
+#include "bench_input.h"
+#include "ldsm/drivers/machine_info.h"
+#include "ldsm/eval/ate.h"
+
+namespace {
+
+double residentMb() {
+  std::ifstream in("/proc/self/statm");
+  long pages = 0, resident = 0;
+  in >> pages >> resident;
+  return static_cast<double>(resident) * static_cast<double>(sysconf(_SC_PAGESIZE)) / (1 << 20);
+}
+
+ldsm::Trajectory between(const ldsm::Trajectory& t, double t0, double t1) {
+  ldsm::Trajectory out;
+  for (const auto& p : t)
+    if (p.timestamp >= t0 && p.timestamp < t1) out.push_back(p);
+  return out;
+}
+
+double ate(const ldsm::Trajectory& gt, const ldsm::Trajectory& est) {
+  if (est.size() < 3 || gt.size() < 3) return NAN;
+  try {
+    return ldsm::eval::computeAte(gt, est).rmse;
+  } catch (const std::exception&) {
+    return NAN;
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  spdlog::set_level(spdlog::level::warn);
+  std::string dataset;
+  std::int64_t per_pass = 0;
+  bool realtime = false, reuse = true, loop = true;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--dataset" && i + 1 < argc) {
+      dataset = argv[++i];
+    } else if (a == "--frames-per-pass" && i + 1 < argc) {
+      per_pass = std::stoll(argv[++i]);
+    } else if (a == "--realtime") {
+      realtime = true;
+    } else if (a == "--no-reuse") {
+      reuse = false;
+    } else if (a == "--no-loop") {
+      loop = false;
+    } else {
+      std::fprintf(stderr,
+                   "usage: %s --dataset DIR --frames-per-pass K [--realtime] [--no-reuse] "
+                   "[--no-loop]\n",
+                   argv[0]);
+      return 2;
+    }
+  }
+  if (dataset.empty() || per_pass <= 0) {
+    std::fprintf(stderr, "bench_soak: --dataset and --frames-per-pass are required\n");
+    return 2;
+  }
+  std::printf("machine: %s\n",
+              ldsm::drivers::machineSummary(ldsm::drivers::describeMachine()).c_str());
+  ldsm::Config config;
+  config.system.deterministic = !realtime;
+  config.system.live = realtime;
+  config.reuse.enabled = reuse;
+  config.loop.enabled = loop;
+  ldsm::bench::BenchInput in = ldsm::bench::openBenchInput(config, dataset, "");
+  std::printf("%s, %s, reuse %s, loop closure %s\n", dataset.c_str(),
+              realtime ? "real time, threaded" : "deterministic", reuse ? "on" : "off",
+              loop ? "on" : "off");
+  std::printf("%4s %8s %10s %10s %9s %9s %10s %9s %9s\n", "pass", "frames", "ATE pass", "ATE all",
+              "keyframes", "kf data", "points", "RSS MB", "ms/frame");
+  ldsm::drivers::Frame f;
+  std::int64_t n = 0;
+  double pass_start_t = -1.0;
+  auto wall0 = std::chrono::steady_clock::now();
+  auto pass_wall = wall0;
+  const auto report = [&](std::int64_t pass, double t_end) {
+    in.system->finish();
+    const ldsm::SystemStats s = in.system->stats();
+    const ldsm::Trajectory est = in.system->trajectory();
+    const auto now = std::chrono::steady_clock::now();
+    const double ms = std::chrono::duration<double, std::milli>(now - pass_wall).count() /
+                      static_cast<double>(per_pass);
+    pass_wall = now;
+    std::printf("%4lld %8lld %10s %10s %9lld %9lld %10lld %9.1f %9.2f\n",
+                static_cast<long long>(pass), static_cast<long long>(s.frames),
+                ldsm::bench::cell(ate(between(in.ground_truth, pass_start_t, t_end),
+                                      between(est, pass_start_t, t_end)),
+                                  "%.5f")
+                    .c_str(),
+                ldsm::bench::cell(ate(in.ground_truth, est), "%.5f").c_str(),
+                static_cast<long long>(s.keyframes), static_cast<long long>(s.map.data_keyframes),
+                static_cast<long long>(s.map.points), residentMb(), ms);
+    std::fflush(stdout);
+  };
+  double first_t = 0.0;
+  while (in.source->next(f)) {
+    if (n == 0) first_t = f.timestamp;
+    if (pass_start_t < 0.0) pass_start_t = f.timestamp;
+    if (realtime) {
+      const double due = f.timestamp - first_t;
+      const double now =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+      if (due > now) std::this_thread::sleep_for(std::chrono::duration<double>(due - now));
+    }
+    in.system->submit({f.image.view(), f.timestamp, f.exposure_ms});
+    ++n;
+    if (n % per_pass == 0) {
+      report(n / per_pass, f.timestamp + 1e-9);
+      pass_start_t = -1.0;
+    }
+  }
+  if (n % per_pass != 0) report(n / per_pass + 1, 1e300);
+  const ldsm::SystemStats s = in.system->stats();
+  for (const auto& l : s.latency)
+    if (l.stage == "submit_to_tracked")
+      std::printf("pose latency (submit -> tracked): p50 %.1f ms, p99 %.1f ms; dropped %lld\n",
+                  l.p50_ms, l.p99_ms, static_cast<long long>(s.dropped_frames));
+  std::printf("reuse: %lld reactivations, %lld culled keyframes, %.1f KB per kept keyframe\n",
+              static_cast<long long>(s.reuse.reactivations),
+              static_cast<long long>(s.reuse.culled_keyframes), s.map.bytes_per_keyframe / 1024.0);
+  return 0;
+}

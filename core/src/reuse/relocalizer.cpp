@@ -1,0 +1,144 @@
+#include "reuse/relocalizer.h"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "camera/radial_distortion.h"
+#include "features/orb_matching.h"
+
+namespace ldsm {
+namespace {
+
+constexpr int kMaxCorners = 500;
+constexpr float kCornerMinScore = 9.f;  // as loop closure describes keyframes
+constexpr int kTriedCandidates = 5;     // best by ORB matches, through PnP and direct alignment
+
+}  // namespace
+
+Relocalizer::Relocalizer(const ReuseConfig& config, const PyramidCamera& camera)
+    : config_(config),
+      camera_(camera),
+      corners_(camera[0].width, camera[0].height),
+      orb_(camera[0].width, camera[0].height) {
+  pnp_.min_inliers = config.relocalization_min_inliers;
+  pnp_.inlier_threshold_px = 4.0;
+  direct_.min_inlier_fraction = config.relocalization_min_direct_inliers;
+}
+
+RelocalizationResult Relocalizer::relocalize(const ImagePyramid& frame, double exposure,
+                                             const MapStore& map, const SE3d& last_T_c_w,
+                                             const std::vector<int>& recent_ids,
+                                             double median_depth) {
+  RelocalizationResult out;
+  // 1. The frame's corners and descriptors.
+  CornerParams params;
+  params.max_corners = kMaxCorners;
+  params.min_score = kCornerMinScore;
+  corners_.detect(frame.gradients(0), params, corner_scratch_);
+  pixels_.clear();
+  for (const Corner& c : corner_scratch_) pixels_.emplace_back(c.u, c.v);
+  orb_.compute(frame.intensity(0), pixels_, descriptors_, kept_);
+  if (descriptors_.size() < static_cast<std::size_t>(pnp_.min_inliers)) {
+    out.failure = "only " + std::to_string(descriptors_.size()) + " corners in the frame";
+    return out;
+  }
+  // 2. Candidates near the last pose and around the last window.
+  const Eigen::Vector3d centre = last_T_c_w.inverse().translation();
+  std::vector<int> ids = map.keyframesNear(
+      centre, config_.relocalization_search_radius * std::max(median_depth, 1e-3));
+  for (const int id : map.covisibleNeighbourhood(recent_ids, config_.search_hops,
+                                                 static_cast<std::size_t>(config_.max_candidates)))
+    if (std::find(ids.begin(), ids.end(), id) == ids.end()) ids.push_back(id);
+  for (const int id : recent_ids)
+    if (map.keyframeData(id) && std::find(ids.begin(), ids.end(), id) == ids.end())
+      ids.push_back(id);
+  // 3. ORB matches with depth.
+  struct Scored {
+    int matches;
+    int id;
+  };
+  std::vector<Scored> scored;
+  const LevelCamera& cam = camera_[0];
+  for (const int id : ids) {
+    const std::shared_ptr<const MarginalizedKeyframe> kf = map.keyframeData(id);
+    if (!kf) continue;
+    int n = 0;
+    for (const auto& [q, t] : matchOrb(descriptors_, kf->descriptors))
+      if (t < static_cast<int>(kf->corner_idepth.size()) && kf->corner_idepth[t] > 0.f) ++n;
+    scored.push_back({n, id});
+  }
+  std::stable_sort(scored.begin(), scored.end(),
+                   [](const Scored& a, const Scored& b) { return a.matches > b.matches; });
+  if (scored.empty()) {
+    out.failure = "no map keyframe to look in";
+    return out;
+  }
+  RelocalizationResult best;
+  double best_angle = 0.0;
+  for (int k = 0; k < kTriedCandidates && k < static_cast<int>(scored.size()); ++k) {
+    if (scored[k].matches < pnp_.min_inliers) break;
+    const std::shared_ptr<const MarginalizedKeyframe> kf = map.keyframeData(scored[k].id);
+    const KeyframeRecord pose = map.keyframe(scored[k].id);
+    if (!kf || pose.id < 0) continue;
+    // 4. PnP of the candidate's corners (in its frame, the map's scale) against the frame.
+    std::vector<Eigen::Vector3d> points;
+    std::vector<Eigen::Vector2d> pixels;
+    for (const auto& [q, t] : matchOrb(descriptors_, kf->descriptors)) {
+      if (t >= static_cast<int>(kf->corner_idepth.size())) continue;
+      const float d = kf->corner_idepth[t];
+      if (!(d > 0.f) || !std::isfinite(d)) continue;
+      const Eigen::Vector2f& c = kf->corners[t];
+      points.push_back(pose.scale * radialRay(cam, kf->radial_k, c.x(), c.y()).cast<double>() /
+                       static_cast<double>(d));
+      pixels.push_back(pixels_[kept_[q]].cast<double>());
+    }
+    const PinholeIntrinsics pinhole{cam.fx, cam.fy, cam.cx, cam.cy, cam.width, cam.height};
+    const PnpRansacResult pnp = solvePnpRansac(points, pixels, pinhole, pnp_);
+    out.matches = static_cast<int>(points.size());
+    out.pnp_inliers = static_cast<int>(pnp.inliers.size());
+    if (!pnp.success) {
+      out.failure = "PnP against keyframe " + std::to_string(kf->id) + ": " +
+                    std::to_string(pnp.inliers.size()) + " inliers of " +
+                    std::to_string(points.size());
+      continue;
+    }
+    // 5. Direct alignment of its points from the PnP pose.
+    std::vector<PatchPoint> scaled = kf->points;
+    for (PatchPoint& p : scaled) p.idepth /= static_cast<float>(pose.scale);
+    const Eigen::Vector2d transfer = affineTransfer(kf->exposure, exposure, kf->aff, AffineLight{});
+    const DirectAlignmentResult direct =
+        alignPoints(scaled, camera_, kf->radial_k, frame, pnp.T_camera_points,
+                    std::log(transfer[0]), transfer[1], direct_);
+    if (!direct.success) {
+      if (!best.success) {
+        best.failure =
+            "direct alignment to keyframe " + std::to_string(kf->id) + ": " + direct.failure;
+        best.direct_inliers = direct.inliers;
+        best.direct_points = direct.in_image;
+      }
+      continue;
+    }
+    // Of the candidates that hold, the one seen from the nearest viewpoint: the photometric
+    // alignment (an unwarped pattern, the map's depths) is most accurate there.
+    const double angle = direct.T_target_host.so3().log().norm();
+    if (best.success && angle >= best_angle) continue;
+    best_angle = angle;
+    best = out;
+    best.success = true;
+    best.failure.clear();
+    best.keyframe_id = kf->id;
+    best.direct_inliers = direct.inliers;
+    best.direct_points = direct.in_image;
+    best.T_c_w = direct.T_target_host * pose.T_w_c.inverse();
+    // The frame's own affine brightness from the transfer keyframe -> frame
+    // (scale e^a = e^(a_f - a_k) t_f / t_k, offset b = b_f - scale b_k).
+    best.aff.a = direct.a - std::log(exposure / kf->exposure) + kf->aff.a;
+    best.aff.b = direct.b + std::exp(direct.a) * kf->aff.b;
+  }
+  if (!best.success && best.failure.empty()) best.failure = out.failure;
+  return best;
+}
+
+}  // namespace ldsm

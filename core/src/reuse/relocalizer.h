@@ -1,0 +1,63 @@
+// Relocalisation after tracking was lost: finds the camera of a new frame in the existing map,
+// so tracking resumes in the same map frame instead of a new, disconnected map.
+//   1. corners of the frame (Shi-Tomasi) with ORB descriptors;
+//   2. candidate map keyframes: those near the last known pose (spatial index) and the
+//      covisible neighbourhood of the keyframes last in the window;
+//   3. ORB matches to each candidate's corners with depth, the best candidates by match count;
+//   4. RANSAC PnP of the candidate's 3D corners against the frame's corners;
+//   5. direct (photometric) alignment of the candidate's points to the frame from the PnP pose,
+//      which must hold (enough inliers) for the relocalisation to count.
+// Runs on the tracking thread while tracking is lost; reads the map store.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "alignment/direct_alignment.h"
+#include "alignment/pnp_ransac.h"
+#include "camera/pyramid_camera.h"
+#include "features/corner_detector.h"
+#include "features/orb_extractor.h"
+#include "ldsm/config.h"
+#include "map/map_store.h"
+
+namespace ldsm {
+
+struct RelocalizationResult {
+  bool success = false;
+  std::string failure;   ///< why not (empty on success)
+  int keyframe_id = -1;  ///< the map keyframe the frame was found against
+  SE3d T_c_w;            ///< the frame's pose (world -> camera)
+  AffineLight aff;       ///< the frame's affine brightness
+  int matches = 0;       ///< ORB matches with depth to that keyframe
+  int pnp_inliers = 0;
+  int direct_inliers = 0;
+  int direct_points = 0;
+};
+
+class Relocalizer {
+ public:
+  Relocalizer(const ReuseConfig& config, const PyramidCamera& camera);
+
+  /// Looks for `frame` (exposure time `exposure`) in `map`, near `last_T_c_w` (the last pose
+  /// known) and around `recent_ids` (the keyframes last in the window). `median_depth` scales the
+  /// spatial search.
+  RelocalizationResult relocalize(const ImagePyramid& frame, double exposure, const MapStore& map,
+                                  const SE3d& last_T_c_w, const std::vector<int>& recent_ids,
+                                  double median_depth);
+
+ private:
+  ReuseConfig config_;
+  PyramidCamera camera_;
+  CornerDetector corners_;
+  OrbExtractor orb_;
+  std::vector<Corner> corner_scratch_;
+  std::vector<Eigen::Vector2f> pixels_;
+  std::vector<OrbDescriptor> descriptors_;
+  std::vector<std::uint32_t> kept_;
+  PnpRansacSettings pnp_;
+  DirectAlignmentSettings direct_;
+};
+
+}  // namespace ldsm
