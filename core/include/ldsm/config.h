@@ -326,6 +326,9 @@ struct ReuseConfig {
   double redundancy_distance = 0.3;
   double redundancy_angle_deg = 30.0;
   double redundancy_coverage = 0.8;
+  /// How a reactivated keyframe's pose is held: 0 fixed at the map's estimate (the default,
+  /// docs/map-reuse.md), > 0 free with a prior of this weight per parameter.
+  double reactivated_pose_weight = 0.0;
   /// The map keeps the points the window measured in at least this many other keyframes.
   int min_point_observations = 3;
   /// After tracking is lost, look for the camera in the map (relocalisation) for this long before
@@ -377,6 +380,8 @@ struct ReuseConfig {
             "and looks within this angle the same way");
     v.field("redundancy_coverage", redundancy_coverage, Range<double>{0.0, 1.0},
             "and sees this share of the keyframe's points");
+    v.field("reactivated_pose_weight", reactivated_pose_weight, Range<double>{0.0, 1e12},
+            "0: reactivated keyframes fixed; > 0: free with a prior of this weight");
     v.field("min_point_observations", min_point_observations, Range<int>{1, 100},
             "the map keeps points measured in at least this many other keyframes");
     v.field("relocalization_timeout_s", relocalization_timeout_s, Range<double>{0.0, 1e6},

@@ -34,6 +34,7 @@ MapperSettings MapperSettings::fromConfig(const Config& config, bool photometry_
   s.points = config.points;
   s.calibration = config.calibration;
   s.optimizer = optimizerSettings(config, photometry_known);
+  s.optimizer.reactivated_weight = config.reuse.reactivated_pose_weight;
   s.trace_huber_threshold = static_cast<float>(config.tracking.huber_threshold);
   s.trace_outlier_threshold = static_cast<float>(config.window.outlier_threshold);
   s.loop_corners = config.loop.corners_per_keyframe;

@@ -115,7 +115,11 @@ double WindowOptimizer::addPriors(const std::vector<WindowKeyframe*>& window,
       (*b)[k * i + 7] += settings_.affine_prior_b * bb;
     }
     const double anchor =
-        kf.is_gauge_anchor || kf.is_reactivated ? settings_.gauge_anchor_weight : kf.anchor_weight;
+        kf.is_gauge_anchor ? settings_.gauge_anchor_weight
+        : kf.is_reactivated
+            ? (settings_.reactivated_weight > 0.0 ? settings_.reactivated_weight
+                                                  : settings_.gauge_anchor_weight)
+            : kf.anchor_weight;
     if (anchor > 0.0) {
       // The gauge anchor: pose and affine brightness stay at their first estimate. Without the
       // affine part, the offsets b of all keyframes drift together (the cost hardly changes when

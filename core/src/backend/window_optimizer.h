@@ -24,6 +24,9 @@ struct WindowOptimizerSettings {
   double affine_prior_b = 1e-3;         ///< prior weight on b (towards 0)
   /// Weight anchoring the gauge keyframe (pose and affine brightness) to its first estimate.
   double gauge_anchor_weight = 1e8;
+  /// Weight holding a reactivated map keyframe's pose and brightness at the map's estimate
+  /// (per parameter): the gauge anchor's (fixed) unless set (> 0: free with that prior).
+  double reactivated_weight = 0.0;
   /// After each optimisation, linearise the residuals in the radial distortion k as well and
   /// report the envelope step in k (radial_correction.h).
   bool estimate_radial = false;

@@ -239,9 +239,14 @@ void MappingStage::reuseMap(int newest_frame_index, double newest_timestamp) {
     mapper_.deactivate(f.id);
     ++reuse_stats_.deactivations;
   }
-  const int room =
-      config_.reuse.max_reactivated - static_cast<int>(mapper_.reactivatedIds().size());
-  if (room <= 0) return;
+  // What each reactivated keyframe still contributes: its inlier residuals in the newest keyframe.
+  // A corridor keeps old keyframes "fitting" long after the camera has moved on (their far points
+  // stay in view), so a full window is not the end of the search: a candidate that sees clearly
+  // more of the current view replaces the weakest one (below).
+  std::vector<std::pair<int, int>> held;  // (inliers, id), weakest first
+  for (const Mapper::ReactivatedFit& f : mapper_.reactivatedFit()) held.push_back({f.inliers, f.id});
+  std::sort(held.begin(), held.end());
+  int room = config_.reuse.max_reactivated - static_cast<int>(mapper_.reactivatedIds().size());
   // The newest keyframe as the search sees it: its corners with ORB descriptors.
   const WindowKeyframe& newest = mapper_.newestKeyframe();
   ReuseView view;
@@ -282,10 +287,20 @@ void MappingStage::reuseMap(int newest_frame_index, double newest_timestamp) {
       spdlog::trace("reuse: keyframe {} for {} rejected: {}", c.id, newest.id(), c.reason);
       continue;
     }
-    if (added >= room) break;
     const std::shared_ptr<const MarginalizedKeyframe> data = store_.keyframeData(c.id);
     const KeyframeRecord pose = store_.keyframe(c.id);
     if (!data || pose.id < 0) continue;
+    if (added >= room) {
+      // Replace the weakest reactivated keyframe when this one is expected to give at least twice
+      // its inliers (half of the candidate's points in view are typically inliers).
+      if (held.empty() || !(c.in_view > 4 * held.front().first)) break;
+      spdlog::debug("reuse: keyframe {} ({} inliers) makes room for keyframe {} ({} in view)",
+                    held.front().second, held.front().first, c.id, c.in_view);
+      mapper_.deactivate(held.front().second);
+      ++reuse_stats_.deactivations;
+      held.erase(held.begin());
+      ++room;
+    }
     mapper_.reactivate(*data, pose.T_w_c, pose.scale);
     store_.connect(newest.id(), c.id);
     ++reuse_stats_.reactivations;

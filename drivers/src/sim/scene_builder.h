@@ -74,6 +74,7 @@ std::vector<Vec3> ellipseControlPoints(double rx, double ry, double z, int n);
 
 // Scene factories (one file each).
 SimScene makeLoopScene();
+SimScene makeTwoLapLoopScene();
 SimScene makeForwardScene();
 SimScene makeRotationScene();
 SimScene makeShortScene();

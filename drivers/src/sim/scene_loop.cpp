@@ -1,6 +1,7 @@
 // "loop": a rectangular corridor ring (centre line 16 m x 10 m, 52 m long, 2.4 m wide, 2.6 m high)
 // with pillars, cabinets, doors and posters. The camera walks the centre line counter-clockwise at
-// about 1 m/s; the path is periodic (54 s), so the start pose is revisited exactly.
+// about 1 m/s; the path is periodic (54 s), so the start pose is revisited exactly. "loop2" walks
+// the same ring twice (map reuse: the second lap should hardly add to the map).
 #include <vector>
 
 #include "ldsm/drivers/sim/det_math.h"
@@ -9,11 +10,13 @@
 
 namespace ldsm::drivers::sim {
 
-SimScene makeLoopScene() {
+namespace {
+
+SimScene makeLoopLaps(const char* name, int laps) {
   constexpr std::uint32_t kSeed = 0x100bu;
   SimScene scene;
-  scene.name = "loop";
-  scene.description = "rectangular corridor loop";
+  scene.name = name;
+  scene.description = laps == 1 ? "rectangular corridor loop" : "rectangular corridor loop, twice";
   SceneBuilder b(scene, kSeed);
 
   constexpr double kHeight = 2.6, kSegment = 4.0;
@@ -81,10 +84,20 @@ SimScene makeLoopScene() {
   p.roll = {{0.015, kPeriod / 11, 2.0}};
   p.lateral = {{0.15, kPeriod / 7, 0.5}};
   p.vertical = {{0.04, kPeriod / 23, 0.0}};
-  scene.default_duration_s = kPeriod + 5.0;
+  scene.default_duration_s = laps * kPeriod + 5.0;
 
   bakeSceneTextures(scene, kSeed);
   return scene;
+}
+
+}  // namespace
+
+SimScene makeLoopScene() {
+  return makeLoopLaps("loop", 1);
+}
+
+SimScene makeTwoLapLoopScene() {
+  return makeLoopLaps("loop2", 2);
 }
 
 }  // namespace ldsm::drivers::sim

@@ -17,6 +17,7 @@ struct SceneEntry {
 
 constexpr SceneEntry kScenes[] = {
     {"loop", makeLoopScene},
+    {"loop2", makeTwoLapLoopScene},
     {"forward", makeForwardScene},
     {"rotation", makeRotationScene},
     {"short", makeShortScene},
@@ -54,6 +55,7 @@ std::vector<std::string> simSceneNames() {
 std::string simSceneDescription(const std::string& name) {
   const std::string n = findScene(name).name;
   if (n == "loop") return "closed rectangular corridor loop (52 m), revisits the start after 54 s";
+  if (n == "loop2") return "the corridor loop walked twice (104 m, 113 s): the second lap revisits";
   if (n == "forward") return "forward motion down a 54 m corridor";
   if (n == "rotation") return "strong panning in a room while moving slowly";
   return "small room, gentle motion, 2 s (for tests)";

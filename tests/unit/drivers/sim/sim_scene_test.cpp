@@ -29,7 +29,7 @@ Pose poseAt(const SimScene& scene, double t) {
 
 TEST(SimScene, NamesAndUnknownNames) {
   const auto names = simSceneNames();
-  for (const char* n : {"loop", "forward", "rotation", "short"})
+  for (const char* n : {"loop", "loop2", "forward", "rotation", "short"})
     EXPECT_NE(std::find(names.begin(), names.end(), n), names.end()) << n;
   try {
     makeSimScene("corridor-of-doom");
@@ -156,6 +156,23 @@ TEST(SimScene, LoopReturnsExactlyToItsStartAndRevisitsIt) {
   EXPECT_GT(far, 10.0);
   EXPECT_GT(length, 40.0);
   EXPECT_LT(length, 60.0);
+}
+
+TEST(SimScene, TwoLapLoopDrivesTheSameLoopTwice) {
+  const auto one = sharedScene("loop"), two = sharedScene("loop2");
+  const double period = one->path.period();
+  EXPECT_NEAR(two->path.period(), period, 1e-12);
+  SimOptions o;
+  const std::int64_t lap = static_cast<std::int64_t>(std::lround(period * o.fps));
+  EXPECT_GT(simFrameCount(*two, o), 2 * lap) << "the default length covers both laps";
+  EXPECT_LT(simFrameCount(*one, o), 2 * lap);
+  for (std::int64_t i = 0; i <= lap; i += 97) {
+    const Pose first = poseAt(*two, i / o.fps), second = poseAt(*two, (i + lap) / o.fps);
+    EXPECT_LT((first.translation - second.translation).norm(), 1e-9) << i;
+    EXPECT_LT(test::rotationAngle(first, second), 1e-9) << i;
+    const Pose single = poseAt(*one, i / o.fps);
+    EXPECT_LT((first.translation - single.translation).norm(), 1e-9) << i;
+  }
 }
 
 TEST(SimScene, OpticalFlowPerFrameIsSmall) {

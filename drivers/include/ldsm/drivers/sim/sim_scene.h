@@ -55,7 +55,7 @@ struct SimScene {
   double irradianceAt(int quad, double u, double v) const;
 };
 
-/// Names accepted by makeSimScene: "loop", "forward", "rotation", "short".
+/// Names accepted by makeSimScene: "loop", "loop2", "forward", "rotation", "short".
 std::vector<std::string> simSceneNames();
 
 /// One-line description of a built-in scene (for `ldsm sim --list`).
