@@ -5,6 +5,7 @@
 // after the first pass, memory should hardly grow.
 //
 //   bench_soak --dataset DIR --frames-per-pass K [--realtime] [--no-reuse] [--no-loop]
+//              [--config FILE]   (a configuration YAML as `ldsm run --config` takes)
 //
 // Default: deterministic, one thread, as fast as possible. --realtime: the live pipeline
 // (threaded, frames dropped when tracking is behind) paced at the recorded frame rate.
@@ -18,6 +19,7 @@
 #include <thread>
 
 #include "bench_input.h"
+#include "ldsm/drivers/config_yaml.h"
 #include "ldsm/drivers/machine_info.h"
 #include "ldsm/eval/ate.h"
 
@@ -53,6 +55,7 @@ int main(int argc, char** argv) {
   std::string dataset;
   std::int64_t per_pass = 0;
   bool realtime = false, reuse = true, loop = true;
+  std::string config_path;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--dataset" && i + 1 < argc) {
@@ -65,10 +68,12 @@ int main(int argc, char** argv) {
       reuse = false;
     } else if (a == "--no-loop") {
       loop = false;
+    } else if (a == "--config" && i + 1 < argc) {
+      config_path = argv[++i];
     } else {
       std::fprintf(stderr,
                    "usage: %s --dataset DIR --frames-per-pass K [--realtime] [--no-reuse] "
-                   "[--no-loop]\n",
+                   "[--no-loop] [--config FILE]\n",
                    argv[0]);
       return 2;
     }
@@ -79,7 +84,8 @@ int main(int argc, char** argv) {
   }
   std::printf("machine: %s\n",
               ldsm::drivers::machineSummary(ldsm::drivers::describeMachine()).c_str());
-  ldsm::Config config;
+  ldsm::Config config =
+      config_path.empty() ? ldsm::Config{} : ldsm::drivers::loadConfigYaml(config_path);
   config.system.deterministic = !realtime;
   config.system.live = realtime;
   config.reuse.enabled = reuse;

@@ -107,6 +107,10 @@ struct TrackingConfig {
   int pyramid_levels = 5;  ///< pyramid levels used by the coarse tracker
   int max_iterations_per_level = 10;
   double huber_threshold = 9.0;  ///< Huber threshold of the photometric residual, grey levels
+  /// A frame whose residual grows past this many times the last frame's while fewer than half of
+  /// its points are inliers is not this scene (a glitch, noise, a covered lens): tracking is lost
+  /// there rather than accepting a garbage pose. 0 disables the check.
+  double max_rmse_growth = 5.0;
 
   template <typename V>
   void visit(V& v) {
@@ -116,6 +120,8 @@ struct TrackingConfig {
             "Gauss-Newton iterations per pyramid level");
     v.field("huber_threshold", huber_threshold, Range<double>{0.1, 255.0},
             "Huber threshold of photometric residuals (grey levels)");
+    v.field("max_rmse_growth", max_rmse_growth, Range<double>{0.0, 1e6},
+            "a frame with this many times the last residual and < 50 % inliers is lost (0: off)");
   }
 };
 
@@ -295,6 +301,10 @@ struct CalibrationRefinementConfig {
 struct ReuseConfig {
   bool enabled = true;
   int max_reactivated = 3;  ///< map keyframes in the window at once
+  /// With the window's map keyframes all taken, a candidate replaces the one that fits the newest
+  /// keyframe worst when it has this many times more points in view than that one has inliers
+  /// (0: never replace; a map keyframe stays until it no longer fits).
+  double replace_ratio = 4.0;
   /// Keyframes made since a candidate left the window (a revisit, not the recent past).
   int min_keyframe_age = 10;
   /// A revisit: since the candidate the camera travelled this many times the straight-line
@@ -346,6 +356,9 @@ struct ReuseConfig {
             "bring map keyframes that see the current view back into the window");
     v.field("max_reactivated", max_reactivated, Range<int>{1, 20},
             "map keyframes reactivated in the window at once");
+    v.field("replace_ratio", replace_ratio, Range<double>{0.0, 1e6},
+            "a candidate with this many times more points in view than the weakest reactivated "
+            "keyframe has inliers replaces it (0: never)");
     v.field("min_keyframe_age", min_keyframe_age, Range<int>{1, 100000},
             "keyframes made since a reactivation candidate left the window");
     v.field("revisit_ratio", revisit_ratio, Range<double>{1.0, 1000.0},

@@ -1,5 +1,7 @@
 #include "frontend/frame_tracker.h"
 
+#include <spdlog/spdlog.h>
+
 #include <cmath>
 #include <limits>
 
@@ -7,6 +9,7 @@ namespace ldsm {
 
 FrameTracker::FrameTracker(const FrameTrackerSettings& settings, const PyramidCamera& camera)
     : kf_config_(settings.keyframes),
+      max_rmse_growth_(settings.max_rmse_growth),
       camera_(camera),
       tracker_(std::make_unique<CoarseTracker>(camera[0].width, camera[0].height, camera.levels(),
                                                settings.coarse)) {}
@@ -59,6 +62,18 @@ FrameTrackingOutcome FrameTracker::track(const ImagePyramid& frame, double expos
   out.hypotheses_tried = r.tried;
   if (!r.success || !std::isfinite(r.rmse)) {
     out.failure = std::string("coarse tracking failed: ") + toString(r.tracking.failure);
+    return out;
+  }
+  spdlog::trace(
+      "tracked: rmse {:.2f} (last {:.2f}), {:.0f} % inliers, {:.0f} % in image, hypothesis {}",
+      r.rmse, last_rmse_, 100.0 * r.tracking.inlier_fraction, 100.0 * r.tracking.in_image_fraction,
+      r.hypothesis);
+  if (max_rmse_growth_ > 0.0 && last_rmse_ > 0.0 && r.rmse > max_rmse_growth_ * last_rmse_ &&
+      r.tracking.inlier_fraction < 0.5) {
+    out.failure = "residual " + std::to_string(r.rmse / last_rmse_).substr(0, 4) +
+                  " times the last frame's with " +
+                  std::to_string(static_cast<int>(100.0 * r.tracking.inlier_fraction)) +
+                  " % inliers: the image does not show the tracked scene";
     return out;
   }
   out.success = true;

@@ -30,8 +30,10 @@ struct FrameTrackingOutcome {
 struct FrameTrackerSettings {
   KeyframeConfig keyframes;
   CoarseTrackerSettings coarse;
+  double max_rmse_growth = 5.0;  ///< TrackingConfig::max_rmse_growth
   static FrameTrackerSettings fromConfig(const Config& config, bool exposures_known) {
-    return {config.keyframes, CoarseTrackerSettings::fromConfig(config, exposures_known)};
+    return {config.keyframes, CoarseTrackerSettings::fromConfig(config, exposures_known),
+            config.tracking.max_rmse_growth};
   }
 };
 
@@ -84,6 +86,7 @@ class FrameTracker {
   bool keyframeWanted(const CoarseTrackingResult& r, double rmse) const;
 
   KeyframeConfig kf_config_;
+  double max_rmse_growth_ = 0.0;
   PyramidCamera camera_;
   std::unique_ptr<CoarseTracker> tracker_;
   HypothesisSettings hypotheses_;

@@ -156,7 +156,6 @@ void MappingStage::relocalize(MappingJob& job) {
       mapper_.relocalize(std::move(job.pyramid), job.info, *anchor, pose.T_w_c, pose.scale);
   publishMap(std::move(ins.map));
   keyframes_.fetch_add(1, std::memory_order_relaxed);
-  ++reuse_stats_.relocalizations;
   ++reuse_stats_.reactivations;
   const WindowKeyframe& newest = mapper_.newestKeyframe();
   init_outcome_ = {true, ins.map_points_in_view, newest.id(), newest.T_c_w, newest.aff};
@@ -243,8 +242,18 @@ void MappingStage::reuseMap(int newest_frame_index, double newest_timestamp) {
   // A corridor keeps old keyframes "fitting" long after the camera has moved on (their far points
   // stay in view), so a full window is not the end of the search: a candidate that sees clearly
   // more of the current view replaces the weakest one (below).
+  // Only a keyframe that has lost most of the view it was brought back for can be replaced: a
+  // camera that stays in one place keeps its map keyframes (no churn).
   std::vector<std::pair<int, int>> held;  // (inliers, id), weakest first
-  for (const Mapper::ReactivatedFit& f : mapper_.reactivatedFit()) held.push_back({f.inliers, f.id});
+  std::vector<std::pair<int, int>> peaks;
+  for (const Mapper::ReactivatedFit& f : mapper_.reactivatedFit()) {
+    int peak = f.inliers;
+    for (const auto& [id, inliers] : reactivated_peak_)
+      if (id == f.id) peak = std::max(peak, inliers);
+    peaks.push_back({f.id, peak});
+    if (2 * f.inliers < peak) held.push_back({f.inliers, f.id});
+  }
+  reactivated_peak_ = std::move(peaks);
   std::sort(held.begin(), held.end());
   int room = config_.reuse.max_reactivated - static_cast<int>(mapper_.reactivatedIds().size());
   // The newest keyframe as the search sees it: its corners with ORB descriptors.
@@ -291,9 +300,11 @@ void MappingStage::reuseMap(int newest_frame_index, double newest_timestamp) {
     const KeyframeRecord pose = store_.keyframe(c.id);
     if (!data || pose.id < 0) continue;
     if (added >= room) {
-      // Replace the weakest reactivated keyframe when this one is expected to give at least twice
-      // its inliers (half of the candidate's points in view are typically inliers).
-      if (held.empty() || !(c.in_view > 4 * held.front().first)) break;
+      // Replace the weakest reactivated keyframe when this one is expected to give clearly more
+      // inliers (by default 4x in view, about twice the inliers: half the points in view are).
+      if (held.empty() || !(config_.reuse.replace_ratio > 0.0) ||
+          !(c.in_view > config_.reuse.replace_ratio * held.front().first))
+        break;
       spdlog::debug("reuse: keyframe {} ({} inliers) makes room for keyframe {} ({} in view)",
                     held.front().second, held.front().first, c.id, c.in_view);
       mapper_.deactivate(held.front().second);

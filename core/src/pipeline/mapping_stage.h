@@ -144,6 +144,9 @@ class MappingStage {
   std::vector<std::uint32_t> orb_kept_;
   std::unique_ptr<ReactivationSearch> reuse_;
   ReuseStats reuse_stats_;
+  /// Per reactivated keyframe: the most inliers it has had in a newest keyframe (how well it
+  /// fitted the view it was brought back for).
+  std::vector<std::pair<int, int>> reactivated_peak_;  // (id, inliers)
   int last_left_id_ = -1;
   double median_depth_ = 1.0;
   std::atomic<bool> keyframe_in_flight_{false};

@@ -62,6 +62,7 @@ void SlamPipeline::fillStats(SystemStats& stats) const {
   stats.radial_applied = s->radial_applied;
   stats.reuse = s->reuse;
   stats.reuse.relocalization_attempts = tracking_.relocalizationAttempts();
+  stats.reuse.relocalizations = tracking_.relocalizations();
   stats.map.keyframes = static_cast<std::int64_t>(store_.keyframeCount());
   stats.map.data_keyframes = static_cast<std::int64_t>(store_.dataKeyframeCount());
   stats.map.points = static_cast<std::int64_t>(store_.pointCount());

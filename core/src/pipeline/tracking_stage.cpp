@@ -197,7 +197,7 @@ void TrackingStage::startNewMap() {
 void TrackingStage::relocalizeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent& frame,
                                    double exposure) {
   StageTimer::Scope t(timer_, kTrack);
-  ++relocalization_attempts_;
+  relocalization_attempts_.fetch_add(1, std::memory_order_relaxed);
   const std::shared_ptr<const MappingSnapshot> snap = mapping_.snapshot();
   const RelocalizationResult r = relocalizer_->relocalize(
       *pyr, exposure, store_, snap->newest_T_c_w, snap->window_ids, snap->median_depth);
@@ -248,6 +248,7 @@ void TrackingStage::resumeTracking(const FrameEvent& frame, int map_keyframe,
                                    const std::string& where) {
   relocalizing_ = false;
   status_ = TrackingStatus::Tracking;
+  relocalizations_.fetch_add(1, std::memory_order_relaxed);
   spdlog::info("frame {}: relocalised in {} after {:.2f} s", frame.frame_index, where,
                frame.timestamp - lost_since_);
   events_.relocalized(RelocalizedEvent{frame.frame_index, frame.timestamp,

@@ -9,6 +9,7 @@
 // the camera was last seen.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -43,7 +44,12 @@ class TrackingStage {
   TrackingStatus status() const { return status_; }
   std::int64_t initializations() const { return initializations_; }
   std::int64_t losses() const { return losses_; }
-  std::int64_t relocalizationAttempts() const { return relocalization_attempts_; }
+  std::int64_t relocalizationAttempts() const {
+    return relocalization_attempts_.load(std::memory_order_relaxed);
+  }
+  /// Losses after which tracking resumed in the same map (in the kept window or from a map
+  /// keyframe), one per RelocalizedEvent.
+  std::int64_t relocalizations() const { return relocalizations_.load(std::memory_order_relaxed); }
   std::vector<StageTiming> timings() const { return timer_.summary(); }
 
  private:
@@ -82,7 +88,9 @@ class TrackingStage {
   double lost_since_ = 0.0;
   bool window_kept_ = false;             ///< lost, but the window and its reference are still there
   FrameTracker::MotionState last_good_;  ///< the motion before the loss
-  std::int64_t relocalization_attempts_ = 0;
+  // Counted on the tracking thread, read by stats() on any thread.
+  std::atomic<std::int64_t> relocalization_attempts_{0};
+  std::atomic<std::int64_t> relocalizations_{0};
   std::int64_t initializations_ = 0;
   std::int64_t losses_ = 0;
 };
