@@ -230,8 +230,9 @@ void MappingStage::describeOrb(MarginalizedKeyframe& kf) {
 }
 
 void MappingStage::reuseMap(int newest_frame_index, double newest_timestamp) {
-  // Take back what no longer fits the newest keyframe.
-  for (const Mapper::ReactivatedFit& f : mapper_.reactivatedFit()) {
+  // Take back what no longer fits the newest keyframe (from a copy: deactivate() edits the list).
+  const std::vector<Mapper::ReactivatedFit> fit = mapper_.reactivatedFit();
+  for (const Mapper::ReactivatedFit& f : fit) {
     const bool fits = f.residuals > 0 && f.inliers >= config_.reuse.min_inlier_fraction *
                                                           static_cast<double>(f.residuals);
     if (fits) continue;
