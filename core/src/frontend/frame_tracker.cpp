@@ -70,10 +70,10 @@ FrameTrackingOutcome FrameTracker::track(const ImagePyramid& frame, double expos
       r.hypothesis);
   if (max_rmse_growth_ > 0.0 && last_rmse_ > 0.0 && r.rmse > max_rmse_growth_ * last_rmse_ &&
       r.tracking.inlier_fraction < 0.5) {
-    out.failure = "residual " + std::to_string(r.rmse / last_rmse_).substr(0, 4) +
-                  " times the last frame's with " +
-                  std::to_string(static_cast<int>(100.0 * r.tracking.inlier_fraction)) +
-                  " % inliers: the image does not show the tracked scene";
+    out.failure = fmt::format(
+        "residual {:.1f} times the last frame's with {:.0f} % inliers: the image does not show "
+        "the tracked scene",
+        r.rmse / last_rmse_, 100.0 * r.tracking.inlier_fraction);
     return out;
   }
   out.success = true;

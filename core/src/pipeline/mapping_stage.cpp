@@ -229,6 +229,16 @@ void MappingStage::describeOrb(MarginalizedKeyframe& kf) {
   kf.image = ImageF();
 }
 
+/// The median depth of non-empty `points` (scratch: reused storage for their inverse depths).
+double MappingStage::medianDepth(const std::vector<DepthPoint>& points,
+                                 std::vector<float>& scratch) {
+  scratch.clear();
+  for (const DepthPoint& p : points) scratch.push_back(p.idepth);
+  const auto mid = scratch.begin() + static_cast<std::ptrdiff_t>(scratch.size() / 2);
+  std::nth_element(scratch.begin(), mid, scratch.end());
+  return 1.0 / std::max(1e-6f, *mid);
+}
+
 void MappingStage::reuseMap(int newest_frame_index, double newest_timestamp) {
   // Take back what no longer fits the newest keyframe (from a copy: deactivate() edits the list).
   const std::vector<Mapper::ReactivatedFit> fit = mapper_.reactivatedFit();
@@ -269,15 +279,7 @@ void MappingStage::reuseMap(int newest_frame_index, double newest_timestamp) {
   orb_->compute(newest.pyramid().intensity(0), corners, view.descriptors, orb_kept_);
   for (const std::uint32_t i : orb_kept_) view.corners.push_back(corners[i]);
   mapper_.trackingPoints(depth_points_);
-  if (!depth_points_.empty()) {
-    std::vector<float> idepths;
-    idepths.reserve(depth_points_.size());
-    for (const DepthPoint& p : depth_points_) idepths.push_back(p.idepth);
-    std::nth_element(idepths.begin(),
-                     idepths.begin() + static_cast<std::ptrdiff_t>(idepths.size() / 2),
-                     idepths.end());
-    view.median_depth = 1.0 / std::max(1e-6f, idepths[idepths.size() / 2]);
-  }
+  if (!depth_points_.empty()) view.median_depth = medianDepth(depth_points_, idepths_);
   for (const KeyframeRecord& r : mapper_.windowPoses()) view.window_ids.push_back(r.id);
   const std::vector<int> exclude = mapper_.reactivatedIds();
   ReuseEvent event;
@@ -346,14 +348,7 @@ void MappingStage::applyLoopCorrections() {
 
 void MappingStage::publishReference() {
   mapper_.trackingPoints(depth_points_);
-  if (!depth_points_.empty()) {
-    std::vector<float> idepths;
-    idepths.reserve(depth_points_.size());
-    for (const DepthPoint& p : depth_points_) idepths.push_back(p.idepth);
-    const auto mid = idepths.begin() + static_cast<std::ptrdiff_t>(idepths.size() / 2);
-    std::nth_element(idepths.begin(), mid, idepths.end());
-    median_depth_ = 1.0 / std::max(1e-6f, *mid);
-  }
+  if (!depth_points_.empty()) median_depth_ = medianDepth(depth_points_, idepths_);
   std::unique_ptr<CoarseTracker> tracker = references_.acquire();
   const TrackingReference r = mapper_.newestReference();
   tracker->setReference(*r.pyramid, camera_, depth_points_, r.exposure, r.aff);

@@ -142,6 +142,8 @@ class MappingStage {
   bool describe_;  ///< keyframes leaving the window are described (loop closure or reuse)
   std::unique_ptr<OrbExtractor> orb_;
   std::vector<std::uint32_t> orb_kept_;
+  std::vector<float> idepths_;  ///< scratch of medianDepth
+  static double medianDepth(const std::vector<DepthPoint>& points, std::vector<float>& scratch);
   std::unique_ptr<ReactivationSearch> reuse_;
   ReuseStats reuse_stats_;
   /// Per reactivated keyframe: the most inliers it has had in a newest keyframe (how well it
