@@ -2,10 +2,13 @@
 
 #include <limits>
 
+#include "model/popcount_dispatch.h"
+
 namespace ldsm {
 namespace {
 
 /// Nearest and second nearest of `d` among `set` (indices and distances).
+LDSM_POPCNT_CLONES
 void nearest(const OrbDescriptor& d, const std::vector<OrbDescriptor>& set, int* best,
              int* best_dist, int* second_dist) {
   *best = -1;

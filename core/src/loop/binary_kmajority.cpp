@@ -5,7 +5,7 @@
 #include <cmath>
 #include <limits>
 
-#include "loop/popcount_dispatch.h"
+#include "model/popcount_dispatch.h"
 
 namespace ldsm::loop {
 namespace {

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "ldsm/error.h"
+#include "model/popcount_dispatch.h"
 
 namespace ldsm::loop {
 namespace {
@@ -35,6 +36,7 @@ class MatchTable {
         t_best_(n_train, kNoDistance),
         t_best_query_(n_train, 0) {}
 
+  LDSM_POPCNT_CLONES
   void compare(const std::vector<OrbDescriptor>& qd, const std::vector<std::uint32_t>& qi,
                const std::vector<OrbDescriptor>& td, const std::vector<std::uint32_t>& ti) {
     for (const std::uint32_t q : qi) {

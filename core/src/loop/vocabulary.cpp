@@ -8,7 +8,7 @@
 
 #include "ldsm/error.h"
 #include "loop/binary_kmajority.h"
-#include "loop/popcount_dispatch.h"
+#include "model/popcount_dispatch.h"
 
 namespace ldsm::loop {
 namespace {
