@@ -43,6 +43,22 @@ esac
 #    tests and the PoseGraph tests do not; they run in the native suite.
 known_arm_failures='RealtimeReplay\.(One|Four)TimesRealTimeMatchesOffline|RunLiveCli\.RealtimeReplayReportsDropsAndLatencyInStatsJson'
 too_slow_under_emulation='LoopClosure\..*|SimOdometry\.(LoopSceneFirstCornerTracks|DeterministicModeIsBitIdentical|ThreadedModeTracksLikeDeterministic|RadialRefinementRepairsAWrongDistortion)|Initializer(Hypotheses|Refusal)\.EurocDroneStandingStillNeverInitialises|SystemAllocation\.TrackingNonKeyframesAllocatesNothingInSteadyState|RunCommand\.UnreadableFrameMidSequenceKeepsTheTrajectorySoFar|SystemPipeline\.LatestPoseIsTheLastTrackedPoseInBothModes'
+# Map reuse's two-lap and noise runs (107 s and 29 s natively; the two-lap run hit the 30-minute
+# limit under qemu on CI) join them; MapReuse.ForwardCorridorReactivatesNothing (8 s) stays.
+too_slow_under_emulation+='|MapReuse\.(SecondLapOfALoopIsTrackedAgainstTheMapAndHardlyGrowsIt|AfterNoiseTrackingResumesInTheOldMapFrame)'
+# And any test that took longer than LDSM_CROSS_MAX_NATIVE_SECONDS (default 20) in the native
+# suite's last run (its CTestCostData.txt, when the native build folder has one: CI runs the native
+# suite first), so that a new long test cannot push this job past ctest's limit unnoticed.
+native_costs=${LDSM_NATIVE_BUILD_DIR:-build}/Testing/Temporary/CTestCostData.txt
+max_native=${LDSM_CROSS_MAX_NATIVE_SECONDS:-20}
+if [ -f "$native_costs" ]; then
+  slow_native=$(awk -v m="$max_native" '/^---/ {exit} NF >= 3 && $3 + 0 > m {print $1}' \
+    "$native_costs" | sed 's/[][\\.^$*+?(){}|]/\\&/g' | paste -sd'|' -)
+  if [ -n "$slow_native" ]; then
+    echo "cross-test.sh: over ${max_native} s natively ($native_costs), not run: $slow_native"
+    too_slow_under_emulation+="|$slow_native"
+  fi
+fi
 exclude=${LDSM_CROSS_EXCLUDE-^($known_arm_failures|$too_slow_under_emulation)$}
 
 BUILD_DIR=${BUILD_DIR:-build-$arch}
