@@ -4,9 +4,7 @@
 // what the camera offers.
 #include <unistd.h>
 
-#include <atomic>
 #include <chrono>
-#include <csignal>
 #include <cstdio>
 #include <memory>
 #include <sstream>
@@ -14,6 +12,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "interrupt.h"
 #include "ldsm/drivers/tum_mono_recorder.h"
 #include "ldsm/drivers/v4l2_source.h"
 #include "ldsm/error.h"
@@ -36,27 +35,6 @@ struct RecordCommandOptions {
   int timeout_ms = 2000;
   bool overwrite = false;
   bool list_formats = false;
-};
-
-// Ctrl-C asks the recording loop to stop after the current frame.
-std::atomic<bool> g_stop_requested{false};
-void onInterrupt(int) {
-  g_stop_requested.store(true);
-}
-
-/// Installs the Ctrl-C handler for the lifetime of the object.
-class InterruptGuard {
- public:
-  InterruptGuard() {
-    g_stop_requested.store(false);
-    previous_ = std::signal(SIGINT, onInterrupt);
-  }
-  ~InterruptGuard() { std::signal(SIGINT, previous_); }
-  InterruptGuard(const InterruptGuard&) = delete;
-  InterruptGuard& operator=(const InterruptGuard&) = delete;
-
- private:
-  void (*previous_)(int) = SIG_DFL;
 };
 
 #if defined(LDSM_HAVE_V4L2)
@@ -97,7 +75,7 @@ int runRecord(const RecordCommandOptions& o) {
   std::fprintf(stderr, "record: %s %s %dx%d at %g fps -> %s (Ctrl-C stops)\n", o.device.c_str(),
                drivers::toString(mode.format), mode.width, mode.height, source.info().nominal_fps,
                o.out.c_str());
-  const InterruptGuard guard;
+  const InterruptHandler interrupt;  // Ctrl-C or SIGTERM: stop after the current frame
   const bool tty = isatty(fileno(stderr)) != 0;
   auto last_report = std::chrono::steady_clock::now();
   const drivers::RecordSummary s = drivers::recordTumMono(
@@ -109,7 +87,7 @@ int runRecord(const RecordCommandOptions& o) {
                        static_cast<long long>(written), frame.exposure_ms, tty ? "" : "\n");
           std::fflush(stderr);
         }
-        return !g_stop_requested.load();
+        return !InterruptHandler::requested();
       });
   if (tty) std::fputc('\n', stderr);
   const double span = s.last_timestamp - s.first_timestamp;

@@ -7,13 +7,13 @@
 
 #include <atomic>
 #include <chrono>
-#include <csignal>
 #include <cstdio>
 #include <memory>
 #include <optional>
 #include <sstream>
 
 #include "commands.h"
+#include "interrupt.h"
 #include "ldsm/calib/calibration_loader.h"
 #include "ldsm/calib/photometric_files.h"
 #include "ldsm/drivers/config_yaml.h"
@@ -33,11 +33,6 @@
 namespace ldsm::app {
 namespace {
 
-std::atomic<bool> g_interrupted{false};
-void onSignal(int) {
-  g_interrupted = true;
-}
-
 struct RunOptions {
   std::string dataset;
   std::string format = "auto";
@@ -49,6 +44,7 @@ struct RunOptions {
   bool no_reuse = false;
   std::int64_t max_frames = 0;
   bool no_eval = false;
+  double flush_every_s = 30.0;  ///< trajectory.txt and keyframes.txt rewritten this often (0: off)
   // Real-time replay of the dataset through the live pipeline.
   bool realtime = false;
   double speed = 1.0;
@@ -212,15 +208,13 @@ int run(const RunOptions& o) {
   spdlog::info("{}: {} frames, calibration {}, photometric {}", in.name,
                in.frame_count >= 0 ? std::to_string(in.frame_count) : "live", in.geometric_source,
                in.photometric_source);
+  const InterruptHandler interrupt;
   if (o.realtime)
     std::fprintf(stderr, "%s: real-time replay at %gx (Ctrl-C stops and keeps the results)\n",
                  in.name.c_str(), o.speed);
   else if (live_input)
     std::fprintf(stderr, "%s: live camera (Ctrl-C stops and keeps the results)\n", in.name.c_str());
 
-  g_interrupted = false;
-  std::signal(SIGINT, onSignal);
-  std::signal(SIGTERM, onSignal);
   const bool tty = isatty(fileno(stderr)) != 0;
   const std::int64_t total = in.frame_count < 0 ? o.max_frames
                              : o.max_frames > 0
@@ -228,18 +222,30 @@ int run(const RunOptions& o) {
                                  : in.frame_count;
   const auto start = std::chrono::steady_clock::now();
   auto last_print = start;
+  auto last_flush = start;
   std::string status = "finished";
   drivers::Frame frame;
   std::int64_t n = 0;
   try {
     while ((o.max_frames <= 0 || n < o.max_frames) && in.source->next(frame)) {
-      if (g_interrupted) {
+      if (InterruptHandler::requested()) {
         status = "stopped: interrupted";
         break;
       }
       system.submit({frame.image.view(), frame.timestamp, frame.exposure_ms});
       ++n;
       const auto now = std::chrono::steady_clock::now();
+      if (o.flush_every_s > 0.0 &&
+          std::chrono::duration<double>(now - last_flush).count() >= o.flush_every_s) {
+        // Published snapshots: tracking does not wait. A failed flush (full disk) is reported
+        // and the run goes on; the previous files stay whole.
+        try {
+          writeTrajectoriesSoFar(o.out, system);
+        } catch (const Error& e) {
+          spdlog::warn("periodic flush: {}", e.what());
+        }
+        last_flush = now;
+      }
       const double since = std::chrono::duration<double>(now - last_print).count();
       const bool milestone = total > 0 ? (n * 10 / total) != ((n - 1) * 10 / total) : since >= 5.0;
       // stats() reads published counters and snapshots: it never makes tracking wait.
@@ -254,7 +260,7 @@ int run(const RunOptions& o) {
         last_print = now;
       }
     }
-    if (g_interrupted && status == "finished") status = "stopped: interrupted";
+    if (InterruptHandler::requested() && status == "finished") status = "stopped: interrupted";
   } catch (const Error& e) {
     status = std::string("stopped: ") + e.what();
     spdlog::error("{}", e.what());
@@ -276,7 +282,14 @@ int run(const RunOptions& o) {
   summary.peak_rss_mb = peakRssMb();
   const Trajectory traj = system.trajectory();
   if (!o.no_eval && in.dataset) summary.ate = evaluate(*in.dataset, traj);
-  writeRunOutputs(o.out, system, summary);
+  bool written = true;
+  try {
+    writeRunOutputs(o.out, system, summary);
+  } catch (const Error& e) {
+    // The run's figures below still matter; the files that could be written were.
+    std::fprintf(stderr, "ldsm: error: %s\n", e.what());
+    written = false;
+  }
 
   std::printf("%s: %lld frames, %lld tracked, %lld keyframes, %.1f ms/frame, peak %.0f MB\n",
               status.c_str(), static_cast<long long>(stats.frames),
@@ -296,11 +309,14 @@ int run(const RunOptions& o) {
     std::printf("ATE %.4f m (%.2f %% of %.2f m path) over %zu poses\n", summary.ate->rmse,
                 100.0 * summary.ate->rmse / std::max(summary.ate->gt_path_length, 1e-9),
                 summary.ate->gt_path_length, summary.ate->matched);
-  std::printf("outputs in %s (trajectory.txt, keyframes.txt, points.ply, stats.json)\n",
-              o.out.c_str());
+  if (written)
+    std::printf("outputs in %s (trajectory.txt, keyframes.txt, points.ply, stats.json)\n",
+                o.out.c_str());
+  else
+    std::printf("outputs in %s incomplete: see the error above\n", o.out.c_str());
   // A camera runs until Ctrl-C: that is its normal end.
   const bool ok = status == "finished" || (!o.live.empty() && status == "stopped: interrupted");
-  return ok ? 0 : 1;
+  return ok && written ? 0 : 1;
 }
 
 }  // namespace
@@ -324,6 +340,11 @@ void addRunCommand(CLI::App& app, CommandResult& result) {
                 "Turn map reuse off (no map keyframes back in the window)");
   cmd->add_option("--max-frames", o->max_frames, "Stop after N frames");
   cmd->add_flag("--no-eval", o->no_eval, "Do not evaluate against the dataset's ground truth");
+  cmd->add_option("--flush-every", o->flush_every_s,
+                  "Rewrite trajectory.txt and keyframes.txt every SEC seconds during the run, so "
+                  "a crash or power cut loses at most that much (0: only at the end)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 86400.0));
   auto* realtime = cmd->add_flag("--realtime", o->realtime,
                                  "Replay the dataset at its own timestamps through the live "
                                  "pipeline (frames dropped when tracking falls behind)");

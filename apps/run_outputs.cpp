@@ -3,12 +3,15 @@
 #include <sys/resource.h>
 
 #include <filesystem>
+#include <string>
+#include <vector>
 
 #include "ldsm/drivers/atomic_file.h"
 #include "ldsm/drivers/json_writer.h"
 #include "ldsm/drivers/machine_info.h"
 #include "ldsm/drivers/ply_writer.h"
 #include "ldsm/drivers/trajectory_io.h"
+#include "ldsm/error.h"
 
 namespace ldsm::app {
 
@@ -35,13 +38,53 @@ void writeTimings(drivers::JsonWriter& j, const std::vector<StageTiming>& timing
   j.endObject();
 }
 
+/// Runs one file's writer; a failure is collected, not thrown, so the other files still get
+/// their chance (a full disk may take one file and leave room for a smaller one).
+template <typename Write>
+void attempt(std::vector<std::string>& errors, Write&& write) {
+  try {
+    write();
+  } catch (const Error& e) {
+    errors.push_back(e.what());
+  }
+}
+
+void throwIfAny(const std::vector<std::string>& errors) {
+  if (errors.empty()) return;
+  std::string what = errors.front();
+  for (std::size_t i = 1; i < errors.size(); ++i) what += "; " + errors[i];
+  throw Error(what);
+}
+
+std::string outputBase(const std::string& dir) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw Error(dir + ": cannot create the output folder: " + ec.message());
+  return (std::filesystem::path(dir) / "").string();
+}
+
+void writeTrajectories(const std::string& base, const System& system,
+                       std::vector<std::string>& errors) {
+  attempt(errors,
+          [&] { drivers::writeTumTrajectory(base + "trajectory.txt", system.trajectory()); });
+  attempt(errors, [&] {
+    drivers::writeTumTrajectory(base + "keyframes.txt", system.keyframeTrajectory());
+  });
+}
+
 }  // namespace
 
+void writeTrajectoriesSoFar(const std::string& dir, const System& system) {
+  const std::string base = outputBase(dir);
+  std::vector<std::string> errors;
+  writeTrajectories(base, system, errors);
+  throwIfAny(errors);
+}
+
 void writeRunOutputs(const std::string& dir, const System& system, const RunSummary& summary) {
-  std::filesystem::create_directories(dir);
-  const std::string base = (std::filesystem::path(dir) / "").string();
-  drivers::writeTumTrajectory(base + "trajectory.txt", system.trajectory());
-  drivers::writeTumTrajectory(base + "keyframes.txt", system.keyframeTrajectory());
+  const std::string base = outputBase(dir);
+  std::vector<std::string> errors;
+  writeTrajectories(base, system, errors);
 
   const std::vector<MapPoint> points = system.mapPoints();
   std::vector<Eigen::Vector3f> xyz;
@@ -55,7 +98,7 @@ void writeRunOutputs(const std::string& dir, const System& system, const RunSumm
     colours.push_back(p.is_corner ? std::array<std::uint8_t, 3>{255, 64, 0}
                                   : std::array<std::uint8_t, 3>{g, g, g});
   }
-  drivers::writePly(base + "points.ply", xyz, colours);
+  attempt(errors, [&] { drivers::writePly(base + "points.ply", xyz, colours); });
 
   const SystemStats s = system.stats();
   drivers::JsonWriter j;
@@ -150,7 +193,8 @@ void writeRunOutputs(const std::string& dir, const System& system, const RunSumm
     j.key("ate").null();
   }
   j.endObject();
-  drivers::writeFileAtomically(base + "stats.json", j.str() + "\n");
+  attempt(errors, [&] { drivers::writeFileAtomically(base + "stats.json", j.str() + "\n"); });
+  throwIfAny(errors);
 }
 
 }  // namespace ldsm::app

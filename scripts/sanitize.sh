@@ -1,0 +1,66 @@
+#!/usr/bin/env bash
+# Builds the whole test suite with sanitizers and runs it (docs/reliability.md):
+#
+#   bash scripts/sanitize.sh            # address: AddressSanitizer + UndefinedBehaviorSanitizer
+#   bash scripts/sanitize.sh thread     # ThreadSanitizer, the threaded system and pipeline tests
+#   bash scripts/sanitize.sh all        # both, one after the other
+#
+# Each kind builds in its own folder (build-asan, build-tsan; BUILD_ROOT changes the prefix) with
+# debug information and the optimiser on (-O1), so that reports name files and lines. Any report
+# fails the run: UBSan and ASan halt on the first error, LeakSanitizer reports at exit, TSan exits
+# with status 66. Tests that need the machine's real speed (real-time replay) are left out, as
+# under qemu: a sanitized build is 2-15x slower, so most of their frames are dropped by design.
+# Environment: JOBS (default nproc), SANITIZE_EXCLUDE (a ctest -E regex replacing the default),
+# extra arguments go to ctest.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+kind=${1:-address}
+[ $# -ge 1 ] && shift
+case $kind in
+  address | thread | all) ;;
+  *) echo "usage: $0 [address|thread|all] [ctest arguments...]" >&2; exit 2 ;;
+esac
+if [ "$kind" = all ]; then
+  bash "$0" address "$@"
+  exec bash "$0" thread "$@"
+fi
+
+bash scripts/install-deps.sh
+JOBS=${JOBS:-$(nproc)}
+root=${BUILD_ROOT:-build}
+start=$(date +%s)
+stamp() { echo "sanitize.sh ($kind): $1 ($(( $(date +%s) - start )) s)"; }
+
+# Timing-bound tests (see docs/arm.md for the same list under emulation).
+real_speed='RealtimeReplay\.(One|Four)TimesRealTimeMatchesOffline|RunLiveCli\.RealtimeReplayReportsDropsAndLatencyInStatsJson'
+if [ "$kind" = address ]; then
+  dir=${root}-asan
+  flags="-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer -g -O1"
+  # ThreadSanitizer's own test executables cannot link with AddressSanitizer.
+  extra=(-DLDSM_TSAN_TESTS=OFF)
+  labels=()
+  export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1}
+  export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+else
+  dir=${root}-tsan
+  flags="-fsanitize=thread -g -O1"
+  extra=(-DLDSM_TSAN_TESTS=OFF)
+  # Where threads meet: the system (threaded mode, the mapping and loop-closing threads), the
+  # live pipeline, the concurrency primitives and the pipeline stages.
+  labels=(-L '^(system|live|pipeline|concurrency|capture|replay|loop)$')
+  export TSAN_OPTIONS=${TSAN_OPTIONS:-halt_on_error=1:exitcode=66:second_deadlock_stack=1}
+fi
+exclude=${SANITIZE_EXCLUDE-^($real_speed)$}
+
+cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DCMAKE_CXX_FLAGS="$flags" -DCMAKE_EXE_LINKER_FLAGS="${flags%% -g*}" \
+  -DCMAKE_SHARED_LINKER_FLAGS="${flags%% -g*}" \
+  -DLDSM_BUILD_TESTS=ON -DLDSM_BUILD_BENCH=OFF -DLDSM_BUILD_APPS=ON -DLDSM_SIMD=auto \
+  -DLDSM_NATIVE=OFF -DLDSM_WERROR=OFF "${extra[@]}" >/dev/null
+cmake --build "$dir" -j "$JOBS"
+stamp "built $dir"
+args=(--test-dir "$dir" --output-on-failure --no-tests=error -j "$JOBS" --timeout 1800)
+[ -n "$exclude" ] && { args+=(-E "$exclude"); echo "sanitize.sh: NOT RUN (timing-bound): $exclude"; }
+ctest "${args[@]}" "${labels[@]}" "$@"
+stamp "passed with no report"
