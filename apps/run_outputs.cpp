@@ -137,6 +137,7 @@ void writeRunOutputs(const std::string& dir, const System& system, const RunSumm
   j.key("candidates_checked").value(s.reuse.candidates_checked);
   j.key("rejected_geometry").value(s.reuse.rejected_geometry);
   j.key("rejected_features").value(s.reuse.rejected_features);
+  j.key("rejected_photometric").value(s.reuse.rejected_photometric);
   j.key("culled_keyframes").value(s.reuse.culled_keyframes);
   j.key("map_points_seen").value(s.reuse.map_points_seen);
   j.key("relocalizations").value(s.reuse.relocalizations);

@@ -107,9 +107,11 @@ TEST(MapReuse, ForwardCorridorReactivatesNothing) {
   EXPECT_GE(s.map.data_keyframes, s.map.keyframes - 8);
 }
 
-// Measured (deterministic, this machine): lap 1 ATE 0.0236 m, lap 2 0.0232 m (one alignment),
-// 324 keyframes kept after lap 1 and 329 after lap 2 of 701 made. `ldsm run` on the rendered
-// scene: 0.020 m with reuse, 0.068 m with --no-reuse.
+// Measured (deterministic, this machine): lap 1 ATE 0.0236 m, lap 2 0.0241 m (one alignment),
+// 324 keyframes kept after lap 1 and 329 after lap 2 of 702 made; the trial optimisation turns
+// down 8 map keyframes from the end of lap 1 (14-43 % fit: the drift of lap 1 is still in them)
+// near the end of lap 2 (0.0232 m without the trial). `ldsm run` on the rendered scene: 0.020 m
+// with reuse, 0.068 m with --no-reuse.
 TEST(MapReuse, SecondLapOfALoopIsTrackedAgainstTheMapAndHardlyGrowsIt) {
   SceneRun r;
   const double lap = drivers::sim::makeSimScene("loop2").path.period();
@@ -119,11 +121,12 @@ TEST(MapReuse, SecondLapOfALoopIsTrackedAgainstTheMapAndHardlyGrowsIt) {
   const double lap1 = r.rmseBetween(0.0, lap), lap2 = r.rmseBetween(lap, 1e9);
   std::printf(
       "loop2: ATE %.4f m (lap 1 %.4f, lap 2 %.4f); keyframes kept %lld after lap 1, %lld after "
-      "lap 2 (%lld made); %lld reactivations, %lld culled\n",
+      "lap 2 (%lld made); %lld reactivations, %lld culled, %lld turned down by the trial\n",
       r.ate.rmse, lap1, lap2, static_cast<long long>(lap1_stats.map.data_keyframes),
       static_cast<long long>(s.map.data_keyframes), static_cast<long long>(s.map.keyframes),
       static_cast<long long>(s.reuse.reactivations),
-      static_cast<long long>(s.reuse.culled_keyframes));
+      static_cast<long long>(s.reuse.culled_keyframes),
+      static_cast<long long>(s.reuse.rejected_photometric));
   ASSERT_GT(lap1_stats.frames, 0);
   EXPECT_EQ(s.initializations, 1);
   EXPECT_GE(s.tracked_frames, s.frames - 10) << "all but the initialisation";

@@ -328,6 +328,11 @@ struct ReuseConfig {
   /// A reactivated keyframe stays while at least this share of its points' residuals in the
   /// newest keyframe are inliers.
   double min_inlier_fraction = 0.5;
+  /// Candidates that passed both checks are tried in a window optimisation that is undone: one
+  /// whose points then fit the newest keyframe less than min_inlier_fraction is not brought
+  /// back, and rests for trial_rest_keyframes keyframes.
+  bool trial_check = true;
+  int trial_rest_keyframes = 5;
   double coverage_radius_px = 3.0;  ///< no new point this close to a map point seen (0: off)
   /// A keyframe leaving the window keeps only its pose when a map keyframe of an earlier visit
   /// stands within redundancy_distance times its median depth, looks within
@@ -383,6 +388,10 @@ struct ReuseConfig {
             "largest distance of a consistent match from the projected corner (pixels)");
     v.field("min_inlier_fraction", min_inlier_fraction, Range<double>{0.0, 1.0},
             "inlier share of a reactivated keyframe's residuals in the newest keyframe to stay");
+    v.field("trial_check", trial_check,
+            "try new map keyframes in an undone window optimisation before bringing them back");
+    v.field("trial_rest_keyframes", trial_rest_keyframes, Range<int>{0, 1000},
+            "keyframes a candidate turned down by the trial is not searched again");
     v.field("coverage_radius_px", coverage_radius_px, Range<double>{0.0, 50.0},
             "no new point this close to a map point seen in the keyframe (0: off)");
     v.field("cull_redundant", cull_redundant,

@@ -41,11 +41,12 @@ struct ReuseStats {
   std::int64_t reactivations = 0;  ///< map keyframes brought back into the window
   std::int64_t deactivations = 0;  ///< taken back out (no longer fitting)
   std::int64_t candidates_checked = 0;
-  std::int64_t rejected_geometry = 0;  ///< failed the viewing-angle or projection check
-  std::int64_t rejected_features = 0;  ///< failed the ORB check
-  std::int64_t culled_keyframes = 0;   ///< kept as poses only (redundant with the map)
-  std::int64_t map_points_seen = 0;    ///< inlier map points in new keyframes, summed
-  std::int64_t relocalizations = 0;    ///< tracking resumed in the existing map after a loss
+  std::int64_t rejected_geometry = 0;     ///< failed the viewing-angle or projection check
+  std::int64_t rejected_features = 0;     ///< failed the ORB check
+  std::int64_t rejected_photometric = 0;  ///< passed both; misfit after a trial optimisation
+  std::int64_t culled_keyframes = 0;      ///< kept as poses only (redundant with the map)
+  std::int64_t map_points_seen = 0;       ///< inlier map points in new keyframes, summed
+  std::int64_t relocalizations = 0;       ///< tracking resumed in the existing map after a loss
   std::int64_t relocalization_attempts = 0;
   std::int64_t new_maps = 0;  ///< maps started because relocalisation timed out
 };

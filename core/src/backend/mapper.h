@@ -125,6 +125,16 @@ class Mapper {
     int residuals = 0;
   };
   const std::vector<ReactivatedFit>& reactivatedFit() const { return reactivated_fit_; }
+  /// What a window optimisation with the reactivated keyframes would do, tried and undone: the
+  /// RMSE of the residuals hosted by the window's own keyframes before and after it, and each
+  /// reactivated keyframe's fit in the newest keyframe after it. The window's state (poses,
+  /// brightness, depths, residual states) is exactly as before the call.
+  struct ReactivationTrial {
+    double own_rmse_before = 0.0;
+    double own_rmse_after = 0.0;
+    std::vector<ReactivatedFit> fits;
+  };
+  ReactivationTrial tryReactivated();
   /// The newest keyframe's corners plus as many more as loop closure describes (the same
   /// detector and thresholds), for matching it against map keyframes.
   std::vector<Eigen::Vector2f> newestDescribableCorners();

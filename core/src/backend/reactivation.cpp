@@ -1,6 +1,7 @@
 // Map reuse inside the window (docs/map-reuse.md): map keyframes brought back as fixed hosts of
 // their points, how well they fit the newest keyframe, and taking them out again.
 #include <algorithm>
+#include <cmath>
 
 #include "backend/mapper.h"
 
@@ -66,6 +67,79 @@ std::vector<Mapper::ReactivatedFit> Mapper::measureReactivatedFit() const {
     out.push_back(f);
   }
   return out;
+}
+
+namespace {
+
+/// Everything a window optimisation changes, to be put back.
+struct WindowState {
+  struct Frame {
+    WindowKeyframe* kf;
+    SE3d T_c_w;  // (the optimiser's step backups are its own, set before every step)
+    AffineLight aff;
+  };
+  struct Point {
+    ActivePoint* p;
+    float idepth, idepth_backup, hessian_idepth, gradient_idepth;
+    int inlier_residuals;
+    bool verified;
+    std::vector<PointResidual> residuals;
+  };
+  std::vector<Frame> frames;
+  std::vector<Point> points;
+
+  void add(WindowKeyframe& kf) {
+    frames.push_back({&kf, kf.T_c_w, kf.aff});
+    for (const auto& p : kf.points)
+      points.push_back({p.get(), p->idepth, p->idepth_backup, p->hessian_idepth, p->gradient_idepth,
+                        p->inlier_residuals, p->verified, p->residuals});
+  }
+  void restore() const {
+    for (const Frame& f : frames) {
+      f.kf->T_c_w = f.T_c_w;
+      f.kf->aff = f.aff;
+    }
+    for (const Point& q : points) {
+      q.p->idepth = q.idepth;
+      q.p->idepth_backup = q.idepth_backup;
+      q.p->hessian_idepth = q.hessian_idepth;
+      q.p->gradient_idepth = q.gradient_idepth;
+      q.p->inlier_residuals = q.inlier_residuals;
+      q.p->verified = q.verified;
+      q.p->residuals = q.residuals;
+    }
+  }
+};
+
+/// RMS pattern residual (grey levels) of the inlier residuals hosted by `hosts`, as last evaluated.
+double inlierRmse(const std::vector<std::unique_ptr<WindowKeyframe>>& hosts) {
+  double energy = 0.0;
+  long count = 0;
+  for (const auto& kf : hosts)
+    for (const auto& p : kf->points)
+      for (const PointResidual& r : p->residuals)
+        if (r.state == ResidualState::Inlier) {
+          energy += r.energy;
+          ++count;
+        }
+  return count > 0 ? std::sqrt(energy / (static_cast<double>(count) * kPatternSize)) : 0.0;
+}
+
+}  // namespace
+
+Mapper::ReactivationTrial Mapper::tryReactivated() {
+  ReactivationTrial t;
+  if (window_.size() < 2 || reactivated_.empty()) return t;
+  WindowState state;
+  for (auto& kf : window_) state.add(*kf);
+  for (auto& kf : reactivated_) state.add(*kf);
+  optimizer_.evaluate(windowView(), prior_);
+  t.own_rmse_before = inlierRmse(window_);
+  optimizer_.optimize(windowView(), prior_);
+  t.own_rmse_after = inlierRmse(window_);
+  t.fits = measureReactivatedFit();
+  state.restore();
+  return t;
 }
 
 }  // namespace ldsm

@@ -281,7 +281,12 @@ void MappingStage::reuseMap(int newest_frame_index, double newest_timestamp) {
   mapper_.trackingPoints(depth_points_);
   if (!depth_points_.empty()) view.median_depth = medianDepth(depth_points_, idepths_);
   for (const KeyframeRecord& r : mapper_.windowPoses()) view.window_ids.push_back(r.id);
-  const std::vector<int> exclude = mapper_.reactivatedIds();
+  std::vector<int> exclude = mapper_.reactivatedIds();
+  trial_rejected_.erase(
+      std::remove_if(trial_rejected_.begin(), trial_rejected_.end(),
+                     [&](const std::pair<int, int>& r) { return r.second < newest.id(); }),
+      trial_rejected_.end());
+  for (const auto& r : trial_rejected_) exclude.push_back(r.first);
   ReuseEvent event;
   event.keyframe_id = newest.id();
   event.frame_index = newest_frame_index;
@@ -316,7 +321,6 @@ void MappingStage::reuseMap(int newest_frame_index, double newest_timestamp) {
       ++room;
     }
     mapper_.reactivate(*data, pose.T_w_c, pose.scale);
-    store_.connect(newest.id(), c.id);
     ++reuse_stats_.reactivations;
     ++added;
     event.reactivated.push_back(c.id);
@@ -324,6 +328,34 @@ void MappingStage::reuseMap(int newest_frame_index, double newest_timestamp) {
         "reuse: keyframe {} brought back for keyframe {} ({} points in view, {} %, {} "
         "ORB matches)",
         c.id, newest.id(), c.in_view, static_cast<int>(100 * c.overlap), c.matches);
+  }
+  if (event.reactivated.empty()) return;
+  if (!config_.reuse.trial_check) {
+    for (const int id : event.reactivated) store_.connect(newest.id(), id);
+    events_.reactivated(event);
+    return;
+  }
+  // The direct check: a window optimisation with the new map keyframes, tried and undone. One
+  // whose points do not fit the newest keyframe afterwards (the rule by which a reactivated
+  // keyframe stays) never enters a real optimisation: a wrong one would pull the window towards
+  // the wrong place before it could be taken out. Before any optimisation the share that fits says
+  // little: the window has drifted from the map, and only the optimisation aligns it.
+  const Mapper::ReactivationTrial trial = mapper_.tryReactivated();
+  for (const Mapper::ReactivatedFit& f : trial.fits) {
+    const auto it = std::find(event.reactivated.begin(), event.reactivated.end(), f.id);
+    if (it == event.reactivated.end()) continue;  // reactivated earlier
+    if (f.residuals > 0 &&
+        f.inliers >= config_.reuse.min_inlier_fraction * static_cast<double>(f.residuals)) {
+      store_.connect(newest.id(), f.id);
+      continue;
+    }
+    spdlog::debug("reuse: keyframe {} for {} rejected by the trial: {} of {} residuals fit", f.id,
+                  newest.id(), f.inliers, f.residuals);
+    mapper_.deactivate(f.id);
+    event.reactivated.erase(it);
+    --reuse_stats_.reactivations;
+    ++reuse_stats_.rejected_photometric;
+    trial_rejected_.push_back({f.id, newest.id() + config_.reuse.trial_rest_keyframes});
   }
   if (!event.reactivated.empty()) events_.reactivated(event);
 }

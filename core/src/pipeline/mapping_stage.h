@@ -149,6 +149,8 @@ class MappingStage {
   /// Per reactivated keyframe: the most inliers it has had in a newest keyframe (how well it
   /// fitted the view it was brought back for).
   std::vector<std::pair<int, int>> reactivated_peak_;  // (id, inliers)
+  // Map keyframes the trial optimisation turned down: (id, keyframe id until which they rest).
+  std::vector<std::pair<int, int>> trial_rejected_;
   int last_left_id_ = -1;
   double median_depth_ = 1.0;
   std::atomic<bool> keyframe_in_flight_{false};
