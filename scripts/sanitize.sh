@@ -6,7 +6,7 @@
 #   bash scripts/sanitize.sh all        # both, one after the other
 #
 # Each kind builds in its own folder (build-asan, build-tsan; BUILD_ROOT changes the prefix) with
-# debug information and the optimiser on (-O1), so that reports name files and lines. Any report
+# line tables and the optimiser on (-O1 -g1), so that reports name files and lines. Any report
 # fails the run: UBSan and ASan halt on the first error, LeakSanitizer reports at exit, TSan exits
 # with status 66. Tests that need the machine's real speed (real-time replay) are left out, as
 # under qemu: a sanitized build is 2-15x slower, so most of their frames are dropped by design.
@@ -36,7 +36,7 @@ stamp() { echo "sanitize.sh ($kind): $1 ($(( $(date +%s) - start )) s)"; }
 real_speed='RealtimeReplay\.(One|Four)TimesRealTimeMatchesOffline|RunLiveCli\.RealtimeReplayReportsDropsAndLatencyInStatsJson'
 if [ "$kind" = address ]; then
   dir=${root}-asan
-  flags="-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer -g -O1"
+  flags="-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer -O1 -g1"
   # ThreadSanitizer's own test executables cannot link with AddressSanitizer.
   extra=(-DLDSM_TSAN_TESTS=OFF)
   labels=()
@@ -44,7 +44,7 @@ if [ "$kind" = address ]; then
   export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 else
   dir=${root}-tsan
-  flags="-fsanitize=thread -g -O1"
+  flags="-fsanitize=thread -O1 -g1"
   extra=(-DLDSM_TSAN_TESTS=OFF)
   # Where threads meet: the system (threaded mode, the mapping and loop-closing threads), the
   # live pipeline, the concurrency primitives and the pipeline stages.
@@ -53,9 +53,9 @@ else
 fi
 exclude=${SANITIZE_EXCLUDE-^($real_speed)$}
 
-cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DCMAKE_CXX_FLAGS="$flags" -DCMAKE_EXE_LINKER_FLAGS="${flags%% -g*}" \
-  -DCMAKE_SHARED_LINKER_FLAGS="${flags%% -g*}" \
+cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=None \
+  -DCMAKE_CXX_FLAGS="$flags" -DCMAKE_EXE_LINKER_FLAGS="${flags%% -O1*}" \
+  -DCMAKE_SHARED_LINKER_FLAGS="${flags%% -O1*}" \
   -DLDSM_BUILD_TESTS=ON -DLDSM_BUILD_BENCH=OFF -DLDSM_BUILD_APPS=ON -DLDSM_SIMD=auto \
   -DLDSM_NATIVE=OFF -DLDSM_WERROR=OFF "${extra[@]}" >/dev/null
 cmake --build "$dir" -j "$JOBS"
