@@ -2,8 +2,11 @@
 # ldsm target links privately.
 add_library(ldsm_build_flags INTERFACE)
 target_compile_options(ldsm_build_flags INTERFACE
-  $<$<CXX_COMPILER_ID:GNU,Clang>:-Wall -Wextra -Wpedantic -Wshadow=local -Wnon-virtual-dtor
-                                 -Wcast-align -Woverloaded-virtual -Wnull-dereference>)
+  $<$<CXX_COMPILER_ID:GNU,Clang>:-Wall -Wextra -Wpedantic>
+  $<$<CXX_COMPILER_ID:GNU>:-Wshadow=local>
+  $<$<CXX_COMPILER_ID:Clang>:-Wshadow-uncaptured-local>
+  $<$<CXX_COMPILER_ID:GNU,Clang>:-Wnon-virtual-dtor -Wcast-align -Woverloaded-virtual
+                                 -Wnull-dereference>)
 if(LDSM_WERROR)
   target_compile_options(ldsm_build_flags INTERFACE $<$<CXX_COMPILER_ID:GNU,Clang>:-Werror>)
 endif()
