@@ -50,15 +50,11 @@ too_slow_under_emulation+='|MapReuse\.(SecondLapOfALoopIsTrackedAgainstTheMapAnd
 # And any test that took longer than LDSM_CROSS_MAX_NATIVE_SECONDS (default 20) in the native
 # suite's last run (its CTestCostData.txt, when the native build folder has one: CI runs the native
 # suite first), so that a new long test cannot push this job past ctest's limit unnoticed.
-native_costs=${LDSM_NATIVE_BUILD_DIR:-build}/Testing/Temporary/CTestCostData.txt
 max_native=${LDSM_CROSS_MAX_NATIVE_SECONDS:-20}
-if [ -f "$native_costs" ]; then
-  slow_native=$(awk -v m="$max_native" '/^---/ {exit} NF >= 3 && $3 + 0 > m {print $1}' \
-    "$native_costs" | sed 's/[][\\.^$*+?(){}|]/\\&/g' | paste -sd'|' -)
-  if [ -n "$slow_native" ]; then
-    echo "cross-test.sh: over ${max_native} s natively ($native_costs), not run: $slow_native"
-    too_slow_under_emulation+="|$slow_native"
-  fi
+slow_native=$(bash scripts/slow-tests.sh "$max_native" "${LDSM_NATIVE_BUILD_DIR:-build}")
+if [ -n "$slow_native" ]; then
+  echo "cross-test.sh: over ${max_native} s in the native suite's last run, not run: $slow_native"
+  too_slow_under_emulation+="|$slow_native"
 fi
 exclude=${LDSM_CROSS_EXCLUDE-^($known_arm_failures|$too_slow_under_emulation)$}
 

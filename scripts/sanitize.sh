@@ -9,7 +9,8 @@
 # line tables and the optimiser on (-O1 -g1), so that reports name files and lines. Any report
 # fails the run: UBSan and ASan halt on the first error, LeakSanitizer reports at exit, TSan exits
 # with status 66. Tests that need the machine's real speed (real-time replay) are left out, as
-# under qemu: a sanitized build is 2-15x slower, so most of their frames are dropped by design.
+# under qemu: a sanitized build is 20-50x slower, so most of their frames are dropped by design;
+# so are the long whole-SLAM runs (scripts/slow-tests.sh).
 # Environment: JOBS (default nproc), SANITIZE_EXCLUDE (a ctest -E regex replacing the default),
 # extra arguments go to ctest.
 set -euo pipefail
@@ -33,7 +34,18 @@ start=$(date +%s)
 stamp() { echo "sanitize.sh ($kind): $1 ($(( $(date +%s) - start )) s)"; }
 
 # Timing-bound tests (see docs/arm.md for the same list under emulation).
-real_speed='RealtimeReplay\.(One|Four)TimesRealTimeMatchesOffline|RunLiveCli\.RealtimeReplayReportsDropsAndLatencyInStatsJson'
+real_speed='RealtimeReplay\.(One|Four)TimesRealTimeMatchesOffline|RunLiveCli\.RealtimeReplayReportsDropsAndLatencyInStatsJson|RunFaults\.(SigtermStopsLikeCtrlCAndKeepsTheResults|AKilledRunLeavesTheTrajectoryOfItsLastFlushWhole)'
+# Whole-SLAM runs are 20-50x slower sanitized: the ones over LDSM_SANITIZE_MAX_NATIVE_SECONDS
+# (default 5) in the native suite's last run (build/, when it has run) are left to the native
+# suite; the shorter end-to-end runs (sim scenes, the real-data smoke tests) stay.
+max_native=${LDSM_SANITIZE_MAX_NATIVE_SECONDS:-5}
+slow=$(bash scripts/slow-tests.sh "$max_native" "${LDSM_NATIVE_BUILD_DIR:-build}")
+if [ -z "$slow" ]; then
+  # No native run to read: the runs over 5 s on the development machine.
+  slow='LoopClosure\..*|SimOdometry\.(ForwardCorridorIsAccurate|LoopSceneFirstCornerTracks|RadialRefinementRepairsAWrongDistortion)|MapReuse\..*'
+fi
+echo "sanitize.sh: long whole-SLAM runs, not run: $slow"
+real_speed+="|$slow"
 if [ "$kind" = address ]; then
   dir=${root}-asan
   flags="-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer -O1 -g1"
