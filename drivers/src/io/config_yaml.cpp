@@ -74,7 +74,13 @@ class YamlReader {
   void checkUnknown() const {
     const YAML::Node& node = nodes_.back();
     for (auto it = node.begin(); it != node.end(); ++it) {
-      const std::string key = it->first.as<std::string>();
+      // A key that is itself a list or a map ("[a, b]: 1", "? {x: 1}") names no setting.
+      if (!it->first.IsScalar())
+        throw ConfigError(where(name_, it->first) + ": a key " +
+                          (prefix_.empty() ? std::string("at the top level")
+                                           : "in '" + prefix_.substr(0, prefix_.size() - 1) + "'") +
+                          " is a list or a map, not a setting's name");
+      const std::string key = it->first.Scalar();
       if (!visited_.back().count(key)) {
         std::string known;
         for (const auto& k : visited_.back()) known += (known.empty() ? "" : ", ") + k;

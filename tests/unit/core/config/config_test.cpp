@@ -110,6 +110,13 @@ TEST(ConfigYaml, ErrorsNameFileLineKeyAndRange) {
   e = errorOf("points: [1, 2\n");
   EXPECT_NE(e.find("not valid YAML"), std::string::npos) << e;
 
+  // Found by fuzzing (tests/fuzz/corpus/config_yaml/crash-*): a key that is a list or a map threw
+  // yaml-cpp's own exception out of the parser.
+  e = errorOf("loop:\n  ? [a, b]\n  : 1\n");
+  EXPECT_NE(e.find("cfg.yaml:2: a key in 'loop' is a list or a map"), std::string::npos) << e;
+  e = errorOf("? {x: 1}\n: 2\n");
+  EXPECT_NE(e.find("a key at the top level is a list or a map"), std::string::npos) << e;
+
   e = errorOf("window:\n  min_keyframes: 9\n  max_keyframes: 8\n");
   EXPECT_NE(e.find("must not exceed"), std::string::npos) << e;
 }
