@@ -49,9 +49,11 @@ bool toGrey(LdsmVideo& v) {
 LdsmVideo* openVideo(const char* path, char* error, std::size_t error_size) {
   try {
     auto video = std::make_unique<LdsmVideo>();
-    // FFmpeg first: it fails quietly on a bad file, where probing every backend logs noise.
-    if (video->capture.open(path, cv::CAP_FFMPEG) || video->capture.open(path, cv::CAP_ANY))
-      return video.release();
+    // The backends that read files, FFmpeg first (it fails quietly on a bad file). Not CAP_ANY:
+    // for a file nothing else opens, that also probes the camera backends, and gphoto2's probe
+    // scans the USB bus for cameras (and leaks what it found, by LeakSanitizer).
+    for (const int api : {cv::CAP_FFMPEG, cv::CAP_GSTREAMER, cv::CAP_OPENCV_MJPEG})
+      if (video->capture.open(path, api)) return video.release();
     setError(error, error_size, "unsupported or corrupt file");
   } catch (const std::exception& e) {
     setError(error, error_size, e.what());
