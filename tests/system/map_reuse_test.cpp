@@ -107,11 +107,10 @@ TEST(MapReuse, ForwardCorridorReactivatesNothing) {
   EXPECT_GE(s.map.data_keyframes, s.map.keyframes - 8);
 }
 
-// Measured (deterministic, this machine): lap 1 ATE 0.0236 m, lap 2 0.0241 m (one alignment),
-// 324 keyframes kept after lap 1 and 329 after lap 2 of 702 made; the trial optimisation turns
-// down 8 map keyframes from the end of lap 1 (14-43 % fit: the drift of lap 1 is still in them)
-// near the end of lap 2 (0.0232 m without the trial). `ldsm run` on the rendered scene: 0.020 m
-// with reuse, 0.068 m with --no-reuse.
+// Measured (deterministic, this machine): lap 1 ATE 0.0236 m, lap 2 0.0232 m (one alignment),
+// 324 keyframes kept after lap 1 and 329 after lap 2 of 701 made (with reuse.trial_check on:
+// lap 2 0.0241 m, 8 map keyframes from the end of lap 1 turned down). `ldsm run` on the rendered
+// scene: 0.020 m with reuse, 0.068 m with --no-reuse.
 TEST(MapReuse, SecondLapOfALoopIsTrackedAgainstTheMapAndHardlyGrowsIt) {
   SceneRun r;
   const double lap = drivers::sim::makeSimScene("loop2").path.period();

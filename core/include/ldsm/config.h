@@ -330,8 +330,10 @@ struct ReuseConfig {
   double min_inlier_fraction = 0.5;
   /// Candidates that passed both checks are tried in a window optimisation that is undone: one
   /// whose points then fit the newest keyframe less than min_inlier_fraction is not brought
-  /// back, and rests for trial_rest_keyframes keyframes.
-  bool trial_check = true;
+  /// back, and rests for trial_rest_keyframes keyframes. Off by default: it fixes the desk soak
+  /// in deterministic mode, but its extra optimisation on the mapping thread costs the threaded
+  /// real-time mode dropped frames (docs/map-reuse.md).
+  bool trial_check = false;
   int trial_rest_keyframes = 5;
   double coverage_radius_px = 3.0;  ///< no new point this close to a map point seen (0: off)
   /// A keyframe leaving the window keeps only its pose when a map keyframe of an earlier visit
