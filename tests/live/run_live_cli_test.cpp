@@ -24,13 +24,6 @@
 namespace ldsm {
 namespace {
 
-std::string readFile(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 /// The number after the first `"key": ` in a JSON text (NaN when absent).
 double jsonNumber(const std::string& json, const std::string& key) {
   const auto pos = json.find("\"" + key + "\":");
@@ -73,7 +66,7 @@ TEST_F(RunLiveCli, RealtimeReplayReportsDropsAndLatencyInStatsJson) {
   EXPECT_NE(out.find("real-time replay at 2x"), std::string::npos) << out;
   EXPECT_NE(out.find("pipeline: 60 submitted"), std::string::npos) << out;
   EXPECT_NE(out.find("dropped"), std::string::npos) << out;  // in the progress line too
-  const std::string json = readFile(dir_ + "/rt/stats.json");
+  const std::string json = test::readFile(dir_ + "/rt/stats.json");
   EXPECT_NE(json.find("\"mode\": \"live\""), std::string::npos) << json;
   EXPECT_EQ(jsonNumber(json, "submitted_frames"), 60.0) << json;
   EXPECT_EQ(jsonNumber(json, "received_frames") + jsonNumber(json, "dropped_frames"), 60.0) << json;
@@ -92,7 +85,7 @@ TEST_F(RunLiveCli, OfflineRunsReportTheirModeAndNothingDropped) {
                                    "/light.yaml --out " + dir_ + "/off",
                                &rc);
   ASSERT_EQ(rc, 0) << out;
-  const std::string json = readFile(dir_ + "/off/stats.json");
+  const std::string json = test::readFile(dir_ + "/off/stats.json");
   EXPECT_NE(json.find("\"mode\": \"offline\""), std::string::npos) << json;
   EXPECT_EQ(jsonNumber(json, "submitted_frames"), 20.0) << json;
   EXPECT_EQ(jsonNumber(json, "dropped_frames"), 0.0) << json;

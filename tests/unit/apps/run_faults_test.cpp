@@ -21,13 +21,6 @@
 namespace ldsm {
 namespace {
 
-std::string readFile(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 /// Poses in a TUM trajectory file; -1 when a line is not a whole pose (8 numbers).
 int wholePoses(const std::string& path) {
   std::ifstream in(path);
@@ -83,7 +76,7 @@ class RunFaults : public ::testing::Test {
                                signals + "\nwait $pid; echo \"status=$?\"";
     std::string output;
     test::runCommand("sh -c '" + script + "'", &output);
-    *out = output + readFile(log);
+    *out = output + test::readFile(log);
     const auto at = output.find("status=");
     return at == std::string::npos ? -1 : std::stoi(output.substr(at + 7));
   }
@@ -99,7 +92,7 @@ TEST_F(RunFaults, AFullDiskKeepsTheEarlierOutputsWholeAndNamesEveryFile) {
   const std::vector<std::string> files = {"trajectory.txt", "keyframes.txt", "points.ply",
                                           "stats.json"};
   std::vector<std::string> before;
-  for (const std::string& f : files) before.push_back(readFile(out + "/" + f));
+  for (const std::string& f : files) before.push_back(test::readFile(out + "/" + f));
   ASSERT_GT(wholePoses(out + "/trajectory.txt"), 30);
 
   // The same run again into the same folder, where no file may grow past 1 KiB (RLIMIT_FSIZE;
@@ -117,7 +110,7 @@ TEST_F(RunFaults, AFullDiskKeepsTheEarlierOutputsWholeAndNamesEveryFile) {
   EXPECT_NE(log.find("finished: 60 frames"), std::string::npos) << log;
   // ... and the files of the first run are untouched, with no temporary file left behind.
   for (std::size_t i = 0; i < files.size(); ++i)
-    EXPECT_EQ(readFile(out + "/" + files[i]), before[i]) << files[i];
+    EXPECT_EQ(test::readFile(out + "/" + files[i]), before[i]) << files[i];
   EXPECT_TRUE(leftovers(out).empty());
 }
 
@@ -131,7 +124,7 @@ TEST_F(RunFaults, SigtermStopsLikeCtrlCAndKeepsTheResults) {
                             "kill -TERM $pid", out + ".log", &log);
   EXPECT_EQ(rc, 1) << log;  // a recorded sequence that did not reach its end
   EXPECT_NE(log.find("stopping after this frame"), std::string::npos) << log;
-  const std::string stats = readFile(out + "/stats.json");
+  const std::string stats = test::readFile(out + "/stats.json");
   EXPECT_NE(stats.find("\"status\": \"stopped: interrupted\""), std::string::npos) << stats;
   EXPECT_GE(wholePoses(out + "/trajectory.txt"), 1) << log;
   EXPECT_TRUE(leftovers(out).empty());
@@ -145,7 +138,7 @@ TEST_F(RunFaults, AKilledRunLeavesTheTrajectoryOfItsLastFlushWhole) {
                             "grep -q ^[0-9] " + out + "/trajectory.txt 2>/dev/null",
                             "kill -KILL $pid", out + ".log", &log);
   EXPECT_EQ(rc, 128 + SIGKILL) << log;
-  EXPECT_GE(wholePoses(out + "/trajectory.txt"), 1) << readFile(out + "/trajectory.txt");
+  EXPECT_GE(wholePoses(out + "/trajectory.txt"), 1) << test::readFile(out + "/trajectory.txt");
   EXPECT_GE(wholePoses(out + "/keyframes.txt"), 0);
   EXPECT_FALSE(std::filesystem::exists(out + "/stats.json")) << "written only at the end";
 }
