@@ -20,6 +20,10 @@ struct LevelEvaluation {
   int in_image = 0;
   int inliers = 0;
   int inlier_pixels = 0;
+  // Zero-normalised cross-correlation of host and target pattern, summed over the points in the
+  // image (inliers and outliers) that have contrast in both.
+  double correlation_sum = 0.0;
+  int correlated = 0;
   Matrix8 H = Matrix8::Zero();
   Vector8 g = Vector8::Zero();
 };
@@ -38,6 +42,28 @@ class Aligner {
   }
 
   std::size_t usable() const { return rays_.size(); }
+
+  static void accumulateCorrelation(const float* host, const GradientPixel* target,
+                                    LevelEvaluation& ev) {
+    double mh = 0.0, mt = 0.0;
+    for (int i = 0; i < kPatternSize; ++i) {
+      mh += host[i];
+      mt += target[i].intensity;
+    }
+    mh /= kPatternSize;
+    mt /= kPatternSize;
+    double hh = 0.0, tt = 0.0, ht = 0.0;
+    for (int i = 0; i < kPatternSize; ++i) {
+      const double dh = host[i] - mh, dt = target[i].intensity - mt;
+      hh += dh * dh;
+      tt += dt * dt;
+      ht += dh * dt;
+    }
+    // Flat patterns (under a grey level of spread) say nothing either way.
+    if (hh < kPatternSize || tt < kPatternSize) return;
+    ev.correlation_sum += ht / std::sqrt(hh * tt);
+    ++ev.correlated;
+  }
 
   /// Energy (and, when `linearise`, the normal equations) at level `level`.
   LevelEvaluation evaluate(int level, const SE3d& T, double a, double b, bool linearise) const {
@@ -66,6 +92,7 @@ class Aligner {
         const float ar = std::fabs(res[i]);
         e += ar <= h ? ar * ar : h * (2.f * ar - h);
       }
+      accumulateCorrelation(r.patch->colors, gp, ev);
       if (!(e < outlier_energy)) {
         ev.energy += outlier_energy;
         continue;
@@ -196,6 +223,7 @@ DirectAlignmentResult alignPoints(const std::vector<PatchPoint>& points,
   out.in_image = last.in_image;
   out.inliers = last.inliers;
   out.rmse = last.inlier_pixels > 0 ? std::sqrt(last.inlier_sq / last.inlier_pixels) : 0.0;
+  out.pattern_correlation = last.correlated > 0 ? last.correlation_sum / last.correlated : 0.0;
   if (last.in_image < settings.min_points) {
     out.failure = "only " + std::to_string(last.in_image) + " points in the image";
     return out;

@@ -47,6 +47,10 @@ struct DirectAlignmentResult {
   /// level-0 inlier residuals, whitened by their a-posteriori variance and divided by the
   /// pattern size (the 8 pixels of a pattern share one depth and most of their errors).
   Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();
+  /// Mean zero-normalised cross-correlation of each level-0 point's pattern with the target's at
+  /// its final projection, over the points in the image: near 1 for the right scene, near 0 for
+  /// unrelated intensities, whatever contrast and offset the fit chose (and independent of them).
+  double pattern_correlation = 0.0;
   int in_image = 0;   ///< level-0 points projecting into the target
   int inliers = 0;    ///< of those, below the outlier threshold
   double rmse = 0.0;  ///< level-0 RMS residual of the inliers (grey levels)

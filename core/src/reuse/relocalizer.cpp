@@ -14,6 +14,10 @@ namespace {
 constexpr int kMaxCorners = 500;
 constexpr float kCornerMinScore = 9.f;  // as loop closure describes keyframes
 constexpr int kTriedCandidates = 5;     // best by ORB matches, through PnP and direct alignment
+// Least mean correlation of the map keyframe's patterns with the frame's where the direct fit puts
+// them: the right place correlates well (with its occlusions and blur), unrelated intensities not
+// at all, even when the fit flattens the contrast to make its residuals small.
+constexpr double kMinPatternCorrelation = 0.3;
 
 }  // namespace
 
@@ -78,10 +82,19 @@ RelocalizationResult Relocalizer::relocalize(const ImagePyramid& frame, double e
   RelocalizationResult best;
   double best_angle = 0.0;
   for (int k = 0; k < kTriedCandidates && k < static_cast<int>(scored.size()); ++k) {
-    if (scored[k].matches < pnp_.min_inliers) break;
+    if (scored[k].matches < pnp_.min_inliers) {
+      if (k == 0)
+        out.failure = "best map keyframe " + std::to_string(scored[k].id) + " has " +
+                      std::to_string(scored[k].matches) + " ORB matches with a depth, fewer than " +
+                      std::to_string(pnp_.min_inliers);
+      break;
+    }
     const std::shared_ptr<const MarginalizedKeyframe> kf = map.keyframeData(scored[k].id);
     const KeyframeRecord pose = map.keyframe(scored[k].id);
-    if (!kf || pose.id < 0) continue;
+    if (!kf || pose.id < 0) {
+      out.failure = "map keyframe " + std::to_string(scored[k].id) + " has no pose";
+      continue;
+    }
     // 4. PnP of the candidate's corners (in its frame, the map's scale) against the frame.
     std::vector<Eigen::Vector3d> points;
     std::vector<Eigen::Vector2d> pixels;
@@ -108,15 +121,28 @@ RelocalizationResult Relocalizer::relocalize(const ImagePyramid& frame, double e
     std::vector<PatchPoint> scaled = kf->points;
     for (PatchPoint& p : scaled) p.idepth /= static_cast<float>(pose.scale);
     const Eigen::Vector2d transfer = affineTransfer(kf->exposure, exposure, kf->aff, AffineLight{});
-    const DirectAlignmentResult direct =
+    DirectAlignmentResult direct =
         alignPoints(scaled, camera_, kf->radial_k, frame, pnp.T_camera_points,
                     std::log(transfer[0]), transfer[1], direct_);
+    spdlog::debug(
+        "relocalisation: keyframe {}: {} of {} points, pattern correlation {:.2f}, "
+        "brightness scale {:.2f} (exposures: {:.2f})",
+        kf->id, direct.inliers, direct.in_image, direct.pattern_correlation, std::exp(direct.a),
+        transfer[0]);
+    if (direct.success && !(direct.pattern_correlation >= kMinPatternCorrelation)) {
+      direct.success = false;
+      direct.failure =
+          fmt::format("its patterns correlate {:.2f} with the frame's (brightness scale {:.2f})",
+                      direct.pattern_correlation, std::exp(direct.a));
+    }
     if (!direct.success) {
       if (!best.success) {
         best.failure =
             "direct alignment to keyframe " + std::to_string(kf->id) + ": " + direct.failure;
         best.direct_inliers = direct.inliers;
         best.direct_points = direct.in_image;
+        best.matches = out.matches;
+        best.pnp_inliers = out.pnp_inliers;
       }
       continue;
     }

@@ -81,6 +81,29 @@ TEST(DirectAlignment, RecoversAPoseWithRollAndBrightnessChangeFromAPerturbedStar
   // The information is positive definite.
   using Solver = Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>>;
   EXPECT_GT(Solver(r.information).eigenvalues().minCoeff(), 0.0);
+  // The right scene's patterns correlate with the target's.
+  EXPECT_GT(r.pattern_correlation, 0.9);
+}
+
+TEST(DirectAlignment, UnrelatedIntensitiesDoNotCorrelateWithTheTarget) {
+  Fixture f;
+  const SE3d T_w_target = pose(0.0, 0.0, 0.0, 0.1, 0.0, 0.0);
+  f.render(T_w_target, 1.0, 0.0);
+  ASSERT_GT(f.points.size(), 500u);
+  // The same geometry, but each point's pattern intensities are another point's.
+  std::vector<PatchPoint> shuffled = f.points;
+  std::mt19937 rng(7);
+  for (std::size_t i = shuffled.size() - 1; i > 0; --i) {
+    const std::size_t j = std::uniform_int_distribution<std::size_t>(0, i)(rng);
+    std::swap(shuffled[i].colors, shuffled[j].colors);
+  }
+  const SE3d T_true = T_w_target.inverse();
+  const DirectAlignmentResult right =
+      alignPoints(f.points, f.camera, 0.f, f.target, T_true, 0.0, 0.0, DirectAlignmentSettings{});
+  const DirectAlignmentResult wrong =
+      alignPoints(shuffled, f.camera, 0.f, f.target, T_true, 0.0, 0.0, DirectAlignmentSettings{});
+  EXPECT_GT(right.pattern_correlation, 0.9);
+  EXPECT_LT(std::abs(wrong.pattern_correlation), 0.2) << "brightness scale " << std::exp(wrong.a);
 }
 
 }  // namespace
