@@ -33,7 +33,7 @@ const std::map<std::string, std::set<std::string>>& allowedModules() {
       {"alignment", {"math", "camera", "image", "model"}},
       {"frontend", {"math", "camera", "image", "model", "kernels", "features"}},
       {"backend", {"math", "camera", "image", "model", "kernels", "features"}},
-      {"map", {"math", "model"}},
+      {"map", {"math", "model", "concurrency"}},
       {"loop", {"math", "camera", "image", "model", "features", "concurrency", "alignment"}},
       {"reuse",
        {"math", "camera", "image", "model", "features", "concurrency", "alignment", "map"}},

@@ -119,25 +119,27 @@ CornerDepthFill fillCornerDepths(WindowKeyframe& kf,
   return fill;
 }
 
+void appendLoopCorners(const std::vector<Eigen::Vector2f>& loop_corners,
+                       std::vector<Eigen::Vector2f>& corners) {
+  const std::size_t own = corners.size();
+  for (const Eigen::Vector2f& c : loop_corners) {
+    bool taken = false;
+    for (std::size_t i = 0; i < own && !taken; ++i) taken = (corners[i] - c).squaredNorm() < 16.f;
+    if (!taken) corners.push_back(c);
+  }
+}
+
 void describeForLoopClosure(WindowKeyframe& f,
                             const std::vector<std::unique_ptr<WindowKeyframe>>& window,
-                            const LevelCamera& camera, PixelSelector& selector, int max_corners,
-                            float min_score, std::vector<Corner>& scratch,
-                            MarginalizedKeyframe& out) {
-  selector.detectCorners(f.pyramid(), max_corners, min_score, scratch);
+                            const LevelCamera& camera, MarginalizedKeyframe& out) {
   const std::size_t own = f.corners.size();
-  for (const Corner& c : scratch) {
-    bool taken = false;
-    for (std::size_t i = 0; i < own && !taken; ++i)
-      taken = (f.corners[i] - Eigen::Vector2f(c.u, c.v)).squaredNorm() < 16.f;
-    if (!taken) f.corners.emplace_back(c.u, c.v);
-  }
+  appendLoopCorners(f.loop_corners, f.corners);
   const CornerDepthFill fill = fillCornerDepths(f, window, camera);
   spdlog::debug(
       "keyframe {} leaves: {} odometry + {} more corners ({} detected); depths: {} own, {} "
       "immature, {} nearby, {} none",
-      f.id(), own, f.corners.size() - own, scratch.size(), fill.from_points, fill.from_immature,
-      fill.from_neighbours, fill.without);
+      f.id(), own, f.corners.size() - own, f.loop_corners.size(), fill.from_points,
+      fill.from_immature, fill.from_neighbours, fill.without);
   out.corners = f.corners;
   out.corner_idepth = f.corner_idepth;
   out.image.copyFrom(f.pyramid().intensity(0));

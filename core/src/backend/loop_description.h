@@ -15,7 +15,6 @@
 
 #include "backend/window_keyframe.h"
 #include "camera/pyramid_camera.h"
-#include "features/pixel_selector.h"
 #include "model/marginalized_keyframe.h"
 
 namespace ldsm {
@@ -39,13 +38,16 @@ CornerDepthFill fillCornerDepths(WindowKeyframe& kf,
                                  const std::vector<std::unique_ptr<WindowKeyframe>>& window,
                                  const LevelCamera& camera);
 
+/// Appends to `corners` (the odometry's) those of `loop_corners` at least 4 px away from each of
+/// them.
+void appendLoopCorners(const std::vector<Eigen::Vector2f>& loop_corners,
+                       std::vector<Eigen::Vector2f>& corners);
+
 /// Fills the loop-closure description of `f` (in `window`) into `out`: the odometry's corners plus
-/// up to `max_corners` more Shi-Tomasi corners of at least `min_score` (detected with `selector`,
-/// 4 px away from the odometry's), their depths, and the level-0 image.
+/// its loop corners (appendLoopCorners; they join f.corners), their depths, and the level-0
+/// image.
 void describeForLoopClosure(WindowKeyframe& f,
                             const std::vector<std::unique_ptr<WindowKeyframe>>& window,
-                            const LevelCamera& camera, PixelSelector& selector, int max_corners,
-                            float min_score, std::vector<Corner>& scratch,
-                            MarginalizedKeyframe& out);
+                            const LevelCamera& camera, MarginalizedKeyframe& out);
 
 }  // namespace ldsm

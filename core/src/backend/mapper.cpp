@@ -37,8 +37,6 @@ MapperSettings MapperSettings::fromConfig(const Config& config, bool photometry_
   s.optimizer.reactivated_weight = config.reuse.reactivated_pose_weight;
   s.trace_huber_threshold = static_cast<float>(config.tracking.huber_threshold);
   s.trace_outlier_threshold = static_cast<float>(config.window.outlier_threshold);
-  s.loop_corners = config.loop.corners_per_keyframe;
-  s.loop_corner_min_score = static_cast<float>(config.loop.corner_min_score);
   return s;
 }
 
@@ -71,15 +69,7 @@ std::vector<WindowKeyframe*> Mapper::activeView() const {
 std::vector<Eigen::Vector2f> Mapper::newestDescribableCorners() {
   const WindowKeyframe& kf = *window_.back();
   std::vector<Eigen::Vector2f> out = kf.corners;
-  selector_.detectCorners(kf.pyramid(), settings_.loop_corners, settings_.loop_corner_min_score,
-                          loop_corners_);
-  const std::size_t own = out.size();
-  for (const Corner& c : loop_corners_) {
-    bool taken = false;
-    for (std::size_t i = 0; i < own && !taken; ++i)
-      taken = (out[i] - Eigen::Vector2f(c.u, c.v)).squaredNorm() < 16.f;
-    if (!taken) out.emplace_back(c.u, c.v);
-  }
+  appendLoopCorners(kf.loop_corners, out);
   return out;
 }
 
@@ -88,6 +78,7 @@ WindowKeyframe& Mapper::insertKeyframe(std::unique_ptr<ImagePyramid> pyramid,
   auto kf = std::make_unique<WindowKeyframe>(next_keyframe_id_++, info.frame_index, info.timestamp,
                                              info.exposure, std::move(pyramid));
   kf->setInitialState(info.T_c_w, info.aff);
+  kf->loop_corners = info.loop_corners;
   if (!window_.empty()) {
     const WindowKeyframe& prev = *window_.back();
     kf->path_length =
@@ -378,9 +369,7 @@ MarginalizedKeyframe Mapper::describeLeavingKeyframe(WindowKeyframe& f,
   out.map_points_in_view = f.map_points_in_view;
   out.newest_when_left = window_.back()->id();
   out.path_length = f.path_length;
-  if (describe_leaving_)
-    describeForLoopClosure(f, window_, camera_[0], selector_, settings_.loop_corners,
-                           settings_.loop_corner_min_score, loop_corners_, out);
+  if (describe_leaving_) describeForLoopClosure(f, window_, camera_[0], out);
   return out;
 }
 

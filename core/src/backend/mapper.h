@@ -29,6 +29,8 @@ struct MapperFrame {
   double exposure = 1.0;  ///< exposure time (1 when unknown)
   SE3d T_c_w;
   AffineLight aff;
+  /// Keyframes only: corners for loop closure and reuse (see WindowKeyframe::loop_corners).
+  std::vector<Eigen::Vector2f> loop_corners;
 };
 
 /// The Mapper's settings: its sections of the configuration and what is derived from them.
@@ -39,8 +41,6 @@ struct MapperSettings {
   WindowOptimizerSettings optimizer;
   float trace_huber_threshold = 9.f;
   float trace_outlier_threshold = 12.f;
-  int loop_corners = 400;             ///< loop.corners_per_keyframe
-  float loop_corner_min_score = 9.f;  ///< loop.corner_min_score
 
   /// `photometry_known`: response, vignette and exposure times are known, so affine brightness
   /// is held near zero by the strong prior (photometric.affine_prior_weight_known).
@@ -210,7 +210,6 @@ class Mapper {
   bool describe_leaving_ = false;
   /// Corners detected on a keyframe leaving the window, for loop closure (at most
   /// loop.corners_per_keyframe, Shi-Tomasi score >= loop.corner_min_score).
-  std::vector<Corner> loop_corners_;
 };
 
 }  // namespace ldsm

@@ -98,6 +98,10 @@ class WindowKeyframe {
   /// closure) and the inverse depth each got as an active point (NaN: none).
   std::vector<Eigen::Vector2f> corners;
   std::vector<float> corner_idepth;
+  /// Shi-Tomasi corners detected for loop closure and map reuse by the mapping stage (up to
+  /// loop.corners_per_keyframe; empty when keyframes are not described). Those within 4 px of an
+  /// odometry corner are skipped when the two lists are merged.
+  std::vector<Eigen::Vector2f> loop_corners;
   /// Points this keyframe hosted that left the window with a converged depth (marginalised when
   /// the newest keyframe stopped seeing them): kept for the map once the keyframe leaves too.
   std::vector<PatchPoint> retired_points;

@@ -3,14 +3,6 @@
 #include <algorithm>
 
 namespace ldsm {
-namespace {
-
-/// Frame records the store can take without reallocating, ensured whenever a keyframe is recorded
-/// (mapping work), so that addFrame (tracking, every frame) does not allocate as long as a
-/// keyframe comes at least every kFrameHeadroom frames.
-constexpr std::size_t kFrameHeadroom = 1024;
-
-}  // namespace
 
 void MapStore::setKeyframe(const KeyframeRecord& record) {
   std::lock_guard<std::mutex> lock(mutex_);
@@ -20,13 +12,14 @@ void MapStore::setKeyframe(const KeyframeRecord& record) {
     keyframes_.resize(static_cast<size_t>(record.id) + 1, empty);
   }
   keyframes_[record.id] = record;
-  if (frames_.capacity() - frames_.size() < kFrameHeadroom)
-    frames_.reserve(std::max(2 * frames_.capacity(), frames_.size() + kFrameHeadroom));
 }
 
 void MapStore::addFrame(const FrameRecord& record) {
-  std::lock_guard<std::mutex> lock(mutex_);
-  frames_.push_back(record);
+  frames_.push(record);
+}
+
+void MapStore::reserveFrames(std::size_t n) {
+  frames_.reserve(frames_.size() + n);
 }
 
 void MapStore::addPoints(const std::vector<HostedPoint>& points) {
@@ -138,13 +131,21 @@ int MapStore::applyCorrection(const std::map<int, Sim3d>& S_world_camera) {
 }
 
 Trajectory MapStore::frameTrajectory() const {
-  std::lock_guard<std::mutex> lock(mutex_);
+  // The frames published so far (no lock: tracking keeps appending), then the keyframe poses
+  // (briefly under the lock) they are composed with.
+  const std::size_t n = frames_.size();
+  std::vector<KeyframeRecord> keyframes;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    keyframes = keyframes_;
+  }
   Trajectory out;
-  out.reserve(frames_.size());
-  for (const FrameRecord& f : frames_) {
-    if (f.reference_keyframe < 0 || f.reference_keyframe >= static_cast<int>(keyframes_.size()))
+  out.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const FrameRecord& f = frames_[i];
+    if (f.reference_keyframe < 0 || f.reference_keyframe >= static_cast<int>(keyframes.size()))
       continue;
-    const KeyframeRecord& kf = keyframes_[f.reference_keyframe];
+    const KeyframeRecord& kf = keyframes[f.reference_keyframe];
     if (kf.id < 0) continue;
     const SE3d T_ref_c(f.T_ref_c.so3(), kf.scale * f.T_ref_c.translation());
     out.push_back({f.timestamp, (kf.T_w_c * T_ref_c).toPose()});

@@ -3,7 +3,9 @@
 // that left the window, and for map reuse what a keyframe that left the window keeps (its points
 // with depths and pattern intensities, its corners with ORB descriptors), the covisibility graph
 // and a spatial index of keyframe centres. Thread-safe: tracking, mapping and readers of results
-// use it from different threads.
+// use it from different threads. The frame records are an append-only log written by tracking
+// alone: addFrame() takes no lock, and readers (frameTrajectory) never make tracking wait; the
+// rest is guarded by one mutex, never held while the window is optimised.
 #pragma once
 
 #include <cstdint>
@@ -12,6 +14,7 @@
 #include <mutex>
 #include <vector>
 
+#include "concurrency/append_only_log.h"
 #include "ldsm/math/sim3.h"
 #include "ldsm/types.h"
 #include "map/covisibility_graph.h"
@@ -25,7 +28,11 @@ class MapStore {
  public:
   /// Adds or updates a keyframe's pose.
   void setKeyframe(const KeyframeRecord& record);
+  /// Tracking thread only (the log's one writer): records a tracked frame; lock-free.
   void addFrame(const FrameRecord& record);
+  /// Tracking thread only: makes room for `n` more frame records, so that addFrame() does not
+  /// allocate before them (called with each keyframe).
+  void reserveFrames(std::size_t n);
   void addPoints(const std::vector<HostedPoint>& points);
   /// Loop closure: moves the given keyframes to their corrected Sim(3) world-from-camera poses,
   /// with their frames and the points they hosted. Returns the number of keyframes moved.
@@ -64,7 +71,7 @@ class MapStore {
 
   mutable std::mutex mutex_;
   std::vector<KeyframeRecord> keyframes_;  ///< indexed by id
-  std::vector<FrameRecord> frames_;
+  concurrency::AppendOnlyLog<FrameRecord> frames_;
   std::vector<HostedPoint> points_;
   std::map<int, std::shared_ptr<const MarginalizedKeyframe>> data_;
   std::size_t data_bytes_ = 0;

@@ -10,33 +10,47 @@
 
 namespace ldsm {
 
-MappingStage::MappingStage(const Config& config, const PyramidCamera& camera, PyramidPool& pyramids,
-                           MapStore& store, EventSink& events, loop::LoopCloser* loop_closer,
-                           bool photometry_known, bool inline_mode)
-    : config_(config),
+MappingStageSettings MappingStageSettings::fromConfig(const Config& config, bool photometry_known) {
+  MappingStageSettings s;
+  s.mapper = MapperSettings::fromConfig(config, photometry_known);
+  s.tracker = CoarseTrackerSettings::fromConfig(config, photometry_known);
+  s.reuse = config.reuse;
+  s.queue_capacity = config.system.mapping_queue;
+  s.loop_corners = config.loop.corners_per_keyframe;
+  s.loop_corner_min_score = static_cast<float>(config.loop.corner_min_score);
+  return s;
+}
+
+MappingStage::MappingStage(const MappingStageSettings& settings, const PyramidCamera& camera,
+                           PyramidPool& pyramids, MapStore& store, EventSink& events,
+                           loop::LoopCloser* loop_closer, bool inline_mode)
+    : settings_(settings),
       camera_(camera),
       pyramids_(pyramids),
       store_(store),
       events_(events),
       loop_closer_(loop_closer),
-      mapper_(MapperSettings::fromConfig(config, photometry_known), camera, pyramids),
-      references_([camera, settings = CoarseTrackerSettings::fromConfig(config, photometry_known)] {
+      mapper_(settings.mapper, camera, pyramids),
+      references_([camera, tracker = settings.tracker] {
         return std::make_unique<CoarseTracker>(camera[0].width, camera[0].height, camera.levels(),
-                                               settings);
+                                               tracker);
       }),
       timer_({"trace", "mapping"}, 20000),
-      describe_(loop_closer != nullptr || config.reuse.enabled),
+      describe_(loop_closer != nullptr || settings.reuse.enabled),
       snapshot_(std::make_shared<const MappingSnapshot>()) {
   mapper_.setDescribeLeavingKeyframes(describe_);
-  if (describe_) orb_ = std::make_unique<OrbExtractor>(camera[0].width, camera[0].height);
-  if (config.reuse.enabled) {
-    reuse_ = std::make_unique<ReactivationSearch>(config.reuse);
-    mapper_.setCoverageRadius(static_cast<float>(config.reuse.coverage_radius_px));
+  if (describe_) {
+    orb_ = std::make_unique<OrbExtractor>(camera[0].width, camera[0].height);
+    loop_corner_detector_ = std::make_unique<CornerDetector>(camera[0].width, camera[0].height);
+  }
+  if (settings.reuse.enabled) {
+    reuse_ = std::make_unique<ReactivationSearch>(settings.reuse);
+    mapper_.setCoverageRadius(static_cast<float>(settings.reuse.coverage_radius_px));
   }
   depth_points_.reserve(64 * 1024);
   concurrency::TaskOptions options;
   options.mode = inline_mode ? concurrency::TaskMode::kInline : concurrency::TaskMode::kThreaded;
-  options.queue_capacity = static_cast<std::size_t>(config.system.mapping_queue);
+  options.queue_capacity = static_cast<std::size_t>(settings.queue_capacity);
   options.wait_when_full = true;
   options.priority = concurrency::WorkerPriority::kNormal;
   task_ = std::make_unique<concurrency::BackgroundTask<MappingJob, Done>>(
@@ -107,6 +121,7 @@ void MappingStage::integrateKeyframe(MappingJob& job) {
     mapper_.traceFrame(*job.pyramid, job.info);
   }
   StageTimer::Scope t(timer_, kMapping);
+  detectLoopCorners(*job.pyramid, job.info);
   KeyframeInsertion ins = mapper_.addKeyframe(std::move(job.pyramid), job.info);
   keyframes_.fetch_add(1, std::memory_order_relaxed);
   reuse_stats_.map_points_seen += ins.map_points_in_view;
@@ -126,8 +141,23 @@ void MappingStage::integrateKeyframe(MappingJob& job) {
       ins.marginalized_frames, ins.optimization.rmse, ins.retired_points);
 }
 
+void MappingStage::detectLoopCorners(const ImagePyramid& pyramid, MapperFrame& info) {
+  info.loop_corners.clear();
+  if (!loop_corner_detector_) return;
+  CornerParams params;
+  params.max_corners = settings_.loop_corners;
+  params.min_score = settings_.loop_corner_min_score;
+  params.min_distance = PixelSelector::kCornerMinDistance;
+  params.border = PixelSelector::kCornerBorder;
+  loop_corner_detector_->detect(pyramid.gradients(0), params, loop_corner_scratch_);
+  info.loop_corners.reserve(loop_corner_scratch_.size());
+  for (const Corner& c : loop_corner_scratch_) info.loop_corners.emplace_back(c.u, c.v);
+}
+
 void MappingStage::initialize(MappingJob& job) {
   KeyframeInsertion ins;
+  detectLoopCorners(*job.reference_pyramid, job.reference_info);
+  detectLoopCorners(*job.pyramid, job.info);
   const bool ok =
       mapper_.initialize(job.initialization, job.reference_info, std::move(job.reference_pyramid),
                          job.info, std::move(job.pyramid), &ins);
@@ -152,6 +182,7 @@ void MappingStage::relocalize(MappingJob& job) {
       store_.keyframeData(job.anchor_keyframe);
   const KeyframeRecord pose = store_.keyframe(job.anchor_keyframe);
   if (!anchor || pose.id < 0) return;
+  detectLoopCorners(*job.pyramid, job.info);
   KeyframeInsertion ins =
       mapper_.relocalize(std::move(job.pyramid), job.info, *anchor, pose.T_w_c, pose.scale);
   publishMap(std::move(ins.map));
@@ -180,9 +211,9 @@ void MappingStage::publishMap(MapUpdate&& update) {
   for (MarginalizedKeyframe& kf : update.left) {
     if (describe_) describeOrb(kf);
     // A keyframe an earlier visit's map keyframe already covers adds nothing the map lacks.
-    if (reuse_ && config_.reuse.cull_redundant) {
+    if (reuse_ && settings_.reuse.cull_redundant) {
       const RedundancyCheck r =
-          checkRedundancy(kf, store_.keyframe(kf.id), store_, camera_[0], config_.reuse);
+          checkRedundancy(kf, store_.keyframe(kf.id), store_, camera_[0], settings_.reuse);
       kf.culled = r.redundant;
       if (r.redundant)
         spdlog::trace("reuse: keyframe {} is covered by map keyframe {} ({:.0f} %)", kf.id,
@@ -198,7 +229,7 @@ void MappingStage::publishMap(MapUpdate&& update) {
       auto& pts = data->points;
       pts.erase(std::remove_if(pts.begin(), pts.end(),
                                [&](const PatchPoint& p) {
-                                 return p.observations < config_.reuse.min_point_observations;
+                                 return p.observations < settings_.reuse.min_point_observations;
                                }),
                 pts.end());
       store_.setKeyframeData(std::move(data));
@@ -243,7 +274,7 @@ void MappingStage::reuseMap(int newest_frame_index, double newest_timestamp) {
   // Take back what no longer fits the newest keyframe (from a copy: deactivate() edits the list).
   const std::vector<Mapper::ReactivatedFit> fit = mapper_.reactivatedFit();
   for (const Mapper::ReactivatedFit& f : fit) {
-    const bool fits = f.residuals > 0 && f.inliers >= config_.reuse.min_inlier_fraction *
+    const bool fits = f.residuals > 0 && f.inliers >= settings_.reuse.min_inlier_fraction *
                                                           static_cast<double>(f.residuals);
     if (fits) continue;
     mapper_.deactivate(f.id);
@@ -266,7 +297,7 @@ void MappingStage::reuseMap(int newest_frame_index, double newest_timestamp) {
   }
   reactivated_peak_ = std::move(peaks);
   std::sort(held.begin(), held.end());
-  int room = config_.reuse.max_reactivated - static_cast<int>(mapper_.reactivatedIds().size());
+  int room = settings_.reuse.max_reactivated - static_cast<int>(mapper_.reactivatedIds().size());
   // The newest keyframe as the search sees it: its corners with ORB descriptors.
   const WindowKeyframe& newest = mapper_.newestKeyframe();
   ReuseView view;
@@ -310,8 +341,8 @@ void MappingStage::reuseMap(int newest_frame_index, double newest_timestamp) {
     if (added >= room) {
       // Replace the weakest reactivated keyframe when this one is expected to give clearly more
       // inliers (by default 4x in view, about twice the inliers: half the points in view are).
-      if (held.empty() || !(config_.reuse.replace_ratio > 0.0) ||
-          !(c.in_view > config_.reuse.replace_ratio * held.front().first))
+      if (held.empty() || !(settings_.reuse.replace_ratio > 0.0) ||
+          !(c.in_view > settings_.reuse.replace_ratio * held.front().first))
         break;
       spdlog::debug("reuse: keyframe {} ({} inliers) makes room for keyframe {} ({} in view)",
                     held.front().second, held.front().first, c.id, c.in_view);
@@ -330,7 +361,7 @@ void MappingStage::reuseMap(int newest_frame_index, double newest_timestamp) {
         c.id, newest.id(), c.in_view, static_cast<int>(100 * c.overlap), c.matches);
   }
   if (event.reactivated.empty()) return;
-  if (!config_.reuse.trial_check) {
+  if (!settings_.reuse.trial_check) {
     for (const int id : event.reactivated) store_.connect(newest.id(), id);
     events_.reactivated(event);
     return;
@@ -345,7 +376,7 @@ void MappingStage::reuseMap(int newest_frame_index, double newest_timestamp) {
     const auto it = std::find(event.reactivated.begin(), event.reactivated.end(), f.id);
     if (it == event.reactivated.end()) continue;  // reactivated earlier
     if (f.residuals > 0 &&
-        f.inliers >= config_.reuse.min_inlier_fraction * static_cast<double>(f.residuals)) {
+        f.inliers >= settings_.reuse.min_inlier_fraction * static_cast<double>(f.residuals)) {
       store_.connect(newest.id(), f.id);
       continue;
     }
@@ -355,7 +386,7 @@ void MappingStage::reuseMap(int newest_frame_index, double newest_timestamp) {
     event.reactivated.erase(it);
     --reuse_stats_.reactivations;
     ++reuse_stats_.rejected_photometric;
-    trial_rejected_.push_back({f.id, newest.id() + config_.reuse.trial_rest_keyframes});
+    trial_rejected_.push_back({f.id, newest.id() + settings_.reuse.trial_rest_keyframes});
   }
   if (!event.reactivated.empty()) events_.reactivated(event);
 }

@@ -22,6 +22,7 @@
 
 #include "backend/mapper.h"
 #include "concurrency/background_task.h"
+#include "features/corner_detector.h"
 #include "features/orb_extractor.h"
 #include "frontend/coarse_tracker.h"
 #include "image/pyramid_pool.h"
@@ -72,14 +73,26 @@ struct InitializationOutcome {
   AffineLight aff;
 };
 
+/// The mapping stage's settings: its sections of the configuration and what is derived from them.
+struct MappingStageSettings {
+  MapperSettings mapper;
+  CoarseTrackerSettings tracker;  ///< of the tracking references it prepares
+  ReuseConfig reuse;
+  int queue_capacity = 8;             ///< system.mapping_queue
+  int loop_corners = 400;             ///< loop.corners_per_keyframe
+  float loop_corner_min_score = 9.f;  ///< loop.corner_min_score
+
+  static MappingStageSettings fromConfig(const Config& config, bool photometry_known);
+};
+
 class MappingStage {
  public:
   enum Timing { kTrace, kMapping, kTimingCount };
 
   /// `loop_closer` may be null (loop closure off). `inline_mode`: deterministic.
-  MappingStage(const Config& config, const PyramidCamera& camera, PyramidPool& pyramids,
-               MapStore& store, EventSink& events, loop::LoopCloser* loop_closer,
-               bool photometry_known, bool inline_mode);
+  MappingStage(const MappingStageSettings& settings, const PyramidCamera& camera,
+               PyramidPool& pyramids, MapStore& store, EventSink& events,
+               loop::LoopCloser* loop_closer, bool inline_mode);
   ~MappingStage();
   MappingStage(const MappingStage&) = delete;
   MappingStage& operator=(const MappingStage&) = delete;
@@ -125,11 +138,14 @@ class MappingStage {
   /// ORB descriptors at the corners of a described keyframe (drops the ones without, and the
   /// image).
   void describeOrb(MarginalizedKeyframe& kf);
+  /// A new keyframe's corners for loop closure and reuse (when keyframes are described), kept
+  /// with it until it leaves the window.
+  void detectLoopCorners(const ImagePyramid& pyramid, MapperFrame& info);
   /// Map reuse after a keyframe: take back reactivated keyframes that no longer fit, bring back
   /// those that see the newest keyframe.
   void reuseMap(int newest_frame_index, double newest_timestamp);
 
-  Config config_;
+  MappingStageSettings settings_;
   PyramidCamera camera_;
   PyramidPool& pyramids_;
   MapStore& store_;
@@ -141,6 +157,8 @@ class MappingStage {
   std::vector<DepthPoint> depth_points_;
   bool describe_;  ///< keyframes leaving the window are described (loop closure or reuse)
   std::unique_ptr<OrbExtractor> orb_;
+  std::unique_ptr<CornerDetector> loop_corner_detector_;
+  std::vector<Corner> loop_corner_scratch_;
   std::vector<std::uint32_t> orb_kept_;
   std::vector<float> idepths_;  ///< scratch of medianDepth
   static double medianDepth(const std::vector<DepthPoint>& points, std::vector<float>& scratch);

@@ -32,10 +32,12 @@ SlamPipeline::SlamPipeline(const Config& config, const GeometricCalibration& geo
               usableLevels(preprocessor_.output(), config.tracking.pyramid_levels)),
       pyramids_(camera_[0].width, camera_[0].height, camera_.levels()),
       loop_closer_(makeLoopCloser(config, camera_)),
-      mapping_(config, camera_, pyramids_, store_, events_, loop_closer_.get(),
-               photometryKnown(preprocessor_, config), config.system.deterministic),
-      tracking_(config, camera_, preprocessor_, pyramids_, store_, mapping_, events_,
-                photometryKnown(preprocessor_, config)) {}
+      mapping_(MappingStageSettings::fromConfig(config, photometryKnown(preprocessor_, config)),
+               camera_, pyramids_, store_, events_, loop_closer_.get(),
+               config.system.deterministic),
+      tracking_(TrackingStageSettings::fromConfig(config, camera_.levels(),
+                                                  photometryKnown(preprocessor_, config)),
+                camera_, preprocessor_, pyramids_, store_, mapping_, events_) {}
 
 SlamPipeline::~SlamPipeline() = default;
 

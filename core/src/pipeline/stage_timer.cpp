@@ -5,50 +5,41 @@
 namespace ldsm {
 
 StageTimer::StageTimer(std::vector<std::string> stages, std::size_t capacity)
-    : capacity_(capacity) {
-  for (auto& s : stages) {
-    Stage st;
-    st.name = std::move(s);
-    st.samples.reserve(capacity);
+    : capacity_(std::max<std::size_t>(1, capacity)) {
+  for (auto& name : stages) {
+    auto st = std::make_unique<Stage>();
+    st->name = std::move(name);
+    st->samples = std::make_unique<std::atomic<double>[]>(capacity_);
+    for (std::size_t i = 0; i < capacity_; ++i)
+      st->samples[i].store(0.0, std::memory_order_relaxed);
     stages_.push_back(std::move(st));
   }
 }
 
-StageTimer::StageTimer(const StageTimer& other) {
-  std::lock_guard<std::mutex> lock(other.mutex_);
-  stages_ = other.stages_;
-  capacity_ = other.capacity_;
-}
-
 void StageTimer::record(int stage, double ms) {
-  std::lock_guard<std::mutex> lock(mutex_);
-  Stage& s = stages_[static_cast<size_t>(stage)];
-  if (s.samples.size() < capacity_) {
-    s.samples.push_back(ms);
-  } else {
-    s.samples[s.next] = ms;
-    s.next = (s.next + 1) % capacity_;
-  }
-  ++s.count;
-  s.sum += ms;
-  s.max = std::max(s.max, ms);
+  Stage& s = *stages_[static_cast<std::size_t>(stage)];
+  // One recording thread per stage: plain read-modify-write through the atomics.
+  const std::int64_t n = s.count.load(std::memory_order_relaxed);
+  s.samples[static_cast<std::size_t>(n) % capacity_].store(ms, std::memory_order_relaxed);
+  s.sum.store(s.sum.load(std::memory_order_relaxed) + ms, std::memory_order_relaxed);
+  if (ms > s.max.load(std::memory_order_relaxed)) s.max.store(ms, std::memory_order_relaxed);
+  s.count.store(n + 1, std::memory_order_release);
 }
 
 std::vector<StageTiming> StageTimer::summary() const {
-  std::vector<Stage> stages;
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    stages = stages_;
-  }
   std::vector<StageTiming> out;
-  for (Stage& s : stages) {
+  std::vector<double> v;
+  for (const auto& sp : stages_) {
+    const Stage& s = *sp;
     StageTiming t;
     t.stage = s.name;
-    t.count = s.count;
-    if (s.count > 0) {
-      t.mean_ms = s.sum / static_cast<double>(s.count);
-      t.max_ms = s.max;
-      std::vector<double>& v = s.samples;
+    t.count = s.count.load(std::memory_order_acquire);
+    if (t.count > 0) {
+      t.mean_ms = s.sum.load(std::memory_order_relaxed) / static_cast<double>(t.count);
+      t.max_ms = s.max.load(std::memory_order_relaxed);
+      const std::size_t m = std::min(capacity_, static_cast<std::size_t>(t.count));
+      v.resize(m);
+      for (std::size_t i = 0; i < m; ++i) v[i] = s.samples[i].load(std::memory_order_relaxed);
       std::sort(v.begin(), v.end());
       t.p50_ms = v[v.size() / 2];
       t.p99_ms =

@@ -1,11 +1,17 @@
-// Per-stage timing of the pipeline: durations are recorded into fixed-capacity buffers (no
-// allocation while running once reserved) and summarised as mean / median / p99 / max. Recording
-// and summarising may happen on different threads: a mutex guards the samples, held for one
-// record or for one copy of them (the sorting is done outside it).
+// Per-stage timing of the pipeline: durations are recorded into fixed-capacity buffers allocated
+// at construction (no allocation while running) and summarised as mean / median / p99 / max.
+// Lock-free: the thread that records a stage never waits for one that summarises (stats() may be
+// called at any rate), and summary() reads the samples without stopping the recording (a summary
+// taken while a stage is being recorded may miss the newest sample).
+//
+// Threads: each stage is recorded by one thread at a time (different stages may be recorded by
+// different threads); summary() from any thread.
 #pragma once
 
+#include <atomic>
 #include <chrono>
-#include <mutex>
+#include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -18,7 +24,7 @@ class StageTimer {
   /// Declares the stages up front; `capacity` samples are kept per stage (older ones are
   /// summarised in the mean/max only).
   StageTimer(std::vector<std::string> stages, std::size_t capacity);
-  StageTimer(const StageTimer& other);
+  StageTimer(const StageTimer&) = delete;
   StageTimer& operator=(const StageTimer&) = delete;
   void record(int stage, double ms);
   std::vector<StageTiming> summary() const;
@@ -44,14 +50,12 @@ class StageTimer {
  private:
   struct Stage {
     std::string name;
-    std::vector<double> samples;  ///< ring buffer
-    std::size_t next = 0;
-    std::int64_t count = 0;
-    double sum = 0.0;
-    double max = 0.0;
+    std::unique_ptr<std::atomic<double>[]> samples;  ///< ring buffer of `capacity_`
+    std::atomic<std::int64_t> count{0};              ///< samples recorded (published)
+    std::atomic<double> sum{0.0};
+    std::atomic<double> max{0.0};
   };
-  mutable std::mutex mutex_;
-  std::vector<Stage> stages_;
+  std::vector<std::unique_ptr<Stage>> stages_;
   std::size_t capacity_;
 };
 

@@ -2,27 +2,32 @@
 
 #include <spdlog/spdlog.h>
 
-#include "frontend/coarse_initializer_settings.h"
-
 namespace ldsm {
 
-TrackingStage::TrackingStage(const Config& config, const PyramidCamera& camera,
+TrackingStageSettings TrackingStageSettings::fromConfig(const Config& config, int levels,
+                                                        bool photometry_known) {
+  TrackingStageSettings s;
+  s.initializer = CoarseInitializerSettings::fromConfig(config, levels, photometry_known);
+  s.initializer_hypotheses = config.initializer.hypotheses;
+  s.tracker = FrameTrackerSettings::fromConfig(config, photometry_known);
+  s.reuse = config.reuse;
+  return s;
+}
+
+TrackingStage::TrackingStage(const TrackingStageSettings& settings, const PyramidCamera& camera,
                              FramePreprocessor& preprocessor, PyramidPool& pyramids,
-                             MapStore& store, MappingStage& mapping, EventSink& events,
-                             bool photometry_known)
+                             MapStore& store, MappingStage& mapping, EventSink& events)
     : preprocessor_(preprocessor),
       pyramids_(pyramids),
       store_(store),
       mapping_(mapping),
       events_(events),
-      initializer_(camera,
-                   CoarseInitializerSettings::fromConfig(config, camera.levels(), photometry_known),
-                   config.initializer.hypotheses),
-      tracker_(FrameTrackerSettings::fromConfig(config, photometry_known), camera),
+      initializer_(camera, settings.initializer, settings.initializer_hypotheses),
+      tracker_(settings.tracker, camera),
       timer_({"preprocess", "initialize", "track", "total"}, 20000),
-      relocalization_timeout_s_(config.reuse.relocalization_timeout_s) {
-  if (config.reuse.enabled && relocalization_timeout_s_ > 0.0)
-    relocalizer_ = std::make_unique<Relocalizer>(config.reuse, camera);
+      relocalization_timeout_s_(settings.reuse.relocalization_timeout_s) {
+  if (settings.reuse.enabled && relocalization_timeout_s_ > 0.0)
+    relocalizer_ = std::make_unique<Relocalizer>(settings.reuse, camera);
 }
 
 FrameEvent TrackingStage::process(ImageView<const std::uint8_t> image, std::int64_t index,
@@ -64,7 +69,7 @@ void TrackingStage::initializeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent
     // This frame became the initializer's reference: keep its pyramid for the first keyframe.
     pyramids_.release(std::move(init_reference_));
     init_reference_ = std::move(pyr);
-    init_reference_info_ = {index, frame.timestamp, exposure, world_anchor_, AffineLight{}};
+    init_reference_info_ = {index, frame.timestamp, exposure, world_anchor_, AffineLight{}, {}};
     return;
   }
   if (!done) {
@@ -79,7 +84,7 @@ void TrackingStage::initializeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent
   MappingJob job;
   job.kind = MappingJob::Kind::kInitialize;
   job.pyramid = std::move(pyr);
-  job.info = {index, frame.timestamp, exposure, r.T_frame_ref * world_anchor_, r.affine_frame};
+  job.info = {index, frame.timestamp, exposure, r.T_frame_ref * world_anchor_, r.affine_frame, {}};
   job.initialization = r;
   job.reference_pyramid = std::move(init_reference_);
   job.reference_info = init_reference_info_;
@@ -143,8 +148,12 @@ void TrackingStage::acceptTrackedFrame(std::unique_ptr<ImagePyramid> pyr, FrameE
   MappingJob job;
   job.kind = outcome.wants_keyframe ? MappingJob::Kind::kKeyframe : MappingJob::Kind::kTrace;
   job.pyramid = std::move(pyr);
-  job.info = {frame.frame_index, frame.timestamp, exposure, outcome.T_c_w, outcome.aff};
-  if (outcome.wants_keyframe) mapping_.setKeyframeInFlight();
+  job.info = {frame.frame_index, frame.timestamp, exposure, outcome.T_c_w, outcome.aff, {}};
+  if (outcome.wants_keyframe) {
+    mapping_.setKeyframeInFlight();
+    // Room for the frames until the next keyframe (this thread is the frame log's writer).
+    store_.reserveFrames(kFrameHeadroom);
+  }
   mapping_.submit(std::move(job));
 }
 
@@ -228,7 +237,7 @@ void TrackingStage::relocalizeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent
   MappingJob job;
   job.kind = MappingJob::Kind::kRelocalize;
   job.pyramid = std::move(pyr);
-  job.info = {frame.frame_index, frame.timestamp, exposure, r.T_c_w, r.aff};
+  job.info = {frame.frame_index, frame.timestamp, exposure, r.T_c_w, r.aff, {}};
   job.anchor_keyframe = r.keyframe_id;
   mapping_.submit(std::move(job));
   mapping_.waitIdle();

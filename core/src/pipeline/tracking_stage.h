@@ -14,6 +14,7 @@
 #include <memory>
 #include <string>
 
+#include "frontend/coarse_initializer_settings.h"
 #include "frontend/frame_tracker.h"
 #include "frontend/initializer_hypotheses.h"
 #include "image/pyramid_pool.h"
@@ -28,13 +29,27 @@
 
 namespace ldsm {
 
+/// The tracking stage's settings: its sections of the configuration and what is derived from them.
+struct TrackingStageSettings {
+  CoarseInitializerSettings initializer;
+  int initializer_hypotheses = 7;  ///< initializer.hypotheses
+  FrameTrackerSettings tracker;
+  ReuseConfig reuse;  ///< relocalisation after a loss (reuse.enabled, relocalization_*)
+
+  /// `levels`: the pyramid levels the camera uses.
+  static TrackingStageSettings fromConfig(const Config& config, int levels, bool photometry_known);
+};
+
 class TrackingStage {
  public:
   enum Timing { kPreprocess, kInitialize, kTrack, kTotal, kTimingCount };
+  /// Frame records the map store can take without allocating, ensured with every keyframe, so
+  /// that tracking a frame does not allocate as long as a keyframe comes at least this often.
+  static constexpr std::size_t kFrameHeadroom = 1024;
 
-  TrackingStage(const Config& config, const PyramidCamera& camera, FramePreprocessor& preprocessor,
-                PyramidPool& pyramids, MapStore& store, MappingStage& mapping, EventSink& events,
-                bool photometry_known);
+  TrackingStage(const TrackingStageSettings& settings, const PyramidCamera& camera,
+                FramePreprocessor& preprocessor, PyramidPool& pyramids, MapStore& store,
+                MappingStage& mapping, EventSink& events);
 
   /// Processes one validated frame (`exposure`: the exposure time to use, 1 when unknown) and
   /// returns its event (also sent to the EventSink).

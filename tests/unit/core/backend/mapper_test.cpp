@@ -22,7 +22,7 @@ Config mapperConfig() {
 }
 
 MapperFrame frameInfo(const SyntheticWindow& /*w*/, int i, const SE3d& T_c_w) {
-  return {i, 0.1 * i, 1.0, T_c_w, AffineLight{}};
+  return {i, 0.1 * i, 1.0, T_c_w, AffineLight{}, {}};
 }
 
 /// A start 5.4 mrad off the truth in rotation, as tracking might give.
@@ -89,17 +89,33 @@ TEST(Mapper, LeavingKeyframesAreDescribedForLoopClosureWhenAsked) {
   SyntheticWindow w(40);
   Mapper mapper(MapperSettings::fromConfig(mapperConfig(), false), w.camera(), w.pool());
   mapper.setDescribeLeavingKeyframes(true);
+  // The loop corners the mapping stage detects come with each keyframe; here a fixed grid.
+  std::vector<Eigen::Vector2f> grid;
+  for (int y = 20; y < SyntheticWindow::kH - 20; y += 40)
+    for (int x = 20; x < SyntheticWindow::kW - 20; x += 40) grid.emplace_back(x + 0.5f, y + 0.5f);
+  const auto withCorners = [&](MapperFrame f) {
+    f.loop_corners = grid;
+    return f;
+  };
   KeyframeInsertion init;
-  ASSERT_TRUE(mapper.initialize(w.initialization(2), frameInfo(w, 0, w.T_c_w(0)), w.pyramid(0),
-                                frameInfo(w, 2, w.T_c_w(2)), w.pyramid(2), &init));
+  ASSERT_TRUE(mapper.initialize(w.initialization(2), withCorners(frameInfo(w, 0, w.T_c_w(0))),
+                                w.pyramid(0), withCorners(frameInfo(w, 2, w.T_c_w(2))),
+                                w.pyramid(2), &init));
   int described = 0;
   for (int i = 4; i < w.frames(); i += 3) {
-    const KeyframeInsertion ins = mapper.addKeyframe(w.pyramid(i), frameInfo(w, i, w.T_c_w(i)));
+    const KeyframeInsertion ins =
+        mapper.addKeyframe(w.pyramid(i), withCorners(frameInfo(w, i, w.T_c_w(i))));
     for (const MarginalizedKeyframe& kf : ins.map.left) {
       ++described;
       EXPECT_EQ(kf.image.width(), SyntheticWindow::kW);
-      EXPECT_GE(kf.corners.size(), 10u);
       EXPECT_EQ(kf.corner_idepth.size(), kf.corners.size());
+      // Every grid corner is there, or an odometry corner within 4 px of it.
+      for (const Eigen::Vector2f& g : grid) {
+        bool found = false;
+        for (const Eigen::Vector2f& c : kf.corners) found = found || (c - g).squaredNorm() < 16.f;
+        EXPECT_TRUE(found) << "keyframe " << kf.id << ": loop corner " << g.transpose();
+      }
+      EXPECT_GE(kf.corners.size(), grid.size());
     }
   }
   EXPECT_GT(described, 0);

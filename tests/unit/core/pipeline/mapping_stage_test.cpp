@@ -39,9 +39,9 @@ MappingJob initJob(SyntheticWindow& w) {
   job.kind = MappingJob::Kind::kInitialize;
   job.initialization = w.initialization(2);
   job.reference_pyramid = w.pyramid(0);
-  job.reference_info = {0, 0.0, 1.0, w.T_c_w(0), AffineLight{}};
+  job.reference_info = {0, 0.0, 1.0, w.T_c_w(0), AffineLight{}, {}};
   job.pyramid = w.pyramid(2);
-  job.info = {2, 0.2, 1.0, w.T_c_w(2), AffineLight{}};
+  job.info = {2, 0.2, 1.0, w.T_c_w(2), AffineLight{}, {}};
   return job;
 }
 
@@ -49,7 +49,7 @@ MappingJob frameJob(SyntheticWindow& w, int i, bool keyframe) {
   MappingJob job;
   job.kind = keyframe ? MappingJob::Kind::kKeyframe : MappingJob::Kind::kTrace;
   job.pyramid = w.pyramid(i);
-  job.info = {i, 0.1 * i, 1.0, w.T_c_w(i), AffineLight{}};
+  job.info = {i, 0.1 * i, 1.0, w.T_c_w(i), AffineLight{}, {}};
   return job;
 }
 
@@ -70,7 +70,8 @@ StageRun runStage(bool inline_mode) {
   RecordingListener listener;
   events.setListener(&listener);
   const Config config = stageConfig();
-  MappingStage stage(config, w.camera(), w.pool(), store, events, nullptr, false, inline_mode);
+  MappingStage stage(MappingStageSettings::fromConfig(config, false), w.camera(), w.pool(), store,
+                     events, nullptr, inline_mode);
   StageRun run;
   stage.submit(initJob(w));
   stage.waitIdle();
@@ -134,7 +135,8 @@ TEST(MappingStage, ResetEmptiesTheWindowAndDropsTheUnadoptedReference) {
   SyntheticWindow w(8);
   MapStore store;
   EventSink events;
-  MappingStage stage(stageConfig(), w.camera(), w.pool(), store, events, nullptr, false, true);
+  MappingStage stage(MappingStageSettings::fromConfig(stageConfig(), false), w.camera(), w.pool(),
+                     store, events, nullptr, true);
   stage.submit(initJob(w));
   ASSERT_TRUE(stage.lastInitialization().ok);
   stage.setKeyframeInFlight();
