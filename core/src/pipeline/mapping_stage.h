@@ -141,9 +141,20 @@ class MappingStage {
   /// A new keyframe's corners for loop closure and reuse (when keyframes are described), kept
   /// with it until it leaves the window.
   void detectLoopCorners(const ImagePyramid& pyramid, MapperFrame& info);
-  /// Map reuse after a keyframe: take back reactivated keyframes that no longer fit, bring back
-  /// those that see the newest keyframe.
+  /// Map reuse after a keyframe (mapping_stage_reuse.cpp): take back reactivated keyframes that
+  /// no longer fit, bring back those that see the newest keyframe.
   void reuseMap(int newest_frame_index, double newest_timestamp);
+  void takeBackMisfits();
+  /// The reactivated keyframes that lost most of the view they came back for, as (inliers in the
+  /// newest keyframe, id), weakest first (updates each one's peak).
+  std::vector<std::pair<int, int>> replaceableReactivated();
+  ReuseView reuseView(const WindowKeyframe& newest);
+  std::vector<int> reuseExclusions(int newest_id);
+  /// Reactivates the accepted candidates while there is room (or a weak one to replace).
+  void bringBack(const std::vector<ReuseCheck>& checks, std::vector<std::pair<int, int>>& held,
+                 int room, ReuseEvent& event);
+  /// reuse.trial_check: keeps the event's keyframes a trial optimisation confirms.
+  void confirmByTrial(ReuseEvent& event);
 
   MappingStageSettings settings_;
   PyramidCamera camera_;

@@ -31,12 +31,7 @@ Relocalizer::Relocalizer(const ReuseConfig& config, const PyramidCamera& camera)
   direct_.min_inlier_fraction = config.relocalization_min_direct_inliers;
 }
 
-RelocalizationResult Relocalizer::relocalize(const ImagePyramid& frame, double exposure,
-                                             const MapStore& map, const SE3d& last_T_c_w,
-                                             const std::vector<int>& recent_ids,
-                                             double median_depth) {
-  RelocalizationResult out;
-  // 1. The frame's corners and descriptors.
+bool Relocalizer::describeFrame(const ImagePyramid& frame, std::string& failure) {
   CornerParams params;
   params.max_corners = kMaxCorners;
   params.min_score = kCornerMinScore;
@@ -44,11 +39,14 @@ RelocalizationResult Relocalizer::relocalize(const ImagePyramid& frame, double e
   pixels_.clear();
   for (const Corner& c : corner_scratch_) pixels_.emplace_back(c.u, c.v);
   orb_.compute(frame.intensity(0), pixels_, descriptors_, kept_);
-  if (descriptors_.size() < static_cast<std::size_t>(pnp_.min_inliers)) {
-    out.failure = "only " + std::to_string(descriptors_.size()) + " corners in the frame";
-    return out;
-  }
-  // 2. Candidates near the last pose and around the last window.
+  if (descriptors_.size() >= static_cast<std::size_t>(pnp_.min_inliers)) return true;
+  failure = "only " + std::to_string(descriptors_.size()) + " corners in the frame";
+  return false;
+}
+
+std::vector<int> Relocalizer::candidates(const MapStore& map, const SE3d& last_T_c_w,
+                                         const std::vector<int>& recent_ids,
+                                         double median_depth) const {
   const Eigen::Vector3d centre = last_T_c_w.inverse().translation();
   std::vector<int> ids = map.keyframesNear(
       centre, config_.relocalization_search_radius * std::max(median_depth, 1e-3));
@@ -58,13 +56,12 @@ RelocalizationResult Relocalizer::relocalize(const ImagePyramid& frame, double e
   for (const int id : recent_ids)
     if (map.keyframeData(id) && std::find(ids.begin(), ids.end(), id) == ids.end())
       ids.push_back(id);
-  // 3. ORB matches with depth.
-  struct Scored {
-    int matches;
-    int id;
-  };
-  std::vector<Scored> scored;
-  const LevelCamera& cam = camera_[0];
+  return ids;
+}
+
+std::vector<std::pair<int, int>> Relocalizer::rankByMatches(const MapStore& map,
+                                                            const std::vector<int>& ids) const {
+  std::vector<std::pair<int, int>> scored;  // (matches, id)
   for (const int id : ids) {
     const std::shared_ptr<const MarginalizedKeyframe> kf = map.keyframeData(id);
     if (!kf) continue;
@@ -74,7 +71,66 @@ RelocalizationResult Relocalizer::relocalize(const ImagePyramid& frame, double e
     scored.push_back({n, id});
   }
   std::stable_sort(scored.begin(), scored.end(),
-                   [](const Scored& a, const Scored& b) { return a.matches > b.matches; });
+                   [](const auto& a, const auto& b) { return a.first > b.first; });
+  return scored;
+}
+
+PnpRansacResult Relocalizer::solvePnp(const MarginalizedKeyframe& kf, const KeyframeRecord& pose,
+                                      RelocalizationResult& out) const {
+  const LevelCamera& cam = camera_[0];
+  std::vector<Eigen::Vector3d> points;
+  std::vector<Eigen::Vector2d> pixels;
+  for (const auto& [q, t] : matchOrb(descriptors_, kf.descriptors)) {
+    if (t >= static_cast<int>(kf.corner_idepth.size())) continue;
+    const float d = kf.corner_idepth[t];
+    if (!(d > 0.f) || !std::isfinite(d)) continue;
+    const Eigen::Vector2f& c = kf.corners[t];
+    points.push_back(pose.scale * radialRay(cam, kf.radial_k, c.x(), c.y()).cast<double>() /
+                     static_cast<double>(d));
+    pixels.push_back(pixels_[kept_[q]].cast<double>());
+  }
+  const PinholeIntrinsics pinhole{cam.fx, cam.fy, cam.cx, cam.cy, cam.width, cam.height};
+  PnpRansacResult pnp = solvePnpRansac(points, pixels, pinhole, pnp_);
+  out.matches = static_cast<int>(points.size());
+  out.pnp_inliers = static_cast<int>(pnp.inliers.size());
+  if (!pnp.success)
+    out.failure = "PnP against keyframe " + std::to_string(kf.id) + ": " +
+                  std::to_string(pnp.inliers.size()) + " inliers of " +
+                  std::to_string(points.size());
+  return pnp;
+}
+
+DirectAlignmentResult Relocalizer::alignDirectly(const MarginalizedKeyframe& kf,
+                                                 const KeyframeRecord& pose,
+                                                 const ImagePyramid& frame, double exposure,
+                                                 const SE3d& T_start) const {
+  std::vector<PatchPoint> scaled = kf.points;
+  for (PatchPoint& p : scaled) p.idepth /= static_cast<float>(pose.scale);
+  const Eigen::Vector2d transfer = affineTransfer(kf.exposure, exposure, kf.aff, AffineLight{});
+  DirectAlignmentResult direct = alignPoints(scaled, camera_, kf.radial_k, frame, T_start,
+                                             std::log(transfer[0]), transfer[1], direct_);
+  spdlog::debug(
+      "relocalisation: keyframe {}: {} of {} points, pattern correlation {:.2f}, "
+      "brightness scale {:.2f} (exposures: {:.2f})",
+      kf.id, direct.inliers, direct.in_image, direct.pattern_correlation, std::exp(direct.a),
+      transfer[0]);
+  if (direct.success && !(direct.pattern_correlation >= kMinPatternCorrelation)) {
+    direct.success = false;
+    direct.failure =
+        fmt::format("its patterns correlate {:.2f} with the frame's (brightness scale {:.2f})",
+                    direct.pattern_correlation, std::exp(direct.a));
+  }
+  return direct;
+}
+
+RelocalizationResult Relocalizer::relocalize(const ImagePyramid& frame, double exposure,
+                                             const MapStore& map, const SE3d& last_T_c_w,
+                                             const std::vector<int>& recent_ids,
+                                             double median_depth) {
+  RelocalizationResult out;
+  if (!describeFrame(frame, out.failure)) return out;
+  const std::vector<std::pair<int, int>> scored =
+      rankByMatches(map, candidates(map, last_T_c_w, recent_ids, median_depth));
   if (scored.empty()) {
     out.failure = "no map keyframe to look in";
     return out;
@@ -82,59 +138,24 @@ RelocalizationResult Relocalizer::relocalize(const ImagePyramid& frame, double e
   RelocalizationResult best;
   double best_angle = 0.0;
   for (int k = 0; k < kTriedCandidates && k < static_cast<int>(scored.size()); ++k) {
-    if (scored[k].matches < pnp_.min_inliers) {
+    const auto [matches, id] = scored[static_cast<std::size_t>(k)];
+    if (matches < pnp_.min_inliers) {
       if (k == 0)
-        out.failure = "best map keyframe " + std::to_string(scored[k].id) + " has " +
-                      std::to_string(scored[k].matches) + " ORB matches with a depth, fewer than " +
+        out.failure = "best map keyframe " + std::to_string(id) + " has " +
+                      std::to_string(matches) + " ORB matches with a depth, fewer than " +
                       std::to_string(pnp_.min_inliers);
       break;
     }
-    const std::shared_ptr<const MarginalizedKeyframe> kf = map.keyframeData(scored[k].id);
-    const KeyframeRecord pose = map.keyframe(scored[k].id);
+    const std::shared_ptr<const MarginalizedKeyframe> kf = map.keyframeData(id);
+    const KeyframeRecord pose = map.keyframe(id);
     if (!kf || pose.id < 0) {
-      out.failure = "map keyframe " + std::to_string(scored[k].id) + " has no pose";
+      out.failure = "map keyframe " + std::to_string(id) + " has no pose";
       continue;
     }
-    // 4. PnP of the candidate's corners (in its frame, the map's scale) against the frame.
-    std::vector<Eigen::Vector3d> points;
-    std::vector<Eigen::Vector2d> pixels;
-    for (const auto& [q, t] : matchOrb(descriptors_, kf->descriptors)) {
-      if (t >= static_cast<int>(kf->corner_idepth.size())) continue;
-      const float d = kf->corner_idepth[t];
-      if (!(d > 0.f) || !std::isfinite(d)) continue;
-      const Eigen::Vector2f& c = kf->corners[t];
-      points.push_back(pose.scale * radialRay(cam, kf->radial_k, c.x(), c.y()).cast<double>() /
-                       static_cast<double>(d));
-      pixels.push_back(pixels_[kept_[q]].cast<double>());
-    }
-    const PinholeIntrinsics pinhole{cam.fx, cam.fy, cam.cx, cam.cy, cam.width, cam.height};
-    const PnpRansacResult pnp = solvePnpRansac(points, pixels, pinhole, pnp_);
-    out.matches = static_cast<int>(points.size());
-    out.pnp_inliers = static_cast<int>(pnp.inliers.size());
-    if (!pnp.success) {
-      out.failure = "PnP against keyframe " + std::to_string(kf->id) + ": " +
-                    std::to_string(pnp.inliers.size()) + " inliers of " +
-                    std::to_string(points.size());
-      continue;
-    }
-    // 5. Direct alignment of its points from the PnP pose.
-    std::vector<PatchPoint> scaled = kf->points;
-    for (PatchPoint& p : scaled) p.idepth /= static_cast<float>(pose.scale);
-    const Eigen::Vector2d transfer = affineTransfer(kf->exposure, exposure, kf->aff, AffineLight{});
-    DirectAlignmentResult direct =
-        alignPoints(scaled, camera_, kf->radial_k, frame, pnp.T_camera_points,
-                    std::log(transfer[0]), transfer[1], direct_);
-    spdlog::debug(
-        "relocalisation: keyframe {}: {} of {} points, pattern correlation {:.2f}, "
-        "brightness scale {:.2f} (exposures: {:.2f})",
-        kf->id, direct.inliers, direct.in_image, direct.pattern_correlation, std::exp(direct.a),
-        transfer[0]);
-    if (direct.success && !(direct.pattern_correlation >= kMinPatternCorrelation)) {
-      direct.success = false;
-      direct.failure =
-          fmt::format("its patterns correlate {:.2f} with the frame's (brightness scale {:.2f})",
-                      direct.pattern_correlation, std::exp(direct.a));
-    }
+    const PnpRansacResult pnp = solvePnp(*kf, pose, out);
+    if (!pnp.success) continue;
+    const DirectAlignmentResult direct =
+        alignDirectly(*kf, pose, frame, exposure, pnp.T_camera_points);
     if (!direct.success) {
       if (!best.success) {
         best.failure =

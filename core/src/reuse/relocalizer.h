@@ -12,6 +12,7 @@
 
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "alignment/direct_alignment.h"
@@ -48,6 +49,23 @@ class Relocalizer {
                                   double median_depth);
 
  private:
+  /// 1. The frame's corners and ORB descriptors; false (and why) when too few.
+  bool describeFrame(const ImagePyramid& frame, std::string& failure);
+  /// 2. Map keyframes near the last pose and around the last window.
+  std::vector<int> candidates(const MapStore& map, const SE3d& last_T_c_w,
+                              const std::vector<int>& recent_ids, double median_depth) const;
+  /// 3. (ORB matches with a depth, id) of each candidate, most matches first.
+  std::vector<std::pair<int, int>> rankByMatches(const MapStore& map,
+                                                 const std::vector<int>& ids) const;
+  /// 4. PnP of the keyframe's corners against the frame's (fills out's match counts and, failed,
+  /// its reason).
+  PnpRansacResult solvePnp(const MarginalizedKeyframe& kf, const KeyframeRecord& pose,
+                           RelocalizationResult& out) const;
+  /// 5. Direct alignment of the keyframe's points from T_start; it must also correlate.
+  DirectAlignmentResult alignDirectly(const MarginalizedKeyframe& kf, const KeyframeRecord& pose,
+                                      const ImagePyramid& frame, double exposure,
+                                      const SE3d& T_start) const;
+
   ReuseConfig config_;
   PyramidCamera camera_;
   CornerDetector corners_;

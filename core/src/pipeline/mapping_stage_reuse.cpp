@@ -1,0 +1,163 @@
+// Map reuse after a keyframe (MappingStage::reuseMap): take back the map keyframes that no longer
+// fit, search the map for those that see the newest keyframe, bring them back (replacing a weak
+// one when the window's map keyframes are all taken) and, with reuse.trial_check, keep only those
+// a trial optimisation confirms.
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+
+#include "pipeline/mapping_stage.h"
+
+namespace ldsm {
+
+void MappingStage::reuseMap(int newest_frame_index, double newest_timestamp) {
+  takeBackMisfits();
+  std::vector<std::pair<int, int>> held = replaceableReactivated();
+  const int room =
+      settings_.reuse.max_reactivated - static_cast<int>(mapper_.reactivatedIds().size());
+  const WindowKeyframe& newest = mapper_.newestKeyframe();
+  const ReuseView view = reuseView(newest);
+  const std::vector<ReuseCheck> checks = reuse_->search(view, store_, reuseExclusions(newest.id()));
+  spdlog::trace("reuse: keyframe {}: {} candidates (median depth {:.3f})", newest.id(),
+                checks.size(), view.median_depth);
+  ReuseEvent event;
+  event.keyframe_id = newest.id();
+  event.frame_index = newest_frame_index;
+  event.timestamp = newest_timestamp;
+  bringBack(checks, held, room, event);
+  if (event.reactivated.empty()) return;
+  if (settings_.reuse.trial_check) {
+    confirmByTrial(event);
+  } else {
+    for (const int id : event.reactivated) store_.connect(newest.id(), id);
+  }
+  if (!event.reactivated.empty()) events_.reactivated(event);
+}
+
+void MappingStage::takeBackMisfits() {
+  // From a copy: deactivate() edits the list.
+  const std::vector<Mapper::ReactivatedFit> fit = mapper_.reactivatedFit();
+  for (const Mapper::ReactivatedFit& f : fit) {
+    const bool fits = f.residuals > 0 && f.inliers >= settings_.reuse.min_inlier_fraction *
+                                                          static_cast<double>(f.residuals);
+    if (fits) continue;
+    mapper_.deactivate(f.id);
+    ++reuse_stats_.deactivations;
+  }
+}
+
+std::vector<std::pair<int, int>> MappingStage::replaceableReactivated() {
+  // What each reactivated keyframe still contributes: its inlier residuals in the newest keyframe.
+  // A corridor keeps old keyframes "fitting" long after the camera has moved on (their far points
+  // stay in view), so a full window is not the end of the search: a candidate that sees clearly
+  // more of the current view replaces the weakest one (bringBack).
+  // Only a keyframe that has lost most of the view it was brought back for can be replaced: a
+  // camera that stays in one place keeps its map keyframes (no churn).
+  std::vector<std::pair<int, int>> held;  // (inliers, id), weakest first
+  std::vector<std::pair<int, int>> peaks;
+  for (const Mapper::ReactivatedFit& f : mapper_.reactivatedFit()) {
+    int peak = f.inliers;
+    for (const auto& [id, inliers] : reactivated_peak_)
+      if (id == f.id) peak = std::max(peak, inliers);
+    peaks.push_back({f.id, peak});
+    if (2 * f.inliers < peak) held.push_back({f.inliers, f.id});
+  }
+  reactivated_peak_ = std::move(peaks);
+  std::sort(held.begin(), held.end());
+  return held;
+}
+
+ReuseView MappingStage::reuseView(const WindowKeyframe& newest) {
+  // The newest keyframe as the search sees it: its corners with ORB descriptors.
+  ReuseView view;
+  view.keyframe_id = newest.id();
+  view.T_c_w = newest.T_c_w;
+  view.camera = camera_[0];
+  view.radial_k = mapper_.radialK();
+  view.path_length = newest.path_length;
+  const std::vector<Eigen::Vector2f> corners = mapper_.newestDescribableCorners();
+  orb_->compute(newest.pyramid().intensity(0), corners, view.descriptors, orb_kept_);
+  for (const std::uint32_t i : orb_kept_) view.corners.push_back(corners[i]);
+  mapper_.trackingPoints(depth_points_);
+  if (!depth_points_.empty()) view.median_depth = medianDepth(depth_points_, idepths_);
+  for (const KeyframeRecord& r : mapper_.windowPoses()) view.window_ids.push_back(r.id);
+  return view;
+}
+
+std::vector<int> MappingStage::reuseExclusions(int newest_id) {
+  // The map keyframes already in the window, and those the trial turned down, while they rest.
+  std::vector<int> exclude = mapper_.reactivatedIds();
+  trial_rejected_.erase(
+      std::remove_if(trial_rejected_.begin(), trial_rejected_.end(),
+                     [&](const std::pair<int, int>& r) { return r.second < newest_id; }),
+      trial_rejected_.end());
+  for (const auto& r : trial_rejected_) exclude.push_back(r.first);
+  return exclude;
+}
+
+void MappingStage::bringBack(const std::vector<ReuseCheck>& checks,
+                             std::vector<std::pair<int, int>>& held, int room, ReuseEvent& event) {
+  int added = 0;
+  for (const ReuseCheck& c : checks) {
+    ++reuse_stats_.candidates_checked;
+    if (!c.accepted) {
+      ++(c.matches > 0 || c.reason.find("ORB") != std::string::npos
+             ? reuse_stats_.rejected_features
+             : reuse_stats_.rejected_geometry);
+      spdlog::trace("reuse: keyframe {} for {} rejected: {}", c.id, event.keyframe_id, c.reason);
+      continue;
+    }
+    const std::shared_ptr<const MarginalizedKeyframe> data = store_.keyframeData(c.id);
+    const KeyframeRecord pose = store_.keyframe(c.id);
+    if (!data || pose.id < 0) continue;
+    if (added >= room) {
+      // Replace the weakest reactivated keyframe when this one is expected to give clearly more
+      // inliers (by default 4x in view, about twice the inliers: half the points in view are).
+      if (held.empty() || !(settings_.reuse.replace_ratio > 0.0) ||
+          !(c.in_view > settings_.reuse.replace_ratio * held.front().first))
+        break;
+      spdlog::debug("reuse: keyframe {} ({} inliers) makes room for keyframe {} ({} in view)",
+                    held.front().second, held.front().first, c.id, c.in_view);
+      mapper_.deactivate(held.front().second);
+      ++reuse_stats_.deactivations;
+      held.erase(held.begin());
+      ++room;
+    }
+    mapper_.reactivate(*data, pose.T_w_c, pose.scale);
+    ++reuse_stats_.reactivations;
+    ++added;
+    event.reactivated.push_back(c.id);
+    spdlog::debug(
+        "reuse: keyframe {} brought back for keyframe {} ({} points in view, {} %, {} "
+        "ORB matches)",
+        c.id, event.keyframe_id, c.in_view, static_cast<int>(100 * c.overlap), c.matches);
+  }
+}
+
+void MappingStage::confirmByTrial(ReuseEvent& event) {
+  // The direct check: a window optimisation with the new map keyframes, tried and undone. One
+  // whose points do not fit the newest keyframe afterwards (the rule by which a reactivated
+  // keyframe stays) never enters a real optimisation: a wrong one would pull the window towards
+  // the wrong place before it could be taken out. Before any optimisation the share that fits says
+  // little: the window has drifted from the map, and only the optimisation aligns it.
+  const int newest_id = event.keyframe_id;
+  const Mapper::ReactivationTrial trial = mapper_.tryReactivated();
+  for (const Mapper::ReactivatedFit& f : trial.fits) {
+    const auto it = std::find(event.reactivated.begin(), event.reactivated.end(), f.id);
+    if (it == event.reactivated.end()) continue;  // reactivated earlier
+    if (f.residuals > 0 &&
+        f.inliers >= settings_.reuse.min_inlier_fraction * static_cast<double>(f.residuals)) {
+      store_.connect(newest_id, f.id);
+      continue;
+    }
+    spdlog::debug("reuse: keyframe {} for {} rejected by the trial: {} of {} residuals fit", f.id,
+                  newest_id, f.inliers, f.residuals);
+    mapper_.deactivate(f.id);
+    event.reactivated.erase(it);
+    --reuse_stats_.reactivations;
+    ++reuse_stats_.rejected_photometric;
+    trial_rejected_.push_back({f.id, newest_id + settings_.reuse.trial_rest_keyframes});
+  }
+}
+
+}  // namespace ldsm
