@@ -305,7 +305,7 @@ CoarseTracker::Evaluation CoarseTracker::optimiseLevel(const ImagePyramid& frame
 
 bool CoarseTracker::track(const ImagePyramid& frame, double exposure, SE3d& T_frame_ref,
                           AffineLight& affine, int coarsest_level, const LevelValues& max_rmse,
-                          CoarseTrackingResult& result) {
+                          CoarseTrackingResult& result, int finest_level) {
   result = CoarseTrackingResult();
   checkExposure(exposure, "frame");
   predicted_affine_ = affine;
@@ -325,9 +325,10 @@ bool CoarseTracker::track(const ImagePyramid& frame, double exposure, SE3d& T_fr
   };
   if (!has_reference_) return fail(TrackingFailure::kNoReference, levels() - 1);
   const int coarsest = std::clamp(coarsest_level, 0, levels() - 1);
+  const int finest = std::clamp(finest_level, 0, coarsest);
   bool repeated = false;
   Evaluation ev;
-  for (int level = coarsest; level >= 0; --level) {
+  for (int level = coarsest; level >= finest; --level) {
     if (depth_maps_.points(level).count == 0) return fail(TrackingFailure::kNoReference, level);
     float cutoff = settings_.outlier_threshold;
     ev = optimiseLevel(frame, exposure, level, T_frame_ref, affine, cutoff, result.iterations);
@@ -351,6 +352,10 @@ bool CoarseTracker::track(const ImagePyramid& frame, double exposure, SE3d& T_fr
       repeated = true;
       ++level;
     }
+  }
+  if (finest > 0) {
+    result.success = true;
+    return true;
   }
   result.in_image_fraction = static_cast<double>(ev.in_image) / depth_maps_.points(0).count;
   result.inlier_fraction = static_cast<double>(ev.base_inliers) / ev.in_image;

@@ -121,11 +121,14 @@ class CoarseTracker {
   }
 
   /// Tracks `frame` (exposure time `exposure`) from level min(coarsest_level, levels() - 1) down
-  /// to 0. T_frame_ref and affine hold the initial guess and receive the estimate (also when
-  /// tracking fails). A level whose final RMSE exceeds max_rmse[level] aborts tracking. Returns
-  /// result.success. Allocates nothing.
+  /// to `finest_level` (0: the full resolution). T_frame_ref and affine hold the initial guess and
+  /// receive the estimate (also when tracking fails). A level whose final RMSE exceeds
+  /// max_rmse[level] aborts tracking. Returns result.success; stopped above level 0, the result
+  /// has only the RMSE of the levels tracked (no inlier, flow or brightness figures). Allocates
+  /// nothing.
   bool track(const ImagePyramid& frame, double exposure, SE3d& T_frame_ref, AffineLight& affine,
-             int coarsest_level, const LevelValues& max_rmse, CoarseTrackingResult& result);
+             int coarsest_level, const LevelValues& max_rmse, CoarseTrackingResult& result,
+             int finest_level = 0);
 
   /// The residual of reference point `index` of `level` for the given parameters, and its
   /// Jacobian w.r.t. [rho, phi, a, b] (left perturbation of T) when `jacobian` is not null.

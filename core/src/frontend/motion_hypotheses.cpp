@@ -1,7 +1,10 @@
 #include "frontend/motion_hypotheses.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
+#include <utility>
 
 namespace ldsm {
 
@@ -95,43 +98,107 @@ SE3d motionHypothesis(int index, const MotionHistory& history, const HypothesisS
   return T;
 }
 
+namespace {
+
+/// The search's state: the best result so far and the abort thresholds it implies.
+class HypothesisSearch {
+ public:
+  HypothesisSearch(CoarseTracker& tracker, const ImagePyramid& frame, double exposure,
+                   const MotionHistory& history, const HypothesisSettings& settings)
+      : tracker_(tracker),
+        frame_(frame),
+        exposure_(exposure),
+        history_(history),
+        settings_(settings),
+        abort_rmse_(noAbortThresholds()),
+        coarsest_(tracker.levels() - 1) {
+    best_.T_frame_ref = motionHypothesis(0, history, settings, nullptr);
+    best_.affine = history.last_affine;
+  }
+
+  /// Tracks hypothesis i to level 0; true when the search is over (good enough).
+  bool tryFully(int i) {
+    MotionHypothesisKind kind;
+    SE3d T = motionHypothesis(i, history_, settings_, &kind);
+    AffineLight affine = history_.last_affine;
+    CoarseTrackingResult tracking;
+    ++best_.tried;
+    if (!tracker_.track(frame_, exposure_, T, affine, coarsest_, abort_rmse_, tracking))
+      return false;
+    const double rmse = tracking.rmse(0);
+    if (!(rmse < best_.rmse)) return false;
+    best_.success = true;
+    best_.hypothesis = i;
+    best_.kind = kind;
+    best_.rmse = rmse;
+    best_.T_frame_ref = T;
+    best_.affine = affine;
+    best_.tracking = tracking;
+    // Later hypotheses must do clearly better on every level, or they stop early.
+    for (int l = 0; l <= coarsest_; ++l) {
+      if (std::isfinite(tracking.rmse(l)))
+        abort_rmse_(l) = tracking.rmse(l) * settings_.retrack_threshold;
+    }
+    return rmse < history_.last_rmse * settings_.retrack_threshold;
+  }
+
+  /// The coarsest-level RMSE of hypothesis i (infinity when it fails there).
+  double screen(int i) {
+    SE3d T = motionHypothesis(i, history_, settings_, nullptr);
+    AffineLight affine = history_.last_affine;
+    CoarseTrackingResult tracking;
+    ++best_.screened;
+    if (!tracker_.track(frame_, exposure_, T, affine, coarsest_, abort_rmse_, tracking, coarsest_))
+      return std::numeric_limits<double>::infinity();
+    return tracking.rmse(coarsest_);
+  }
+
+  const HypothesisTrackingResult& best() const { return best_; }
+
+ private:
+  CoarseTracker& tracker_;
+  const ImagePyramid& frame_;
+  double exposure_;
+  const MotionHistory& history_;
+  const HypothesisSettings& settings_;
+  LevelValues abort_rmse_;
+  int coarsest_;
+  HypothesisTrackingResult best_;
+};
+
+}  // namespace
+
 HypothesisTrackingResult trackWithHypotheses(CoarseTracker& tracker, const ImagePyramid& frame,
                                              double exposure, const MotionHistory& history,
                                              const HypothesisSettings& settings) {
-  HypothesisTrackingResult best;
+  HypothesisSearch search(tracker, frame, exposure, history, settings);
   const SE3d constant_velocity = motionHypothesis(0, history, settings, nullptr);
-  best.T_frame_ref = constant_velocity;
-  best.affine = history.last_affine;
-  LevelValues abort_rmse = noAbortThresholds();
-  const int coarsest = tracker.levels() - 1;
-  const int count = motionHypothesisCount(settings);
-  for (int i = 0; i < count; ++i) {
-    MotionHypothesisKind kind;
-    SE3d T = motionHypothesis(i, history, settings, &kind);
+  for (int i = 0; i < kBasicHypotheses; ++i) {
     // Skip basic hypotheses equal to the constant-velocity guess (e.g. without a velocity,
     // double / half / zero motion are all the same).
-    if (i >= 1 && i < kBasicHypotheses && isSameMotion(T, constant_velocity)) continue;
-    AffineLight affine = history.last_affine;
-    CoarseTrackingResult tracking;
-    ++best.tried;
-    if (!tracker.track(frame, exposure, T, affine, coarsest, abort_rmse, tracking)) continue;
-    const double rmse = tracking.rmse(0);
-    if (!(rmse < best.rmse)) continue;
-    best.success = true;
-    best.hypothesis = i;
-    best.kind = kind;
-    best.rmse = rmse;
-    best.T_frame_ref = T;
-    best.affine = affine;
-    best.tracking = tracking;
-    // Later hypotheses must do clearly better on every level, or they stop early.
-    for (int l = 0; l <= coarsest; ++l) {
-      if (std::isfinite(tracking.rmse(l)))
-        abort_rmse(l) = tracking.rmse(l) * settings.retrack_threshold;
-    }
-    if (rmse < history.last_rmse * settings.retrack_threshold) break;
+    if (i >= 1 && isSameMotion(motionHypothesis(i, history, settings, nullptr), constant_velocity))
+      continue;
+    if (search.tryFully(i)) return search.best();
   }
-  return best;
+  const int count = motionHypothesisCount(settings);
+  if (settings.screened_rotations <= 0) {
+    for (int i = kBasicHypotheses; i < count; ++i)
+      if (search.tryFully(i)) break;
+    return search.best();
+  }
+  // Screened: every rotated hypothesis at the coarsest level, the best few in full. The fixed
+  // array keeps this free of allocation (at most 26 * kMaxHypothesisAngles of them).
+  std::array<std::pair<double, int>, kRotationDirections * kMaxHypothesisAngles> screened;
+  int n = 0;
+  for (int i = kBasicHypotheses; i < count; ++i) {
+    const double rmse = search.screen(i);
+    if (std::isfinite(rmse)) screened[static_cast<std::size_t>(n++)] = {rmse, i};
+  }
+  const int refined = std::min(n, settings.screened_rotations);
+  std::partial_sort(screened.begin(), screened.begin() + refined, screened.begin() + n);
+  for (int k = 0; k < refined; ++k)
+    if (search.tryFully(screened[static_cast<std::size_t>(k)].second)) break;
+  return search.best();
 }
 
 }  // namespace ldsm

@@ -167,8 +167,49 @@ TEST_F(HypothesisTrackingTest, UnexpectedRotationIsFoundByRotatedHypotheses) {
       trackWithHypotheses(*tracker_, frame, 1.0, h, HypothesisSettings());
   ASSERT_TRUE(r.success);
   EXPECT_EQ(r.kind, MotionHypothesisKind::kRotated);
-  EXPECT_EQ(r.tried, r.hypothesis + 1 - 4);  // 1..4 equal the identity guess and are skipped
+  // 1..4 equal the identity guess and are skipped; every rotated one is screened at the coarsest
+  // level, and only the best few are tracked to level 0.
+  const HypothesisSettings settings;
+  EXPECT_EQ(r.screened, 26 * settings.rotation_angle_count);
+  EXPECT_LE(r.tried, 1 + settings.screened_rotations);
   EXPECT_TRUE(close(r.T_frame_ref, truth));
+}
+
+TEST_F(HypothesisTrackingTest, UnscreenedSearchTriesTheRotationsInOrder) {
+  MotionHistory h;
+  h.last_rmse = 1.0;
+  const SE3d truth = rotationAboutY(-0.12);
+  HypothesisSettings settings;
+  settings.screened_rotations = 0;  // DSO's search: each hypothesis in full, in order
+  const HypothesisTrackingResult r =
+      trackWithHypotheses(*tracker_, renderFrame(truth), 1.0, h, settings);
+  ASSERT_TRUE(r.success);
+  EXPECT_EQ(r.kind, MotionHypothesisKind::kRotated);
+  EXPECT_EQ(r.tried, r.hypothesis + 1 - 4);  // 1..4 equal the identity guess and are skipped
+  EXPECT_EQ(r.screened, 0);
+  EXPECT_TRUE(close(r.T_frame_ref, truth));
+}
+
+TEST_F(HypothesisTrackingTest, ScreeningFindsWhatTheFullSearchFinds) {
+  // Rotations about several axes: the screened search ends at the same pose as the full one.
+  for (const Eigen::Vector3d& w : {Eigen::Vector3d(0, -0.12, 0), Eigen::Vector3d(0.06, 0, 0),
+                                   Eigen::Vector3d(0.03, 0.05, 0.02)}) {
+    MotionHistory h;
+    h.last_rmse = 1.0;
+    SE3d::Tangent x = SE3d::Tangent::Zero();
+    x.tail<3>() = w;
+    const SE3d truth = SE3d::exp(x);
+    const ImagePyramid frame = renderFrame(truth);
+    HypothesisSettings full;
+    full.screened_rotations = 0;
+    const HypothesisTrackingResult a = trackWithHypotheses(*tracker_, frame, 1.0, h, full);
+    const HypothesisTrackingResult b =
+        trackWithHypotheses(*tracker_, frame, 1.0, h, HypothesisSettings());
+    ASSERT_TRUE(a.success) << w.transpose();
+    ASSERT_TRUE(b.success) << w.transpose();
+    EXPECT_TRUE(close(a.T_frame_ref, truth)) << w.transpose();
+    EXPECT_TRUE(close(b.T_frame_ref, truth)) << w.transpose();
+  }
 }
 
 TEST_F(HypothesisTrackingTest, UnrelatedImageFailsAfterTryingEverything) {
@@ -189,7 +230,10 @@ TEST_F(HypothesisTrackingTest, UnrelatedImageFailsAfterTryingEverything) {
       trackWithHypotheses(*tracker_, test::makePyramid(image), 1.0, h, settings);
   EXPECT_FALSE(r.success);
   EXPECT_EQ(r.hypothesis, -1);
-  EXPECT_EQ(r.tried, motionHypothesisCount(settings));
+  // Every basic hypothesis in full, every rotated one screened, the best few of those in full.
+  EXPECT_EQ(r.screened, 26);
+  EXPECT_GE(r.tried, 5);
+  EXPECT_LE(r.tried, 5 + settings.screened_rotations);
   EXPECT_TRUE(std::isinf(r.rmse));
   EXPECT_TRUE(close(r.T_frame_ref, h.T_last_prelast * h.T_last_ref));  // the prediction
 }
