@@ -3,7 +3,7 @@
 // with Huber and gradient-dependent weights, and its linearisation. Geometric Jacobians are
 // evaluated at the keyframes' first-estimate linearisation points (FEJ); residual values and image
 // gradients at the current estimate. The pattern is evaluated as a struct of arrays by the SIMD
-// kernels of math/simd (pattern_sampling.h, pattern_accumulate.h); the (host, target) pair block
+// kernels of kernels/ (pattern_sampling.h, pattern_accumulate.h); the (host, target) pair block
 // is summed in SIMD lanes (PairAccumulator) and reduced once per pair and linearisation.
 // With a radial correction k (radial_correction.h) the host pixel's ray is undistorted and the
 // projection shifted by the distortion at the target's centre pixel (the pattern shares the

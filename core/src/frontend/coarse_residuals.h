@@ -47,7 +47,7 @@ inline void coarseJacobianRow(float dx_fx, float dy_fy, float nx, float ny, floa
 }
 
 /// H = sum w J^T J and g = sum w J^T r over the buffer (SIMD kernel of
-/// math/simd/coarse_accumulate.h: float lane sums in blocks, summed in double).
+/// kernels/coarse_accumulate.h: float lane sums in blocks, summed in double).
 void accumulateNormalEquations(const WarpedResiduals& residuals, CoarseMatrix& H, CoarseVector& g);
 
 namespace reference {

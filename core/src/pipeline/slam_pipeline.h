@@ -42,11 +42,9 @@ class SlamPipeline {
 
   void setListener(SystemListener* listener) { events_.setListener(listener); }
 
-  /// Tracking thread (or the caller's, deterministic): one validated frame.
-  FrameEvent process(ImageView<const std::uint8_t> image, std::int64_t index, double timestamp,
-                     double exposure) {
-    return tracking_.process(image, index, timestamp, exposure);
-  }
+  /// Where each validated frame goes (TrackingStage::process), on the tracking thread (or the
+  /// caller's, deterministic).
+  TrackingStage& tracking() { return tracking_; }
   /// End of a run (tracking idle): waits for mapping and loop closure, publishes the window.
   void finish() { mapping_.finish(); }
 

@@ -85,8 +85,8 @@ struct System::Impl {
     }
     last_timestamp = f.timestamp;
     const bool use_exposure = exposures_known && config.photometric.use_exposure;
-    const FrameEvent frame =
-        pipeline.process(f.image, index, f.timestamp, use_exposure ? f.exposure_ms : 1.0);
+    const FrameEvent frame = pipeline.tracking().process(f.image, index, f.timestamp,
+                                                         use_exposure ? f.exposure_ms : 1.0);
     if (frame.has_pose) {
       tracked.fetch_add(1, std::memory_order_relaxed);
       latest_pose.publish(StampedPose{f.timestamp, frame.pose});
