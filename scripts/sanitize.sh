@@ -64,7 +64,8 @@ else
   # Where threads meet: the system (threaded mode, the mapping and loop-closing threads), the
   # live pipeline, the concurrency primitives and the pipeline stages.
   labels=(-L '^(system|live|pipeline|concurrency|capture|replay|loop)$')
-  export TSAN_OPTIONS=${TSAN_OPTIONS:-halt_on_error=1:exitcode=66:second_deadlock_stack=1}
+  # scripts/tsan.supp: OpenCV's allocator seen across TBB threads (neither is instrumented).
+  export TSAN_OPTIONS=${TSAN_OPTIONS:-halt_on_error=1:exitcode=66:second_deadlock_stack=1:suppressions=$PWD/scripts/tsan.supp}
 fi
 exclude=${SANITIZE_EXCLUDE-^($real_speed)$}
 
