@@ -92,7 +92,8 @@ void writeRunOutputs(const std::string& dir, const System& system, const RunSumm
   xyz.reserve(points.size());
   for (const MapPoint& p : points) {
     const Eigen::Vector3f pf = p.position.cast<float>();
-    if (!pf.allFinite()) continue;
+    // Points of a map not merged into the first one are in another frame: not in the cloud.
+    if (!pf.allFinite() || p.map != 0) continue;
     xyz.push_back(pf);
     const auto g = static_cast<std::uint8_t>(std::clamp(p.intensity, 0.f, 255.f));
     colours.push_back(p.is_corner ? std::array<std::uint8_t, 3>{255, 64, 0}
@@ -143,6 +144,8 @@ void writeRunOutputs(const std::string& dir, const System& system, const RunSumm
   j.key("relocalizations").value(s.reuse.relocalizations);
   j.key("relocalization_attempts").value(s.reuse.relocalization_attempts);
   j.key("new_maps").value(s.reuse.new_maps);
+  j.key("map_corrections").value(s.reuse.map_corrections);
+  j.key("merges").value(s.reuse.merges);
   j.endObject();
   j.key("map").beginObject();
   j.key("keyframes").value(s.map.keyframes);

@@ -237,6 +237,20 @@ struct LoopConfig {
   /// plus the drift the odometry chain between the two keyframes may have accumulated (7 DoF;
   /// 18.48 = chi-square 99 %). Smaller disagreement is within the accuracy of both.
   double correction_chi2 = 18.48;
+  /// LDSM's deferred pose graph: after a constraint that shows significant drift (a loop, or a
+  /// map keyframe brought back into the window), the pose graph is optimised once no new such
+  /// constraint arrived for pose_graph_delay_keyframes keyframes (all of them in one solve), and
+  /// at the latest pose_graph_max_delay_keyframes after the first one (or at the end of a run).
+  int pose_graph_delay_keyframes = 5;
+  int pose_graph_max_delay_keyframes = 20;
+  /// LDSM: candidates that share more than this many points with the query keyframe (through the
+  /// window, or through map keyframes brought back into it) are no loops: they are connected
+  /// already.
+  int covisible_shared_points = 100;
+  /// Map keyframes brought back into the window (map reuse) give the pose graph relative-pose
+  /// constraints from the window optimisation, so that the drift a revisit reveals is spread
+  /// over the keyframes in between.
+  bool reuse_constraints = true;
 
   template <typename V>
   void visit(V& v) {
@@ -261,6 +275,16 @@ struct LoopConfig {
             "squared Mahalanobis distance (7 DoF) of the loop's disagreement with the estimate, "
             "under the loop's and the odometry chain's uncertainty, above which the pose graph "
             "corrects the trajectory; 0 corrects every loop");
+    v.field("pose_graph_delay_keyframes", pose_graph_delay_keyframes, Range<int>{0, 1000},
+            "keyframes without a new significant constraint before the pose graph is optimised");
+    v.field("pose_graph_max_delay_keyframes", pose_graph_max_delay_keyframes, Range<int>{0, 100000},
+            "keyframes after the first significant constraint by which the pose graph is "
+            "optimised at the latest");
+    v.field("covisible_shared_points", covisible_shared_points, Range<int>{0, 100000},
+            "points a candidate may share with the query keyframe before it counts as connected "
+            "(no loop)");
+    v.field("reuse_constraints", reuse_constraints,
+            "map keyframes brought back into the window constrain the pose graph");
   }
 };
 
@@ -343,6 +367,10 @@ struct ReuseConfig {
   double redundancy_distance = 0.3;
   double redundancy_angle_deg = 30.0;
   double redundancy_coverage = 0.8;
+  /// The map's budget: at most this many keyframes keep their points and features (0: no limit).
+  /// Beyond it the most redundant one (the nearest to another kept keyframe looking the same
+  /// way) keeps only its pose, so a long run in a large place stays within a fixed memory.
+  int max_map_keyframes = 0;
   /// How a reactivated keyframe's pose is held: 0 fixed at the map's estimate (the default,
   /// docs/map-reuse.md), > 0 free with a prior of this weight per parameter.
   double reactivated_pose_weight = 0.0;
@@ -356,6 +384,9 @@ struct ReuseConfig {
   double relocalization_min_direct_inliers = 0.5;
   /// Keyframes searched around the last known pose, times the last median depth.
   double relocalization_search_radius = 3.0;
+  /// Map keyframes anywhere in the map that look most like the lost frame (bag of words; needs
+  /// loop closure's keyframe database) are tried too: a camera carried elsewhere while lost.
+  int relocalization_place_candidates = 5;
 
   template <typename V>
   void visit(V& v) {
@@ -398,6 +429,9 @@ struct ReuseConfig {
             "no new point this close to a map point seen in the keyframe (0: off)");
     v.field("cull_redundant", cull_redundant,
             "keep only the pose of keyframes an earlier map keyframe already covers");
+    v.field("max_map_keyframes", max_map_keyframes, Range<int>{0, 10000000},
+            "keyframes that keep points and features at most; beyond, the most redundant keeps "
+            "only its pose (0: no limit)");
     v.field("redundancy_distance", redundancy_distance, Range<double>{0.0, 10.0},
             "a covering map keyframe stands within this times the keyframe's median depth");
     v.field("redundancy_angle_deg", redundancy_angle_deg, Range<double>{0.0, 180.0},
@@ -418,6 +452,9 @@ struct ReuseConfig {
     v.field("relocalization_search_radius", relocalization_search_radius,
             Range<double>{0.0, 1000.0},
             "keyframes searched around the last known pose, times the last median depth");
+    v.field("relocalization_place_candidates", relocalization_place_candidates, Range<int>{0, 100},
+            "map keyframes that look most like a lost frame (bag of words) tried anywhere in the "
+            "map (0: only near the last pose)");
   }
 };
 

@@ -87,11 +87,26 @@ struct ReuseEvent {
   std::vector<int> reactivated;  ///< ids of the map keyframes brought back
 };
 
+/// Two maps became one: a verified loop connected the current map to an earlier one (a map
+/// started after tracking was lost for longer than reuse.relocalization_timeout_s). The earlier
+/// map's keyframes, frames and points were moved into the current map by the loop's Sim(3); the
+/// poses reported from then on are in the frame of the first map (StampedPose::map 0) whenever
+/// either of the two was connected to it.
+struct MapMergeEvent {
+  int merged_map = -1;  ///< the earlier map
+  int into_map = -1;    ///< the current map
+  int current_keyframe_id = -1;
+  int matched_keyframe_id = -1;
+  double scale = 1.0;         ///< scale of the earlier map relative to the current one
+  int moved_keyframes = 0;    ///< keyframes moved
+  bool in_map_frame = false;  ///< the merged map is connected to the first map
+};
+
 /// Receives events; every method has an empty default. In deterministic mode every call comes on
 /// the caller's thread (inside submit() or finish()). In threaded mode onFrame, onTrackingLost and
-/// onRelocalized come from the tracking thread, onInitialized, onKeyframe, onReuse and
-/// onLoopClosure from the mapping thread (possibly at the same time as the former). Keep handlers
-/// short and never call back into the System from them.
+/// onRelocalized come from the tracking thread, onInitialized, onKeyframe, onReuse,
+/// onLoopClosure and onMapsMerged from the mapping thread (possibly at the same time as the
+/// former). Keep handlers short and never call back into the System from them.
 class SystemListener {
  public:
   virtual ~SystemListener() = default;
@@ -105,6 +120,8 @@ class SystemListener {
   virtual void onReuse(const ReuseEvent&) {}
   /// When tracking resumes in the existing map after a loss (tracking thread in threaded mode).
   virtual void onRelocalized(const RelocalizedEvent&) {}
+  /// When two maps were merged (mapping thread in threaded mode).
+  virtual void onMapsMerged(const MapMergeEvent&) {}
 };
 
 }  // namespace ldsm

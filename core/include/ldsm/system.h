@@ -49,6 +49,10 @@ struct ReuseStats {
   std::int64_t relocalizations = 0;       ///< tracking resumed in the existing map after a loss
   std::int64_t relocalization_attempts = 0;
   std::int64_t new_maps = 0;  ///< maps started because relocalisation timed out
+  /// Pose-graph corrections that map keyframes brought back into the window triggered (the
+  /// drift a revisit revealed, spread over the keyframes in between).
+  std::int64_t map_corrections = 0;
+  std::int64_t merges = 0;  ///< maps merged into the current one (a loop connected them)
 };
 
 /// The size of the map: keyframes (created, and kept with their points and features), points,

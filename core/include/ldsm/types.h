@@ -32,6 +32,10 @@ struct Pose {
 struct StampedPose {
   double timestamp = 0.0;
   Pose pose;
+  /// 0: in the map's frame (the first map's, or a loaded map's). n > 0: the pose belongs to the
+  /// n-th map started after tracking was lost for good, not (yet) merged into the map: it is in
+  /// that map's own frame and scale.
+  int map = 0;
 };
 
 using Trajectory = std::vector<StampedPose>;
@@ -41,6 +45,7 @@ struct MapPoint {
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
   float intensity = 0.f;
   bool is_corner = false;
+  int map = 0;  ///< as StampedPose::map
 };
 
 }  // namespace ldsm

@@ -369,8 +369,33 @@ MarginalizedKeyframe Mapper::describeLeavingKeyframe(WindowKeyframe& f,
   out.map_points_in_view = f.map_points_in_view;
   out.newest_when_left = window_.back()->id();
   out.path_length = f.path_length;
+  out.links = linksOf(f);
   if (describe_leaving_) describeForLoopClosure(f, window_, camera_[0], out);
   return out;
+}
+
+std::vector<KeyframeLink> Mapper::linksOf(const WindowKeyframe& f) const {
+  std::vector<KeyframeLink> links;
+  std::vector<int> shared;
+  auto count = [&](const WindowKeyframe& host, const WindowKeyframe& target) {
+    int n = 0;
+    for (const auto& p : host.points)
+      for (const PointResidual& r : p->residuals)
+        if (r.target == &target && r.state == ResidualState::Inlier) ++n;
+    return n;
+  };
+  auto add = [&](const WindowKeyframe& other, bool map_keyframe) {
+    KeyframeLink l;
+    l.other = other.id();
+    l.T_this_other = f.T_c_w * other.T_c_w.inverse();
+    l.shared_points = count(f, other) + count(other, f);
+    l.map_keyframe = map_keyframe;
+    links.push_back(l);
+  };
+  for (const auto& kf : window_)
+    if (kf.get() != &f) add(*kf, false);
+  for (const auto& kf : reactivated_) add(*kf, true);
+  return links;
 }
 
 void Mapper::markMapCoverage(const WindowKeyframe& kf) {

@@ -115,6 +115,10 @@ class Mapper {
   /// Takes a reactivated keyframe out of the window again (its points and residuals go).
   void deactivate(int keyframe_id);
   void deactivateAll();
+  /// Moves a reactivated keyframe (a loop or map correction moved the map under it) to T_w_c,
+  /// its points' depths scaled with the map (scale_ratio: new / old scale). False when it is not
+  /// in the window.
+  bool moveReactivated(int keyframe_id, const SE3d& T_w_c, double scale_ratio);
   /// Ids of the reactivated keyframes.
   std::vector<int> reactivatedIds() const;
   /// For each reactivated keyframe: inlier and total residuals (in the image) of its points in
@@ -180,6 +184,8 @@ class Mapper {
   MapPoint worldPoint(const ActivePoint& p) const;
   /// The keyframe as it leaves the window (its corners and their depths filled in first).
   MarginalizedKeyframe describeLeavingKeyframe(WindowKeyframe& f, std::vector<PatchPoint> points);
+  /// The relative poses of `f` to every other keyframe of the window, as the window has them now.
+  std::vector<KeyframeLink> linksOf(const WindowKeyframe& f) const;
   /// Keeps the inverse depth of a corner point in its host's corner list.
   static void recordCornerDepth(const ActivePoint& p);
 

@@ -40,6 +40,17 @@ void Mapper::deactivate(int keyframe_id) {
                      reactivated_.end());
 }
 
+bool Mapper::moveReactivated(int keyframe_id, const SE3d& T_w_c, double scale_ratio) {
+  for (auto& kf : reactivated_) {
+    if (kf->id() != keyframe_id) continue;
+    kf->setInitialState(T_w_c.inverse(), kf->aff);
+    const float inv_ratio = static_cast<float>(1.0 / scale_ratio);
+    for (auto& p : kf->points) p->idepth = p->idepth_backup = p->idepth * inv_ratio;
+    return true;
+  }
+  return false;
+}
+
 void Mapper::deactivateAll() {
   reactivated_fit_.clear();
   reactivated_.clear();

@@ -80,6 +80,7 @@ FrameTrackingOutcome FrameTracker::track(const ImagePyramid& frame, double expos
   out.T_c_w = r.T_frame_ref * T_ref_w_;
   out.aff = r.affine;
   out.rmse = r.rmse;
+  out.inlier_fraction = r.tracking.inlier_fraction;
   if (first_rmse_ < 0.0) first_rmse_ = r.rmse;
   out.wants_keyframe = keyframeWanted(r.tracking, r.rmse);
 

@@ -21,7 +21,8 @@ struct FrameTrackingOutcome {
   std::string failure;  ///< why tracking failed
   SE3d T_c_w;           ///< world -> camera of the frame
   AffineLight aff;
-  double rmse = 0.0;  ///< level-0 RMSE, grey levels
+  double rmse = 0.0;             ///< level-0 RMSE, grey levels
+  double inlier_fraction = 0.0;  ///< of the reference points in the image
   bool wants_keyframe = false;
   int hypotheses_tried = 0;
 };

@@ -73,6 +73,7 @@ class BowIndex {
 
   /// The current vocabulary (nullptr before the first online training).
   const Vocabulary* vocabulary() const { return vocabulary_.get(); }
+  std::shared_ptr<const Vocabulary> sharedVocabulary() const { return vocabulary_; }
   /// Incremented by every install(): BoW vectors of different generations are not comparable.
   std::uint64_t generation() const { return generation_; }
   bool online() const { return online_; }

@@ -37,28 +37,161 @@ void LoopCloser::waitIdle() {
     spdlog::warn("loop closure: background task still busy after 60 s");
 }
 
-void LoopCloser::addToGraph(const LoopJob& job, bool new_map) {
+void LoopCloser::flush() {
+  LoopJob flush;
+  flush.id = -1;  // no keyframe: only the pending pose graph
+  // Waits for room: the flush must not be dropped like a keyframe in a full queue.
+  while (!task_->submit(std::move(flush))) {
+    waitIdle();
+    flush = LoopJob();
+    flush.id = -1;
+  }
+  waitIdle();
+}
+
+void LoopCloser::forget(int keyframe_id) {
+  std::lock_guard<std::mutex> lock(forget_mutex_);
+  forget_.push_back(keyframe_id);
+}
+
+std::shared_ptr<const PlaceSnapshot> LoopCloser::places() const {
+  std::lock_guard<std::mutex> lock(places_mutex_);
+  return places_;
+}
+
+void LoopCloser::publishPlaces(int id) {
+  if (index_.generation() != place_generation_) {
+    // A new vocabulary: every keyframe's BoW vector changed.
+    place_generation_ = index_.generation();
+    place_bows_.clear();
+    for (const auto& [kid, f] : features_)
+      if (const BowVector* bow = index_.bow(kid))
+        place_bows_[kid] = std::make_shared<const BowVector>(*bow);
+  } else if (const BowVector* bow = index_.bow(id)) {
+    place_bows_[id] = std::make_shared<const BowVector>(*bow);
+  } else {
+    place_bows_.erase(id);
+  }
+  auto snapshot = std::make_shared<PlaceSnapshot>();
+  snapshot->vocabulary = index_.sharedVocabulary();
+  snapshot->keyframes.assign(place_bows_.begin(), place_bows_.end());
+  std::lock_guard<std::mutex> lock(places_mutex_);
+  places_ = std::move(snapshot);
+}
+
+void LoopCloser::connectCovisible(int a, int b, int shared_points) {
+  if (shared_points <= config_.covisible_shared_points) return;
+  covisible_[a].push_back(b);
+  covisible_[b].push_back(a);
+}
+
+Matrix7d LoopCloser::windowEdgeInformation(const Sim3d& S) const {
+  // Two keyframes seeing one place may be close together: the translation uncertainty is that of
+  // an ordinary step of the chain, not of their (maybe tiny) distance.
+  OdometryDriftModel model = drift_;
+  if (last_id_ >= 0) {
+    const ChainPosition& p = chain_.at(last_id_);
+    if (p.step > 0) model.min_step = std::max(model.min_step, p.path / p.step);
+  }
+  return model.edgeInformation(S);
+}
+
+int LoopCloser::addToGraph(const LoopJob& job, bool new_map) {
   const int id = job.id;
+  // The vertex is the keyframe's pose in the window: the graph is in the window's frame (a
+  // correction holds the newest vertex fixed and never moves the window).
+  graph_.addVertex(id, Sim3d(job.T_w_c));
+  int significant = 0;
   if (last_id_ >= 0 && graph_.hasVertex(last_id_) && !new_map) {
-    // Odometry edge from the window's final relative pose (never from earlier graph results).
-    const Sim3d S_prev_cur(last_T_w_c_.inverse() * job.T_w_c);
-    graph_.addVertex(id, graph_.vertex(last_id_) * S_prev_cur);
-    graph_.addEdge(PoseGraphEdge{last_id_, id, S_prev_cur, drift_.edgeInformation(S_prev_cur),
-                                 PoseGraphEdgeKind::kOdometry});
+    // Odometry edge from the window's relative pose, measured in one state of the window: when
+    // the previous keyframe left (its link to this one). Without that link (this keyframe was
+    // made after it left), from the two poses as they left.
+    Sim3d S_prev_cur(last_T_w_c_.inverse() * job.T_w_c);
+    for (const KeyframeLink& l : last_links_)
+      if (l.other == id) S_prev_cur = Sim3d(l.T_this_other);
+    const PoseGraphEdge odometry{last_id_, id, S_prev_cur, drift_.edgeInformation(S_prev_cur),
+                                 PoseGraphEdgeKind::kOdometry};
+    graph_.addEdge(odometry);
     const ChainPosition& prev = chain_.at(last_id_);
     chain_[id] = {prev.step + 1, prev.path + S_prev_cur.translation().norm()};
+    if (config_.reuse_constraints && addReuseConstraints(job, odometry)) ++significant;
   } else {
-    graph_.addVertex(id, Sim3d(job.T_w_c));
     // A new map: not connected to the old chain by any odometry.
     chain_[id] = {last_id_ >= 0 ? chain_.at(last_id_).step + kDisconnectedSteps : 0, 0.0};
   }
+  for (const KeyframeLink& l : job.links) connectCovisible(id, l.other, l.shared_points);
   last_id_ = id;
   last_T_w_c_ = job.T_w_c;
+  last_links_ = job.links;
+  return significant;
+}
+
+bool LoopCloser::addReuseConstraints(const LoopJob& job, const PoseGraphEdge& odometry) {
+  bool any = false;
+  for (const KeyframeLink& l : job.links) {
+    if (!l.map_keyframe || !graph_.hasVertex(l.other) || l.other == job.id) continue;
+    // The map keyframe was held at its map pose and scale in the window.
+    Sim3d S_cur_map(l.T_this_other);
+    S_cur_map.setScale(graph_.vertex(l.other).scale());
+    graph_.addEdge(PoseGraphEdge{job.id, l.other, S_cur_map, windowEdgeInformation(S_cur_map),
+                                 PoseGraphEdgeKind::kReuse});
+    any = true;
+  }
+  if (!any) return false;
+  // The keyframe is where the map keyframe says (its vertex is its window pose); when the window
+  // moved onto the map after the previous keyframe left, the odometry edge carries that jump:
+  // the drift the revisit revealed, which the pose graph spreads over the keyframes in between.
+  const Vector7d r = graph_.edgeResidual(odometry);
+  const double chi2 = r.dot(windowEdgeInformation(odometry.S_from_to) * r);
+  spdlog::debug("loop closure: keyframe {} tied to the map, odometry disagreement chi2 {:.1f}",
+                job.id, chi2);
+  return chi2 >= config_.correction_chi2;
+}
+
+void LoopCloser::markPending() {
+  if (pending_first_ < 0) pending_first_ = processed_;
+  pending_last_ = processed_;
+}
+
+bool LoopCloser::poseGraphDue() const {
+  if (pending_first_ < 0) return false;
+  // Keyframes processed since the one that brought the newest (first) constraint.
+  const int since_last = processed_ - 1 - pending_last_;
+  const int since_first = processed_ - 1 - pending_first_;
+  return since_last >= config_.pose_graph_delay_keyframes ||
+         since_first >= config_.pose_graph_max_delay_keyframes;
 }
 
 std::optional<LoopCorrection> LoopCloser::process(LoopJob& job, const std::atomic<bool>& abort) {
+  LoopCorrection out;
+  if (job.id < 0) {
+    // Flush: the pending pose graph now.
+    if (pending_first_ >= 0) optimizePending(out, abort);
+    if (out.loops.empty() && out.S_world_camera.empty()) return std::nullopt;
+    return out;
+  }
   const int id = job.id;
-  addToGraph(job, new_map_.exchange(false));
+  std::vector<int> forget;
+  {
+    std::lock_guard<std::mutex> lock(forget_mutex_);
+    forget.swap(forget_);
+  }
+  for (const int k : forget) {
+    index_.remove(k);
+    features_.erase(k);
+    place_bows_.erase(k);
+  }
+  const bool new_map = new_map_.exchange(false);
+  // A new map is not connected to the old one: what the old map still waits for is solved now,
+  // while its newest keyframe can hold the gauge.
+  if (new_map && pending_first_ >= 0) optimizePending(out, abort);
+  if (new_map) map_parent_.push_back(static_cast<int>(map_parent_.size()));
+  map_of_[id] = static_cast<int>(map_parent_.size()) - 1;
+  const int reuse = addToGraph(job, new_map);
+  if (reuse > 0) {
+    pending_reuse_ += reuse;
+    markPending();
+  }
   KeyframeFeatures f;
   f.keyframe_id = id;
   f.timestamp = job.timestamp;
@@ -70,20 +203,103 @@ std::optional<LoopCorrection> LoopCloser::process(LoopJob& job, const std::atomi
   index_.add(id, f.descriptors);
   index_.retrainIfDue(&abort);
   features_[id] = std::move(f);
-  std::optional<LoopCorrection> result = closeLoop(id, abort);
+  if (std::optional<DetectedLoop> loop = closeLoop(id, out.merge)) {
+    if (loop->significant) {
+      pending_loops_.push_back(*loop);
+      markPending();
+    } else {
+      out.loops.push_back(*loop);
+    }
+  }
   if (job.culled) {
     // Redundant with the map: it looks for loops, but is no place to be found itself.
     index_.remove(id);
     features_.erase(id);
   }
-  return result;
+  publishPlaces(id);
+  ++processed_;
+  if (poseGraphDue()) optimizePending(out, abort);
+  if (out.loops.empty() && out.S_world_camera.empty() && !out.merge) return std::nullopt;
+  return out;
 }
 
-std::optional<LoopCorrection> LoopCloser::closeLoop(int id, const std::atomic<bool>& abort) {
+void LoopCloser::optimizePending(LoopCorrection& out, const std::atomic<bool>& abort) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (fixed_id_ >= 0) graph_.setFixed(fixed_id_, false);
+  graph_.setFixed(last_id_, true);
+  fixed_id_ = last_id_;
+  PoseGraphSolveOptions options;
+  options.abort = &abort;
+  // A loop that shows more drift than the model expects: the odometry edges are that much less
+  // certain (a-posteriori scale of the drift model from the largest such loop).
+  for (const DetectedLoop& l : pending_loops_)
+    options.odometry_information_scale =
+        std::min(options.odometry_information_scale, 1.0 / l.drift_scale);
+  const PoseGraphSolveSummary summary = graph_.optimize(options);
+  const double ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  if (summary.updated) {
+    out.S_world_camera = graph_.vertices();
+    out.reuse_constraints = pending_reuse_;
+    spdlog::info(
+        "pose graph: {} loop(s) and {} constraint(s) from map reuse, {} keyframes corrected "
+        "({:.1f} ms)",
+        pending_loops_.size(), pending_reuse_, out.S_world_camera.size(), ms);
+  } else {
+    spdlog::info("pose graph not updated ({})", summary.aborted ? "aborted" : "solver failed");
+  }
+  for (DetectedLoop& l : pending_loops_) {
+    l.time_ms += ms;
+    out.loops.push_back(l);
+  }
+  pending_loops_.clear();
+  pending_reuse_ = 0;
+  pending_first_ = pending_last_ = -1;
+}
+
+int LoopCloser::mapRoot(int map) const {
+  while (map >= 0 && map < static_cast<int>(map_parent_.size()) && map_parent_[map] != map)
+    map = map_parent_[map];
+  return map;
+}
+
+MapMerge LoopCloser::mergeMaps(int id, int candidate, const Sim3d& S_current_candidate) {
+  MapMerge m;
+  m.from_map = mapRoot(map_of_.at(candidate));
+  m.into_map = mapRoot(map_of_.at(id));
+  m.current_keyframe_id = id;
+  m.candidate_keyframe_id = candidate;
+  m.S_into_from = graph_.vertex(id) * S_current_candidate * graph_.vertex(candidate).inverse();
+  // The earlier map's chain continues from here: the candidate sits where the current keyframe
+  // is (for the drift the chain may accumulate between the two maps' keyframes).
+  const ChainPosition anchor = chain_.at(candidate);
+  const ChainPosition here = chain_.at(id);
+  for (const auto& [k, map] : map_of_) {
+    if (mapRoot(map) != m.from_map || !graph_.hasVertex(k)) continue;
+    const Sim3d moved = m.S_into_from * graph_.vertex(k);
+    graph_.setVertex(k, moved);
+    m.S_world_camera[k] = moved;
+    ChainPosition& c = chain_.at(k);
+    c = {here.step + (c.step - anchor.step), here.path + (c.path - anchor.path)};
+  }
+  map_parent_[static_cast<std::size_t>(m.from_map)] = m.into_map;
+  spdlog::info("loop closure: map {} merged into map {} (keyframe {} -> {}, scale {:.3f})",
+               m.from_map, m.into_map, id, candidate, m.S_into_from.scale());
+  return m;
+}
+
+std::optional<DetectedLoop> LoopCloser::closeLoop(int id, std::optional<MapMerge>& merge) {
   const auto t0 = std::chrono::steady_clock::now();
   const int recent = config_.exclude_recent_keyframes;
-  const std::vector<PlaceCandidate> candidates = index_.query(
-      id, [&](int k) { return k > id - recent; }, config_.max_candidates);
+  const auto covisible = covisible_.find(id);
+  auto connected = [&](int k) {
+    if (k > id - recent) return true;
+    return covisible != covisible_.end() &&
+           std::find(covisible->second.begin(), covisible->second.end(), k) !=
+               covisible->second.end();
+  };
+  const std::vector<PlaceCandidate> candidates =
+      index_.query(id, connected, config_.max_candidates);
   KeyframeFeatures& current = features_[id];
   if (const FeatureVector* fv = index_.featureVector(id)) current.feature_vector = *fv;
   for (const PlaceCandidate& c : candidates) {
@@ -98,6 +314,20 @@ std::optional<LoopCorrection> LoopCloser::closeLoop(int id, const std::atomic<bo
                     v.reason);
       continue;
     }
+    if (mapRoot(map_of_.at(id)) != mapRoot(map_of_.at(c.keyframe_id))) {
+      // Two maps: no trajectory connects them yet; the loop makes them one.
+      merge = mergeMaps(id, c.keyframe_id, v.S_current_candidate);
+      graph_.addEdge(PoseGraphEdge{c.keyframe_id, id, v.S_current_candidate.inverse(),
+                                   v.information, PoseGraphEdgeKind::kLoop});
+      DetectedLoop out;
+      out.current_keyframe_id = id;
+      out.candidate_keyframe_id = c.keyframe_id;
+      out.inliers = v.num_inliers;
+      out.scale = v.S_current_candidate.scale();
+      out.time_ms =
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      return out;
+    }
     // How far the measurement is from what the graph already says, in units of the loop's
     // uncertainty plus the drift the odometry chain between the two may have accumulated.
     const Sim3d implied = graph_.vertex(id).inverse() * graph_.vertex(c.keyframe_id);
@@ -107,51 +337,27 @@ std::optional<LoopCorrection> LoopCloser::closeLoop(int id, const std::atomic<bo
     const ChainPosition& pb = chain_.at(c.keyframe_id);
     const Matrix7d chain_cov =
         drift_.chainCovariance(pa.step - pb.step, std::fabs(pa.path - pb.path), implied);
-    const double drift_chi2 = d.dot(Eigen::LDLT<Matrix7d>(loop_cov + chain_cov).solve(d));
     // Loop edge candidate -> current: S_cand_cur = S_w_cand^-1 S_w_cur; its residual is the
     // loop's own tangent error, so the edge takes the loop's information as it is.
     graph_.addEdge(PoseGraphEdge{c.keyframe_id, id, v.S_current_candidate.inverse(), v.information,
                                  PoseGraphEdgeKind::kLoop});
-    LoopCorrection out;
+    DetectedLoop out;
     out.current_keyframe_id = id;
     out.candidate_keyframe_id = c.keyframe_id;
     out.inliers = v.num_inliers;
     out.scale = v.S_current_candidate.scale();
-    out.drift_chi2 = drift_chi2;
-    auto elapsed = [&] {
-      return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
-          .count();
-    };
-    if (drift_chi2 < config_.correction_chi2) {
-      // The odometry already agrees with the loop within the loop's own accuracy: a correction
-      // would only move the trajectory by the measurement's noise. The edge stays in the graph
-      // for later corrections.
-      out.time_ms = elapsed();
-      spdlog::info(
-          "loop found: keyframe {} -> {} ({} inliers, scale {:.3f}); drift not significant "
-          "(chi2 {:.1f} < {:.1f}), nothing to correct",
-          id, c.keyframe_id, out.inliers, out.scale, drift_chi2, config_.correction_chi2);
-      return out;
-    }
-    if (fixed_id_ >= 0) graph_.setFixed(fixed_id_, false);
-    graph_.setFixed(id, true);
-    fixed_id_ = id;
-    PoseGraphSolveOptions options;
-    options.abort = &abort;
-    // The loop shows more drift than the model expects: the odometry edges are that much less
-    // certain (a-posteriori scale of the drift model from this loop).
-    options.odometry_information_scale = 1.0 / driftScaleFor(d, loop_cov, chain_cov);
-    const PoseGraphSolveSummary summary = graph_.optimize(options);
-    if (!summary.updated) {
-      spdlog::info("loop {} -> {}: pose graph not updated ({})", id, c.keyframe_id,
-                   summary.aborted ? "aborted" : "solver failed");
-      return std::nullopt;
-    }
-    out.S_world_camera = graph_.vertices();
-    out.time_ms = elapsed();
-    spdlog::info(
-        "loop closed: keyframe {} -> {} ({} inliers, scale {:.3f}, chi2 {:.1f}, {:.1f} ms)", id,
-        c.keyframe_id, out.inliers, out.scale, drift_chi2, out.time_ms);
+    out.drift_chi2 = d.dot(Eigen::LDLT<Matrix7d>(loop_cov + chain_cov).solve(d));
+    // Below the threshold the odometry already agrees with the loop within the loop's own
+    // accuracy: a correction would only move the trajectory by the measurement's noise. The
+    // edge stays in the graph for later corrections.
+    out.significant = out.drift_chi2 >= config_.correction_chi2;
+    out.drift_scale = out.significant ? driftScaleFor(d, loop_cov, chain_cov) : 1.0;
+    out.time_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    spdlog::info("loop found: keyframe {} -> {} ({} inliers, scale {:.3f}, chi2 {:.1f}){}", id,
+                 c.keyframe_id, out.inliers, out.scale, out.drift_chi2,
+                 out.significant ? ": drift, the pose graph corrects it"
+                                 : ": drift not significant, nothing to correct");
     return out;
   }
   return std::nullopt;

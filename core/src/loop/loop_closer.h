@@ -10,6 +10,7 @@
 #include <atomic>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <vector>
 
@@ -21,6 +22,7 @@
 #include "loop/loop_types.h"
 #include "loop/loop_verification.h"
 #include "loop/odometry_drift.h"
+#include "loop/place_snapshot.h"
 #include "loop/pose_graph.h"
 #include "model/marginalized_keyframe.h"
 
@@ -45,14 +47,44 @@ class LoopCloser {
   std::vector<LoopCorrection> takeCorrections() { return task_->tryTakeResults(); }
   /// Waits (bounded) until every queued keyframe is processed; end of a run.
   void waitIdle();
+  /// Runs a pose-graph optimisation that is still pending (deferred, loop.pose_graph_delay_*)
+  /// once the queued keyframes are processed; end of a run.
+  void flush();
   std::uint64_t droppedKeyframes() const { return task_->dropped(); }
   /// A new map after tracking was lost: its keyframes are not chained to the old ones.
   void startNewMap() { new_map_.store(true); }
+  /// Mapping thread: the keyframe no longer keeps its features in the map (the map's budget): it
+  /// stays in the pose graph but is no place to be found (taken out before the next keyframe).
+  void forget(int keyframe_id);
+  /// Place recognition for relocalisation: the vocabulary and the indexed keyframes as of the
+  /// last processed keyframe (any thread; never waits for the loop task's work).
+  std::shared_ptr<const PlaceSnapshot> places() const;
 
  private:
   std::optional<LoopCorrection> process(LoopJob& job, const std::atomic<bool>& abort);
-  void addToGraph(const LoopJob& job, bool new_map);
-  std::optional<LoopCorrection> closeLoop(int id, const std::atomic<bool>& abort);
+  /// Adds the keyframe's vertex, its odometry edge and its constraints to map keyframes brought
+  /// back into the window; returns how many of the latter show significant drift.
+  int addToGraph(const LoopJob& job, bool new_map);
+  /// Adds the relative-pose constraints of a map keyframe brought back into the window; returns
+  /// whether they disagree with the graph beyond the odometry's uncertainty.
+  bool addReuseConstraints(const LoopJob& job, const PoseGraphEdge& odometry);
+  std::optional<DetectedLoop> closeLoop(int id, std::optional<MapMerge>& merge);
+  /// The map a keyframe's map was merged into (transitively).
+  int mapRoot(int map) const;
+  /// Moves the candidate's map into the current keyframe's frame by the loop's Sim(3).
+  MapMerge mergeMaps(int id, int candidate, const Sim3d& S_current_candidate);
+  /// A significant constraint arrived: the pose graph runs once it is due.
+  void markPending();
+  bool poseGraphDue() const;
+  /// Optimises the graph with the newest keyframe fixed; fills `out` with the corrected poses and
+  /// the pending loops.
+  void optimizePending(LoopCorrection& out, const std::atomic<bool>& abort);
+  /// Information of a constraint from the window between two keyframes at nearly one place: one
+  /// odometry step of the drift model at the chain's mean step length.
+  Matrix7d windowEdgeInformation(const Sim3d& S) const;
+  void connectCovisible(int a, int b, int shared_points);
+  /// Publishes the place snapshot after keyframe `id` was indexed (or removed again).
+  void publishPlaces(int id);
 
   /// Where a keyframe sits on the odometry chain: keyframe steps and distance (map units) from
   /// the chain's start.
@@ -76,6 +108,30 @@ class LoopCloser {
   SE3d last_T_w_c_;
   int fixed_id_ = -1;
   LoopVerificationSettings verification_;
+  /// The links of the keyframe that left the window last (its relative poses to the keyframes
+  /// still in the window then): the next keyframe's odometry edge is measured there.
+  std::vector<KeyframeLink> last_links_;
+  /// Keyframes sharing more than loop.covisible_shared_points points (not loop candidates of
+  /// each other).
+  std::map<int, std::vector<int>> covisible_;
+  // The deferred pose graph: significant loops waiting for it, and when constraints arrived
+  // (in processed keyframes).
+  std::vector<DetectedLoop> pending_loops_;
+  int pending_reuse_ = 0;
+  int pending_first_ = -1;
+  int pending_last_ = -1;
+  int processed_ = 0;
+  // Maps (a new one after tracking was lost for good) and which were merged into which.
+  std::map<int, int> map_of_;  ///< keyframe id -> the map it was made in
+  std::vector<int> map_parent_{0};
+  // Place recognition for relocalisation: each indexed keyframe's BoW vector as last published
+  // (rebuilt when the vocabulary changes), and the snapshot (mutex held only to swap it).
+  std::map<int, std::shared_ptr<const BowVector>> place_bows_;
+  std::mutex forget_mutex_;
+  std::vector<int> forget_;  ///< keyframes to take out of the index (forget())
+  std::uint64_t place_generation_ = 0;
+  mutable std::mutex places_mutex_;
+  std::shared_ptr<const PlaceSnapshot> places_;
   // Last: stopped (joined) first on destruction, before the state above goes away.
   std::unique_ptr<concurrency::BackgroundTask<LoopJob, LoopCorrection>> task_;
 };

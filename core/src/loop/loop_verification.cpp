@@ -61,7 +61,8 @@ class Verifier {
       return reject("PnP RANSAC found " + std::to_string(pnp.inliers.size()) + " inliers (need " +
                     std::to_string(s_.pnp.min_inliers) + ")");
     }
-    // Relative scale: median ratio of current depth to the PnP-predicted depth.
+    // Relative scale: median ratio of current depth to the PnP-predicted depth, or (a baseline
+    // long enough) from PnP both ways.
     std::vector<double> ratios;
     for (const int i : pnp.inliers) {
       const float d = cur_.idepth[matches_[i].query];
@@ -73,7 +74,12 @@ class Verifier {
                     " PnP inliers with depth in the current keyframe to fix the scale (need " +
                     std::to_string(s_.min_inliers_3d) + ")");
     }
-    const double s0 = median(std::move(ratios));
+    double s0 = median(std::move(ratios));
+    if (const double s_pnp = scaleFromPnpBothWays(pnp); s_pnp > 0.0) {
+      s0 = s_pnp;
+      out_.scale_from_both_ways = true;
+    }
+    out_.initial_scale = s0;
     const Sim3d initial(pnp.T_camera_points.so3(), s0 * pnp.T_camera_points.translation(), s0);
     std::vector<std::uint8_t> pnp_inlier(points.size(), 0);
     for (const int i : pnp.inliers) pnp_inlier[i] = 1;
@@ -81,6 +87,36 @@ class Verifier {
   }
 
  private:
+  // LDSM: the relative scale from PnP solved both ways. Forward (the candidate's points, the
+  // current pixels) gives the translation in the candidate's scale, t / s; backward (the current
+  // keyframe's points, the candidate's pixels) gives it in the current scale, -R^T t. Their
+  // lengths' ratio is s, when the two cameras are far enough apart for it to be measured (else
+  // 0: the depth ratio stays).
+  double scaleFromPnpBothWays(const PnpRansacResult& forward) const {
+    std::vector<Eigen::Vector3d> points;
+    std::vector<Eigen::Vector2d> pixels;
+    double depth_sum = 0.0;
+    for (const int i : forward.inliers) {
+      const DescriptorMatch& m = matches_[static_cast<std::size_t>(i)];
+      const float d = cur_.idepth[m.query];
+      if (!hasDepth(d)) continue;
+      points.push_back(unproject(cur_.camera, cur_.pixels[m.query], d));
+      pixels.push_back(cand_.pixels[m.train].cast<double>());
+      depth_sum += points.back().z();
+    }
+    if (static_cast<int>(points.size()) < s_.pnp.min_inliers) return 0.0;
+    const PnpRansacResult backward = solvePnpRansac(points, pixels, cand_.camera, s_.pnp);
+    if (!backward.success) return 0.0;
+    const double t_forward = forward.T_camera_points.translation().norm();
+    const double t_backward = backward.T_camera_points.translation().norm();
+    const double mean_depth = depth_sum / static_cast<double>(points.size());
+    if (!(t_backward > kMinBaselineForScale * mean_depth) || !(t_forward > 0.0)) return 0.0;
+    return t_backward / t_forward;
+  }
+  /// Baseline (times the current points' mean depth) below which the two PnP translations are
+  /// too short to give the scale.
+  static constexpr double kMinBaselineForScale = 0.1;
+
   bool refine(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector2d>& px,
               const Sim3d& initial, const std::vector<std::uint8_t>& pnp_inlier) {
     std::vector<Sim3Correspondence> corr(points.size());

@@ -1,8 +1,9 @@
 // Geometric verification of a loop candidate and estimation of its Sim(3) constraint:
 //   1. ORB matches current -> candidate (descriptor_matcher.h),
 //   2. RANSAC PnP of the candidate's 3D points (features with inverse depth) against the current
-//      keyframe's pixels (pnp_ransac.h), scale initialised by the median depth ratio of the PnP
-//      inliers that have depth in the current keyframe,
+//      keyframe's pixels (pnp_ransac.h); the relative scale from PnP solved both ways (LDSM: the
+//      ratio of the two translations' lengths) when the cameras are far enough apart, else from
+//      the median depth ratio of the PnP inliers that have depth in the current keyframe,
 //   3. Sim(3) refinement with Huber norms, 3D-3D for matches with current depth, 2D otherwise
 //      (sim3_refinement.h),
 //   4. acceptance on the inlier counts after refinement.
@@ -47,7 +48,9 @@ struct LoopVerification {
   int num_inliers = 0;     ///< after refinement
   int num_inliers_3d = 0;  ///< of which with depth in the current keyframe
   double rms_reprojection_px = 0.0;
-  Sim3d S_current_candidate;  ///< see the file comment; identity when rejected before PnP
+  double initial_scale = 0.0;         ///< the refinement's starting scale
+  bool scale_from_both_ways = false;  ///< it came from PnP solved both ways (else depth ratios)
+  Sim3d S_current_candidate;          ///< see the file comment; identity when rejected before PnP
   /// Information of S_current_candidate for a left perturbation exp(d) * S (Sim3RefinementResult).
   Eigen::Matrix<double, 7, 7> information = Eigen::Matrix<double, 7, 7>::Zero();
   std::vector<DescriptorMatch> inlier_matches;  ///< query = current, train = candidate

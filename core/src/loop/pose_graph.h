@@ -26,7 +26,11 @@
 namespace ldsm::loop {
 
 /// What an edge comes from (affects nothing but bookkeeping; weights are explicit).
-enum class PoseGraphEdgeKind { kOdometry, kLoop };
+enum class PoseGraphEdgeKind {
+  kOdometry,  ///< consecutive keyframes, from the window
+  kLoop,      ///< a verified loop
+  kReuse,     ///< a keyframe and a map keyframe brought back into its window (map reuse)
+};
 
 /// LDSM's fixed weights: loop edges 100, window edges 1 (for addEdge with a scalar weight).
 inline constexpr double kDefaultOdometryEdgeWeight = 1.0;

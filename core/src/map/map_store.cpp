@@ -1,6 +1,8 @@
 #include "map/map_store.h"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
 namespace ldsm {
 
@@ -11,7 +13,43 @@ void MapStore::setKeyframe(const KeyframeRecord& record) {
     empty.id = -1;
     keyframes_.resize(static_cast<size_t>(record.id) + 1, empty);
   }
-  keyframes_[record.id] = record;
+  KeyframeRecord& kf = keyframes_[record.id];
+  const int map = kf.id < 0 ? maps_.current() : kf.map;
+  kf = record;
+  kf.map = map;
+}
+
+int MapStore::startNewMap() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return maps_.startNew();
+}
+
+int MapStore::currentMap() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return maps_.current();
+}
+
+bool MapStore::inFirstMap(int map) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return maps_.label(map) == 0;
+}
+
+bool MapStore::inCurrentMap(int keyframe_id) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return inCurrentMapLocked(keyframe_id);
+}
+
+bool MapStore::inCurrentMapLocked(int id) const {
+  if (id < 0 || id >= static_cast<int>(keyframes_.size()) || keyframes_[id].id < 0) return false;
+  return maps_.root(keyframes_[id].map) == maps_.root(maps_.current());
+}
+
+int MapStore::mergeMaps(int from, int into, const Sim3d& S_into_from,
+                        const std::map<int, Sim3d>& S_world_camera) {
+  const int moved = applyCorrection(S_world_camera);
+  std::lock_guard<std::mutex> lock(mutex_);
+  maps_.merge(from, into, S_into_from);
+  return moved;
 }
 
 void MapStore::addFrame(const FrameRecord& record) {
@@ -86,13 +124,45 @@ std::vector<int> MapStore::covisibleNeighbourhood(const std::vector<int>& start,
   std::lock_guard<std::mutex> lock(mutex_);
   std::vector<int> out;
   for (const int id : covisibility_.neighbourhood(start, hops, max_count))
-    if (data_.count(id) != 0) out.push_back(id);
+    if (data_.count(id) != 0 && inCurrentMapLocked(id)) out.push_back(id);
   return out;
 }
 
 std::vector<int> MapStore::keyframesNear(const Eigen::Vector3d& centre, double radius) const {
   std::lock_guard<std::mutex> lock(mutex_);
-  return spatial_.near(centre, radius);
+  std::vector<int> out = spatial_.near(centre, radius);
+  out.erase(std::remove_if(out.begin(), out.end(), [&](int id) { return !inCurrentMapLocked(id); }),
+            out.end());
+  return out;
+}
+
+int MapStore::mostRedundantKeyframe(double max_angle_rad, const std::vector<int>& exclude) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  struct View {
+    int id;
+    Eigen::Vector3d centre, axis;
+  };
+  std::vector<View> views;
+  for (const auto& [id, data] : data_) {
+    if (!inCurrentMapLocked(id)) continue;
+    const SE3d& T = keyframes_[id].T_w_c;
+    views.push_back({id, T.translation(), T.so3() * Eigen::Vector3d::UnitZ()});
+  }
+  const double min_cos = std::cos(max_angle_rad);
+  int best = -1;
+  double best_distance = std::numeric_limits<double>::infinity();
+  for (const View& a : views) {
+    if (std::find(exclude.begin(), exclude.end(), a.id) != exclude.end()) continue;
+    for (const View& b : views) {
+      if (a.id == b.id || a.axis.dot(b.axis) < min_cos) continue;
+      const double d = (a.centre - b.centre).squaredNorm();
+      if (d < best_distance) {
+        best_distance = d;
+        best = a.id;
+      }
+    }
+  }
+  return best;
 }
 
 std::size_t MapStore::dataKeyframeCount() const {
@@ -135,10 +205,13 @@ Trajectory MapStore::frameTrajectory() const {
   // (briefly under the lock) they are composed with.
   const std::size_t n = frames_.size();
   std::vector<KeyframeRecord> keyframes;
+  MapFrames maps;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     keyframes = keyframes_;
+    maps = maps_;
   }
+
   Trajectory out;
   out.reserve(n);
   for (std::size_t i = 0; i < n; ++i) {
@@ -148,7 +221,9 @@ Trajectory MapStore::frameTrajectory() const {
     const KeyframeRecord& kf = keyframes[f.reference_keyframe];
     if (kf.id < 0) continue;
     const SE3d T_ref_c(f.T_ref_c.so3(), kf.scale * f.T_ref_c.translation());
-    out.push_back({f.timestamp, (kf.T_w_c * T_ref_c).toPose()});
+    const int label = maps.label(kf.map);
+    const SE3d T_w_c = kf.T_w_c * T_ref_c;
+    out.push_back({f.timestamp, label == 0 ? maps.report(T_w_c) : T_w_c.toPose(), label});
   }
   return out;
 }
@@ -156,8 +231,11 @@ Trajectory MapStore::frameTrajectory() const {
 Trajectory MapStore::keyframeTrajectory() const {
   std::lock_guard<std::mutex> lock(mutex_);
   Trajectory out;
-  for (const KeyframeRecord& kf : keyframes_)
-    if (kf.id >= 0) out.push_back({kf.timestamp, kf.T_w_c.toPose()});
+  for (const KeyframeRecord& kf : keyframes_) {
+    if (kf.id < 0) continue;
+    const int label = maps_.label(kf.map);
+    out.push_back({kf.timestamp, label == 0 ? maps_.report(kf.T_w_c) : kf.T_w_c.toPose(), label});
+  }
   return out;
 }
 
@@ -165,7 +243,13 @@ std::vector<MapPoint> MapStore::points() const {
   std::lock_guard<std::mutex> lock(mutex_);
   std::vector<MapPoint> out;
   out.reserve(points_.size());
-  for (const HostedPoint& p : points_) out.push_back(p.point);
+  for (const HostedPoint& p : points_) {
+    MapPoint m = p.point;
+    const bool hosted = p.host >= 0 && p.host < static_cast<int>(keyframes_.size());
+    m.map = hosted ? maps_.label(keyframes_[p.host].map) : 0;
+    if (m.map == 0) m.position = maps_.reportFrame() * m.position;
+    out.push_back(m);
+  }
   return out;
 }
 

@@ -18,6 +18,7 @@
 #include "ldsm/math/sim3.h"
 #include "ldsm/types.h"
 #include "map/covisibility_graph.h"
+#include "map/map_frames.h"
 #include "map/spatial_index.h"
 #include "model/map_records.h"
 #include "model/marginalized_keyframe.h"
@@ -37,6 +38,20 @@ class MapStore {
   /// Loop closure: moves the given keyframes to their corrected Sim(3) world-from-camera poses,
   /// with their frames and the points they hosted. Returns the number of keyframes moved.
   int applyCorrection(const std::map<int, Sim3d>& S_world_camera);
+  /// Tracking was lost for good: the keyframes from now on belong to a new map (its number).
+  int startNewMap();
+  /// The map new keyframes belong to.
+  int currentMap() const;
+  /// A loop connected map `from` to map `into`: `from`'s keyframes move to the given poses (by
+  /// S_into_from, see applyCorrection) and the two are one map from now on. Returns the number
+  /// of keyframes moved.
+  int mergeMaps(int from, int into, const Sim3d& S_into_from,
+                const std::map<int, Sim3d>& S_world_camera);
+  /// Whether a map is connected to the first map (its poses are reported in its frame).
+  bool inFirstMap(int map) const;
+  /// Whether a keyframe belongs to the current map (or one merged with it): only those share the
+  /// window's frame. The reuse queries below return only such keyframes.
+  bool inCurrentMap(int keyframe_id) const;
 
   /// World pose of every recorded frame, composed with the current keyframe poses.
   Trajectory frameTrajectory() const;
@@ -61,6 +76,10 @@ class MapStore {
                                           std::size_t max_count) const;
   /// Keyframes with data whose camera centre is within `radius` of `centre`.
   std::vector<int> keyframesNear(const Eigen::Vector3d& centre, double radius) const;
+  /// The kept keyframe (data) of the current map that is most redundant: the one nearest to
+  /// another kept keyframe whose optical axis is within `max_angle_rad` of its own (ties: the
+  /// older), leaving out `exclude`; -1 when there is none.
+  int mostRedundantKeyframe(double max_angle_rad, const std::vector<int>& exclude) const;
   /// Keyframes whose data is kept, and the bytes that data and the points take.
   std::size_t dataKeyframeCount() const;
   std::size_t pointCount() const;
@@ -68,8 +87,10 @@ class MapStore {
 
  private:
   static std::size_t bytesOf(const MarginalizedKeyframe& kf);
+  bool inCurrentMapLocked(int keyframe_id) const;
 
   mutable std::mutex mutex_;
+  MapFrames maps_;
   std::vector<KeyframeRecord> keyframes_;  ///< indexed by id
   concurrency::AppendOnlyLog<FrameRecord> frames_;
   std::vector<HostedPoint> points_;

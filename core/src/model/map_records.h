@@ -17,6 +17,8 @@ struct KeyframeRecord {
   /// Scale of the keyframe's Sim(3) after a loop correction: frames tracked against it are at
   /// T_w_c * (scale * their relative translation).
   double scale = 1.0;
+  /// The map it was made in (map/map_frames.h; 0: the first map).
+  int map = 0;
 };
 
 struct FrameRecord {

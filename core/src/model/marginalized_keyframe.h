@@ -17,6 +17,17 @@
 
 namespace ldsm {
 
+/// A keyframe's pose relative to another keyframe of the window, as one state of the window
+/// optimisation estimated it when the keyframe left (LDSM: the pose graph's relative-pose
+/// constraints come from the local bundle adjustment, never from earlier pose-graph results).
+struct KeyframeLink {
+  int other = -1;
+  SE3d T_this_other;      ///< maps points of `other`'s camera into this keyframe's camera
+  int shared_points = 0;  ///< points hosted by either with an inlier residual in the other
+  /// `other` is a map keyframe brought back into the window (reuse): fixed at its map pose.
+  bool map_keyframe = false;
+};
+
 struct MarginalizedKeyframe {
   int id = -1;
   std::int64_t frame_index = 0;
@@ -40,6 +51,9 @@ struct MarginalizedKeyframe {
   int newest_when_left = -1;
   /// Redundant with the map (reuse): only its pose is kept.
   bool culled = false;
+  /// Its relative poses to the other keyframes of the window (active and reactivated) when it
+  /// left, with the points they shared.
+  std::vector<KeyframeLink> links;
 };
 
 }  // namespace ldsm

@@ -43,6 +43,10 @@ class EventSink {
     if (listener_) listener_->onLoopClosure(e);
   }
 
+  void mapsMerged(const MapMergeEvent& e) {
+    if (listener_) listener_->onMapsMerged(e);
+  }
+
   /// Every loop event so far, in order (a copy; never waits for the stages).
   std::vector<LoopClosureEvent> loops() const {
     std::lock_guard<std::mutex> lock(loops_mutex_);

@@ -96,6 +96,7 @@ std::optional<MappingStage::Done> MappingStage::process(MappingJob& job) {
       case MappingJob::Kind::kNewMap:
         // Relocalisation gave up: what follows is a new map, not chained to the old one.
         if (loop_closer_) loop_closer_->startNewMap();
+        store_.startNewMap();
         ++reuse_stats_.new_maps;
         break;
     }
@@ -241,6 +242,20 @@ void MappingStage::publishMap(MapUpdate&& update) {
       loop_closer_->keyframeLeftWindow(std::move(kf));
     }
   }
+  if (reuse_ && settings_.reuse.max_map_keyframes > 0) keepMapBudget();
+}
+
+void MappingStage::keepMapBudget() {
+  constexpr double kPi = 3.14159265358979323846;
+  const double angle = settings_.reuse.redundancy_angle_deg * kPi / 180.0;
+  const std::vector<int> in_window = mapper_.reactivatedIds();
+  while (static_cast<int>(store_.dataKeyframeCount()) > settings_.reuse.max_map_keyframes) {
+    const int victim = store_.mostRedundantKeyframe(angle, in_window);
+    if (victim < 0) break;
+    store_.cullKeyframe(victim);
+    ++reuse_stats_.culled_keyframes;
+    if (loop_closer_) loop_closer_->forget(victim);
+  }
 }
 
 void MappingStage::describeOrb(MarginalizedKeyframe& kf) {
@@ -273,19 +288,56 @@ double MappingStage::medianDepth(const std::vector<DepthPoint>& points,
 void MappingStage::applyLoopCorrections() {
   if (!loop_closer_) return;
   for (const loop::LoopCorrection& c : loop_closer_->takeCorrections()) {
-    LoopClosureEvent e;
-    e.current_keyframe_id = c.current_keyframe_id;
-    e.matched_keyframe_id = c.candidate_keyframe_id;
-    e.inliers = c.inliers;
-    e.scale = c.scale;
-    e.time_ms = c.time_ms;
-    e.drift_chi2 = c.drift_chi2;
-    e.corrected_keyframes = store_.applyCorrection(c.S_world_camera);
-    store_.connect(c.current_keyframe_id, c.candidate_keyframe_id);
-    // Reactivated keyframes carry their old poses: bring them back corrected, if at all.
-    if (e.corrected_keyframes > 0) mapper_.deactivateAll();
-    events_.loopClosed(e);
+    int merged = 0;
+    if (c.merge) merged = mergeMaps(*c.merge);
+    int moved = 0;
+    if (!c.S_world_camera.empty()) {
+      // Reactivated keyframes are held at their map poses: they move with the map.
+      std::vector<KeyframeRecord> held;
+      for (const int id : mapper_.reactivatedIds()) held.push_back(store_.keyframe(id));
+      moved = store_.applyCorrection(c.S_world_camera);
+      for (const KeyframeRecord& before : held) {
+        if (before.id < 0) continue;
+        const KeyframeRecord after = store_.keyframe(before.id);
+        mapper_.moveReactivated(after.id, after.T_w_c, after.scale / before.scale);
+      }
+      if (c.reuse_constraints > 0) ++reuse_stats_.map_corrections;
+    }
+    for (const loop::DetectedLoop& l : c.loops) {
+      LoopClosureEvent e;
+      e.current_keyframe_id = l.current_keyframe_id;
+      e.matched_keyframe_id = l.candidate_keyframe_id;
+      e.inliers = l.inliers;
+      e.scale = l.scale;
+      e.time_ms = l.time_ms;
+      e.drift_chi2 = l.drift_chi2;
+      e.corrected_keyframes = l.significant ? moved : 0;
+      if (c.merge && c.merge->current_keyframe_id == l.current_keyframe_id &&
+          c.merge->candidate_keyframe_id == l.candidate_keyframe_id)
+        e.corrected_keyframes = merged;
+      store_.connect(l.current_keyframe_id, l.candidate_keyframe_id);
+      events_.loopClosed(e);
+    }
   }
+}
+
+int MappingStage::mergeMaps(const loop::MapMerge& m) {
+  // The earlier map comes into the window's frame; map keyframes of it in the window (none
+  // normally: reuse looks in the current map) would carry their old poses.
+  for (const int id : mapper_.reactivatedIds())
+    if (m.S_world_camera.count(id) != 0) mapper_.deactivate(id);
+  const int moved = store_.mergeMaps(m.from_map, m.into_map, m.S_into_from, m.S_world_camera);
+  ++reuse_stats_.merges;
+  MapMergeEvent e;
+  e.merged_map = m.from_map;
+  e.into_map = m.into_map;
+  e.current_keyframe_id = m.current_keyframe_id;
+  e.matched_keyframe_id = m.candidate_keyframe_id;
+  e.scale = m.S_into_from.scale();
+  e.moved_keyframes = moved;
+  e.in_map_frame = store_.inFirstMap(m.into_map);
+  events_.mapsMerged(e);
+  return moved;
 }
 
 void MappingStage::publishReference() {
@@ -327,7 +379,7 @@ void MappingStage::finish() {
   waitIdle();
   // The mapping thread is idle: the window may be read and the loop corrections applied here.
   if (loop_closer_) {
-    loop_closer_->waitIdle();
+    loop_closer_->flush();
     applyLoopCorrections();
   }
   if (mapper_.initialized()) {

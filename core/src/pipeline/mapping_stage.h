@@ -112,6 +112,10 @@ class MappingStage {
   /// Waits while a keyframe is in flight.
   void waitForKeyframe();
   ReferenceExchange& references() { return references_; }
+  /// Place recognition over the map (null without loop closure); any thread.
+  std::shared_ptr<const loop::PlaceSnapshot> places() const {
+    return loop_closer_ ? loop_closer_->places() : nullptr;
+  }
   /// How the last initialisation or relocalisation job ended (read after waitIdle()).
   const InitializationOutcome& lastInitialization() const { return init_outcome_; }
 
@@ -132,7 +136,11 @@ class MappingStage {
   void reset();
   /// Hands the window's output to the map store and loop closure.
   void publishMap(MapUpdate&& update);
+  /// reuse.max_map_keyframes: the most redundant kept keyframes keep only their poses.
+  void keepMapBudget();
   void applyLoopCorrections();
+  /// A loop connected an earlier map to the current one; returns the keyframes moved.
+  int mergeMaps(const loop::MapMerge& merge);
   void publishReference();
   void publishSnapshot();
   /// ORB descriptors at the corners of a described keyframe (drops the ones without, and the

@@ -2,6 +2,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+
 namespace ldsm {
 
 TrackingStageSettings TrackingStageSettings::fromConfig(const Config& config, int levels,
@@ -25,7 +27,9 @@ TrackingStage::TrackingStage(const TrackingStageSettings& settings, const Pyrami
       initializer_(camera, settings.initializer, settings.initializer_hypotheses),
       tracker_(settings.tracker, camera),
       timer_({"preprocess", "initialize", "track", "total"}, 20000),
-      relocalization_timeout_s_(settings.reuse.relocalization_timeout_s) {
+      relocalization_timeout_s_(settings.reuse.relocalization_timeout_s),
+      place_candidates_(settings.reuse.relocalization_place_candidates),
+      resume_radius_(settings.reuse.relocalization_search_radius) {
   if (settings.reuse.enabled && relocalization_timeout_s_ > 0.0)
     relocalizer_ = std::make_unique<Relocalizer>(settings.reuse, camera);
 }
@@ -208,8 +212,19 @@ void TrackingStage::relocalizeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent
   StageTimer::Scope t(timer_, kTrack);
   relocalization_attempts_.fetch_add(1, std::memory_order_relaxed);
   const std::shared_ptr<const MappingSnapshot> snap = mapping_.snapshot();
+  const std::shared_ptr<const loop::PlaceSnapshot> places = mapping_.places();
+  Relocalizer::PlaceQuery query;
+  if (places && place_candidates_ > 0)
+    query = [&](const std::vector<OrbDescriptor>& descriptors) {
+      std::vector<int> ids;
+      // Only the current map shares the window's frame (another map is merged by a loop).
+      for (const loop::PlaceCandidate& c : places->query(descriptors, 2 * place_candidates_))
+        if (store_.inCurrentMap(c.keyframe_id) && static_cast<int>(ids.size()) < place_candidates_)
+          ids.push_back(c.keyframe_id);
+      return ids;
+    };
   const RelocalizationResult r = relocalizer_->relocalize(
-      *pyr, exposure, store_, snap->newest_T_c_w, snap->window_ids, snap->median_depth);
+      *pyr, exposure, store_, snap->newest_T_c_w, snap->window_ids, snap->median_depth, query);
   if (window_kept_) {
     // The window is still there: track the frame against its reference, from where the map says
     // the camera is (or, not found, from where it was last seen).
@@ -221,7 +236,25 @@ void TrackingStage::relocalizeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent
     }
     tracker_.restoreMotion(start);
     const FrameTrackingOutcome outcome = tracker_.track(*pyr, exposure);
-    if (outcome.success) {
+    // After a loss the frame may show somewhere else entirely (the camera was carried, or the
+    // map found it far from the window): only a fit as good as before the loss resumes here.
+    const bool near_window = [&] {
+      if (!r.success) return true;
+      const KeyframeRecord found = store_.keyframe(r.keyframe_id);
+      if (found.id < 0) return false;
+      const double distance =
+          (found.T_w_c.translation() - snap->newest_T_c_w.inverse().translation()).norm();
+      return distance < resume_radius_ * snap->median_depth;
+    }();
+    const bool good_fit = outcome.inlier_fraction >= kResumeMinInliers &&
+                          (!(last_good_.last_rmse > 0.0) ||
+                           outcome.rmse <= kResumeMaxRmseGrowth * last_good_.last_rmse);
+    if (outcome.success && !(good_fit && near_window))
+      spdlog::debug(
+          "frame {}: not resumed in the window (rmse {:.2f}, last good {:.2f}, {:.0f} % inliers{})",
+          frame.frame_index, outcome.rmse, last_good_.last_rmse, 100.0 * outcome.inlier_fraction,
+          near_window ? "" : "; the map found it away from the window");
+    if (outcome.success && good_fit && near_window) {
       resumeTracking(frame, r.success ? r.keyframe_id : -1, "the window");
       acceptTrackedFrame(std::move(pyr), frame, exposure, outcome);
       return;

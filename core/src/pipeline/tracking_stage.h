@@ -99,6 +99,13 @@ class TrackingStage {
   std::int64_t last_tracked_index_ = -1;
   std::unique_ptr<Relocalizer> relocalizer_;  ///< null: no relocalisation (reuse off)
   double relocalization_timeout_s_ = 0.0;
+  int place_candidates_ = 0;  ///< reuse.relocalization_place_candidates
+  /// A relocalised frame resumes in the kept window only when the map keyframe it was found in
+  /// is within this many median depths of the last pose (reuse.relocalization_search_radius)...
+  double resume_radius_ = 0.0;
+  /// ...and its tracking against the window fits as well as before the loss.
+  static constexpr double kResumeMinInliers = 0.7;
+  static constexpr double kResumeMaxRmseGrowth = 2.0;
   bool relocalizing_ = false;
   double lost_since_ = 0.0;
   bool window_kept_ = false;             ///< lost, but the window and its reference are still there

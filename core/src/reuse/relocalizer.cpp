@@ -126,11 +126,14 @@ DirectAlignmentResult Relocalizer::alignDirectly(const MarginalizedKeyframe& kf,
 RelocalizationResult Relocalizer::relocalize(const ImagePyramid& frame, double exposure,
                                              const MapStore& map, const SE3d& last_T_c_w,
                                              const std::vector<int>& recent_ids,
-                                             double median_depth) {
+                                             double median_depth, const PlaceQuery& places) {
   RelocalizationResult out;
   if (!describeFrame(frame, out.failure)) return out;
-  const std::vector<std::pair<int, int>> scored =
-      rankByMatches(map, candidates(map, last_T_c_w, recent_ids, median_depth));
+  std::vector<int> ids = candidates(map, last_T_c_w, recent_ids, median_depth);
+  if (places)
+    for (const int id : places(descriptors_))
+      if (std::find(ids.begin(), ids.end(), id) == ids.end()) ids.push_back(id);
+  const std::vector<std::pair<int, int>> scored = rankByMatches(map, ids);
   if (scored.empty()) {
     out.failure = "no map keyframe to look in";
     return out;

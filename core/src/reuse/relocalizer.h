@@ -1,8 +1,9 @@
 // Relocalisation after tracking was lost: finds the camera of a new frame in the existing map,
 // so tracking resumes in the same map frame instead of a new, disconnected map.
 //   1. corners of the frame (Shi-Tomasi) with ORB descriptors;
-//   2. candidate map keyframes: those near the last known pose (spatial index) and the
-//      covisible neighbourhood of the keyframes last in the window;
+//   2. candidate map keyframes: those near the last known pose (spatial index), the covisible
+//      neighbourhood of the keyframes last in the window, and those that look like the frame
+//      anywhere in the map (a bag-of-words query, when given: a kidnapped camera, a loaded map);
 //   3. ORB matches to each candidate's corners with depth, the best candidates by match count;
 //   4. RANSAC PnP of the candidate's 3D corners against the frame's corners;
 //   5. direct (photometric) alignment of the candidate's points to the frame from the PnP pose,
@@ -10,6 +11,7 @@
 // Runs on the tracking thread while tracking is lost; reads the map store.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <utility>
@@ -41,12 +43,16 @@ class Relocalizer {
  public:
   Relocalizer(const ReuseConfig& config, const PyramidCamera& camera);
 
+  /// Map keyframes that look like a view with these ORB descriptors (place recognition, e.g.
+  /// the loop closer's bag of words), best first.
+  using PlaceQuery = std::function<std::vector<int>(const std::vector<OrbDescriptor>&)>;
+
   /// Looks for `frame` (exposure time `exposure`) in `map`, near `last_T_c_w` (the last pose
-  /// known) and around `recent_ids` (the keyframes last in the window). `median_depth` scales the
-  /// spatial search.
+  /// known), around `recent_ids` (the keyframes last in the window) and, given `places`, in the
+  /// keyframes anywhere in the map that look like it. `median_depth` scales the spatial search.
   RelocalizationResult relocalize(const ImagePyramid& frame, double exposure, const MapStore& map,
                                   const SE3d& last_T_c_w, const std::vector<int>& recent_ids,
-                                  double median_depth);
+                                  double median_depth, const PlaceQuery& places = {});
 
  private:
   /// 1. The frame's corners and ORB descriptors; false (and why) when too few.

@@ -269,7 +269,16 @@ std::vector<double> readTimestampList(const std::string& path) {
 
 void writeTumTrajectory(const std::string& path, const Trajectory& trajectory) {
   std::string out = "# timestamp tx ty tz qx qy qz qw (camera-to-world)\n";
+  int map = 0;
   for (const StampedPose& sp : trajectory) {
+    if (sp.map != map) {
+      // Poses of a map not (yet) merged into the first one: another frame and scale.
+      map = sp.map;
+      out += map == 0 ? std::string("# map 0: the map's frame\n")
+                      : "# map " + std::to_string(map) +
+                            ": a map started after tracking was lost, not merged into map 0; "
+                            "poses in its own frame and scale\n";
+    }
     const Eigen::Vector3d& t = sp.pose.translation;
     const Eigen::Quaterniond q = sp.pose.rotation.normalized();
     for (double v : {sp.timestamp, t.x(), t.y(), t.z(), q.x(), q.y(), q.z()}) {

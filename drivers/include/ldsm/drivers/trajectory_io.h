@@ -40,7 +40,9 @@ Trajectory readTrajectory(const std::string& path, TrajectoryFormat format = Tra
 /// ..." (TUM-mono times.txt: the second column is used). '#' lines are comments.
 std::vector<double> readTimestampList(const std::string& path);
 
-/// Writes TUM format with a header comment, every number in shortest round-trip precision.
+/// Writes TUM format with a header comment, every number in shortest round-trip precision. Where
+/// the poses' map changes (StampedPose::map), a comment line says which map the poses that
+/// follow belong to (only maps not merged into the first one: their own frame and scale).
 /// The file is replaced atomically (see writeFileAtomically()).
 void writeTumTrajectory(const std::string& path, const Trajectory& trajectory);
 

@@ -69,6 +69,27 @@ TEST(LoopVerification, ScaleBelowOneAndLargerRotation) {
                  0.005);
 }
 
+// LDSM's relative scale: with a long baseline the two PnP solutions' translations give it before
+// any refinement; with a short one (here almost a pure rotation) the depth ratio does.
+TEST(LoopVerification, ScaleFromPnpSolvedBothWays) {
+  SceneOptions o;
+  o.S_current_candidate =
+      Sim3d(SO3d::exp(Eigen::Vector3d(0.02, -0.1, 0.05)), Eigen::Vector3d(0.9, -0.2, 0.6), 1.35);
+  o.num_points = 500;
+  const KeyframePair far = makeKeyframePair(o);
+  const LoopVerification v = verifyLoop(far.current, far.candidate, {});
+  ASSERT_TRUE(v.accepted) << v.reason;
+  EXPECT_TRUE(v.scale_from_both_ways);
+  EXPECT_NEAR(v.initial_scale, 1.35, 0.05 * 1.35);
+  o.S_current_candidate = Sim3d(SO3d::exp(Eigen::Vector3d(0.02, -0.1, 0.05)),
+                                Eigen::Vector3d(0.01, 0.0, -0.01), 1.35);
+  const KeyframePair near = makeKeyframePair(o);
+  const LoopVerification w = verifyLoop(near.current, near.candidate, {});
+  ASSERT_TRUE(w.accepted) << w.reason;
+  EXPECT_FALSE(w.scale_from_both_ways);
+  EXPECT_NEAR(w.initial_scale, 1.35, 0.05 * 1.35);
+}
+
 TEST(LoopVerification, NoisyDepthsWithLdsoSplitStillAccurate) {
   SceneOptions o;
   o.idepth_noise = 0.04;
