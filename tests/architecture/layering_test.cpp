@@ -28,7 +28,7 @@ const std::map<std::string, std::set<std::string>>& allowedModules() {
       {"image", {"math"}},
       {"eval", {"math"}},
       {"model", {"math", "camera", "image"}},
-      {"kernels", {"math", "model"}},
+      {"kernels", {"math", "image", "model"}},
       {"features", {"math", "camera", "image", "model"}},
       {"alignment", {"math", "camera", "image", "model"}},
       {"frontend", {"math", "camera", "image", "model", "kernels", "features"}},

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <string>
 
+#include "image/interpolation.h"
 #include "ldsm/error.h"
-#include "ldsm/image/interpolation.h"
 
 namespace ldsm {
 

@@ -45,8 +45,8 @@
 #include "features/pixel_selector.h"
 #include "frontend/coarse_initializer_settings.h"
 #include "frontend/init_point_graph.h"
-#include "ldsm/image/image_pyramid.h"
-#include "ldsm/math/se3.h"
+#include "image/image_pyramid.h"
+#include "math/se3.h"
 #include "model/affine_light.h"
 #include "model/residual_pattern.h"
 

@@ -12,7 +12,7 @@
 #include <cmath>
 
 #include "frontend/coarse_initializer.h"
-#include "ldsm/image/interpolation.h"
+#include "image/interpolation.h"
 
 namespace ldsm {
 

@@ -6,7 +6,7 @@
 
 #include "camera/pyramid_camera.h"
 #include "ldsm/config.h"
-#include "ldsm/math/se3.h"
+#include "math/se3.h"
 #include "model/affine_light.h"
 #include "model/initialization_result.h"
 

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <string>
 
+#include "image/interpolation.h"
 #include "ldsm/error.h"
-#include "ldsm/image/interpolation.h"
 
 namespace ldsm {
 

@@ -13,9 +13,9 @@
 #include "camera/pyramid_camera.h"
 #include "frontend/coarse_residuals.h"
 #include "frontend/depth_map_pyramid.h"
+#include "image/image_pyramid.h"
 #include "ldsm/config.h"
-#include "ldsm/image/image_pyramid.h"
-#include "ldsm/math/se3.h"
+#include "math/se3.h"
 #include "model/affine_light.h"
 
 namespace ldsm {

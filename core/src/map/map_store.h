@@ -15,10 +15,10 @@
 #include <vector>
 
 #include "concurrency/append_only_log.h"
-#include "ldsm/math/sim3.h"
 #include "ldsm/types.h"
 #include "map/covisibility_graph.h"
 #include "map/spatial_index.h"
+#include "math/sim3.h"
 #include "model/map_records.h"
 #include "model/marginalized_keyframe.h"
 

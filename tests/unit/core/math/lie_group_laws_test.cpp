@@ -5,10 +5,10 @@
 // embeddings, Jacobians) stays in so3_test, se3_test and sim3_test.
 #include <gtest/gtest.h>
 
-#include "ldsm/math/se3.h"
-#include "ldsm/math/sim3.h"
-#include "ldsm/math/so3.h"
 #include "lie_test_utils.h"
+#include "math/se3.h"
+#include "math/sim3.h"
+#include "math/so3.h"
 
 namespace ldsm {
 namespace {

@@ -1,4 +1,4 @@
-#include "ldsm/math/se3.h"
+#include "math/se3.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "ldsm/math/sim3.h"
+#include "math/sim3.h"
 
 #include <gtest/gtest.h>
 

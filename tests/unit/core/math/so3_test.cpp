@@ -1,4 +1,4 @@
-#include "ldsm/math/so3.h"
+#include "math/so3.h"
 
 #include <gtest/gtest.h>
 
