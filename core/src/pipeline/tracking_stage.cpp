@@ -97,7 +97,7 @@ void TrackingStage::initializeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent
   }
   initializer_.releaseMemory();
   status_ = TrackingStatus::Tracking;
-  ++initializations_;
+  initializations_.fetch_add(1, std::memory_order_relaxed);
   store_.addFrame({init_reference_info_.frame_index, init_reference_info_.timestamp,
                    outcome.keyframe_id - 1, SE3d()});
   store_.addFrame({index, frame.timestamp, outcome.keyframe_id, SE3d()});
@@ -168,7 +168,7 @@ void TrackingStage::adoptNewestReference() {
 
 void TrackingStage::loseTracking(const FrameEvent& frame, const std::string& reason) {
   spdlog::warn("tracking lost: {}", reason);
-  ++losses_;
+  losses_.fetch_add(1, std::memory_order_relaxed);
   events_.trackingLost(TrackingLostEvent{frame.frame_index, frame.timestamp, reason});
   mapping_.waitIdle();
   status_ = TrackingStatus::Lost;

@@ -57,8 +57,8 @@ class TrackingStage {
                      double exposure);
 
   TrackingStatus status() const { return status_; }
-  std::int64_t initializations() const { return initializations_; }
-  std::int64_t losses() const { return losses_; }
+  std::int64_t initializations() const { return initializations_.load(std::memory_order_relaxed); }
+  std::int64_t losses() const { return losses_.load(std::memory_order_relaxed); }
   std::int64_t relocalizationAttempts() const {
     return relocalization_attempts_.load(std::memory_order_relaxed);
   }
@@ -106,8 +106,8 @@ class TrackingStage {
   // Counted on the tracking thread, read by stats() on any thread.
   std::atomic<std::int64_t> relocalization_attempts_{0};
   std::atomic<std::int64_t> relocalizations_{0};
-  std::int64_t initializations_ = 0;
-  std::int64_t losses_ = 0;
+  std::atomic<std::int64_t> initializations_{0};
+  std::atomic<std::int64_t> losses_{0};
 };
 
 }  // namespace ldsm
