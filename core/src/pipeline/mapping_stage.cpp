@@ -207,7 +207,7 @@ void MappingStage::reset() {
 
 void MappingStage::publishMap(MapUpdate&& update) {
   store_.addPoints(update.points);
-  for (const KeyframeRecord& r : update.keyframes) store_.setKeyframe(r);
+  store_.setKeyframes(update.keyframes);
   for (MarginalizedKeyframe& kf : update.left) {
     if (describe_) describeOrb(kf);
     // A keyframe an earlier visit's map keyframe already covers adds nothing the map lacks.
