@@ -237,6 +237,9 @@ struct LoopConfig {
   /// plus the drift the odometry chain between the two keyframes may have accumulated (7 DoF;
   /// 18.48 = chi-square 99 %). Smaller disagreement is within the accuracy of both.
   double correction_chi2 = 18.48;
+  /// Keyframes waiting for loop closure (threaded mode; rounded up to a power of two). A
+  /// keyframe that finds the queue full is not indexed (loop closure never holds up mapping).
+  int queue_capacity = 16;
 
   template <typename V>
   void visit(V& v) {
@@ -261,6 +264,9 @@ struct LoopConfig {
             "squared Mahalanobis distance (7 DoF) of the loop's disagreement with the estimate, "
             "under the loop's and the odometry chain's uncertainty, above which the pose graph "
             "corrects the trajectory; 0 corrects every loop");
+    v.field("queue_capacity", queue_capacity, Range<int>{1, 1024},
+            "keyframes waiting for loop closure (threaded mode); one that finds the queue full "
+            "is not indexed");
   }
 };
 

@@ -10,17 +10,6 @@
 
 namespace ldsm {
 
-MappingStageSettings MappingStageSettings::fromConfig(const Config& config, bool photometry_known) {
-  MappingStageSettings s;
-  s.mapper = MapperSettings::fromConfig(config, photometry_known);
-  s.tracker = CoarseTrackerSettings::fromConfig(config, photometry_known);
-  s.reuse = config.reuse;
-  s.queue_capacity = config.system.mapping_queue;
-  s.loop_corners = config.loop.corners_per_keyframe;
-  s.loop_corner_min_score = static_cast<float>(config.loop.corner_min_score);
-  return s;
-}
-
 MappingStage::MappingStage(const MappingStageSettings& settings, const PyramidCamera& camera,
                            PyramidPool& pyramids, MapStore& store, EventSink& events,
                            loop::LoopCloser* loop_closer, bool inline_mode)

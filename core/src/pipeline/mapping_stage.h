@@ -78,11 +78,9 @@ struct MappingStageSettings {
   MapperSettings mapper;
   CoarseTrackerSettings tracker;  ///< of the tracking references it prepares
   ReuseConfig reuse;
-  int queue_capacity = 8;             ///< system.mapping_queue
+  int queue_capacity = 4;             ///< system.mapping_queue
   int loop_corners = 400;             ///< loop.corners_per_keyframe
   float loop_corner_min_score = 9.f;  ///< loop.corner_min_score
-
-  static MappingStageSettings fromConfig(const Config& config, bool photometry_known);
 };
 
 class MappingStage {

@@ -4,16 +4,6 @@
 
 namespace ldsm {
 
-TrackingStageSettings TrackingStageSettings::fromConfig(const Config& config, int levels,
-                                                        bool photometry_known) {
-  TrackingStageSettings s;
-  s.initializer = CoarseInitializerSettings::fromConfig(config, levels, photometry_known);
-  s.initializer_hypotheses = config.initializer.hypotheses;
-  s.tracker = FrameTrackerSettings::fromConfig(config, photometry_known);
-  s.reuse = config.reuse;
-  return s;
-}
-
 TrackingStage::TrackingStage(const TrackingStageSettings& settings, const PyramidCamera& camera,
                              FramePreprocessor& preprocessor, PyramidPool& pyramids,
                              MapStore& store, MappingStage& mapping, EventSink& events)

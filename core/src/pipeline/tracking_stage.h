@@ -35,9 +35,6 @@ struct TrackingStageSettings {
   int initializer_hypotheses = 7;  ///< initializer.hypotheses
   FrameTrackerSettings tracker;
   ReuseConfig reuse;  ///< relocalisation after a loss (reuse.enabled, relocalization_*)
-
-  /// `levels`: the pyramid levels the camera uses.
-  static TrackingStageSettings fromConfig(const Config& config, int levels, bool photometry_known);
 };
 
 class TrackingStage {

@@ -2,6 +2,7 @@
 // own thread give the same map), what it publishes after each job (tracking reference, snapshot,
 // events, the map store), and a reset.
 #include "pipeline/mapping_stage.h"
+#include "pipeline/stage_settings.h"
 
 #include <gtest/gtest.h>
 
@@ -70,8 +71,8 @@ StageRun runStage(bool inline_mode) {
   RecordingListener listener;
   events.setListener(&listener);
   const Config config = stageConfig();
-  MappingStage stage(MappingStageSettings::fromConfig(config, false), w.camera(), w.pool(), store,
-                     events, nullptr, inline_mode);
+  MappingStage stage(mappingStageSettings(config, false), w.camera(), w.pool(), store, events,
+                     nullptr, inline_mode);
   StageRun run;
   stage.submit(initJob(w));
   stage.waitIdle();
@@ -135,8 +136,8 @@ TEST(MappingStage, ResetEmptiesTheWindowAndDropsTheUnadoptedReference) {
   SyntheticWindow w(8);
   MapStore store;
   EventSink events;
-  MappingStage stage(MappingStageSettings::fromConfig(stageConfig(), false), w.camera(), w.pool(),
-                     store, events, nullptr, true);
+  MappingStage stage(mappingStageSettings(stageConfig(), false), w.camera(), w.pool(), store,
+                     events, nullptr, true);
   stage.submit(initJob(w));
   ASSERT_TRUE(stage.lastInitialization().ok);
   stage.setKeyframeInFlight();
