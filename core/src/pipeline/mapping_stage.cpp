@@ -154,14 +154,7 @@ void MappingStage::initialize(MappingJob& job) {
   init_outcome_ = InitializationOutcome();
   if (!ok) return;
   keyframes_.fetch_add(2, std::memory_order_relaxed);
-  const WindowKeyframe& newest = mapper_.newestKeyframe();
-  init_outcome_ = {true, mapper_.activePointCount(), newest.id(), newest.T_c_w, newest.aff};
-  publishReference();
-  publishSnapshot();
-  events_.initialized(
-      InitializedEvent{job.info.frame_index, job.info.timestamp, init_outcome_.points});
-  events_.keyframe(KeyframeEvent{newest.id(), job.info.frame_index, job.info.timestamp,
-                                 newest.T_c_w.inverse().toPose(), init_outcome_.points});
+  startWindow(job.info, mapper_.activePointCount(), /*initialized=*/true);
   spdlog::info("frame {}: initialised with {} points", job.info.frame_index, init_outcome_.points);
 }
 
@@ -177,13 +170,18 @@ void MappingStage::relocalize(MappingJob& job) {
   publishMap(std::move(ins.map));
   keyframes_.fetch_add(1, std::memory_order_relaxed);
   ++reuse_stats_.reactivations;
+  store_.connect(mapper_.newestKeyframe().id(), job.anchor_keyframe);
+  startWindow(job.info, ins.map_points_in_view, /*initialized=*/false);
+}
+
+void MappingStage::startWindow(const MapperFrame& info, int points, bool initialized) {
   const WindowKeyframe& newest = mapper_.newestKeyframe();
-  init_outcome_ = {true, ins.map_points_in_view, newest.id(), newest.T_c_w, newest.aff};
-  store_.connect(newest.id(), job.anchor_keyframe);
+  init_outcome_ = {true, points, newest.id(), newest.T_c_w, newest.aff};
   publishReference();
   publishSnapshot();
-  events_.keyframe(KeyframeEvent{newest.id(), job.info.frame_index, job.info.timestamp,
-                                 newest.T_c_w.inverse().toPose(), ins.map_points_in_view});
+  if (initialized) events_.initialized(InitializedEvent{info.frame_index, info.timestamp, points});
+  events_.keyframe(KeyframeEvent{newest.id(), info.frame_index, info.timestamp,
+                                 newest.T_c_w.inverse().toPose(), points});
 }
 
 void MappingStage::reset() {

@@ -128,6 +128,10 @@ class MappingStage {
   void initialize(MappingJob& job);
   void relocalize(MappingJob& job);
   void reset();
+  /// The window (re)started with the newest keyframe (initialisation, relocalisation): its outcome,
+  /// tracking reference and snapshot are published, then the listener hears of it (initialised
+  /// first, when `initialized`), with `points` the points it sees.
+  void startWindow(const MapperFrame& info, int points, bool initialized);
   /// Hands the window's output to the map store and loop closure.
   void publishMap(MapUpdate&& update);
   void applyLoopCorrections();
