@@ -258,8 +258,11 @@ double MappingStage::medianDepth(const std::vector<DepthPoint>& points,
 }
 
 void MappingStage::applyLoopCorrections() {
-  if (!loop_closer_) return;
-  for (const loop::LoopCorrection& c : loop_closer_->takeCorrections()) {
+  if (loop_closer_) applyCorrections(loop_closer_->takeCorrections());
+}
+
+void MappingStage::applyCorrections(const std::vector<loop::LoopCorrection>& corrections) {
+  for (const loop::LoopCorrection& c : corrections) {
     LoopClosureEvent e;
     e.current_keyframe_id = c.current_keyframe_id;
     e.matched_keyframe_id = c.candidate_keyframe_id;

@@ -121,20 +121,25 @@ class MappingStage {
   std::int64_t keyframes() const { return keyframes_.load(std::memory_order_relaxed); }
 
  private:
+  friend struct MappingStageAccess;  // the unit tests
   struct Done {};
   std::optional<Done> process(MappingJob& job);
   void trace(MappingJob& job);
   void integrateKeyframe(MappingJob& job);
   void initialize(MappingJob& job);
   void relocalize(MappingJob& job);
-  void reset();
   /// The window (re)started with the newest keyframe (initialisation, relocalisation): its outcome,
   /// tracking reference and snapshot are published, then the listener hears of it (initialised
   /// first, when `initialized`), with `points` the points it sees.
   void startWindow(const MapperFrame& info, int points, bool initialized);
+  void reset();
   /// Hands the window's output to the map store and loop closure.
   void publishMap(MapUpdate&& update);
+  /// The corrections loop closure has published so far (applyCorrections).
   void applyLoopCorrections();
+  /// Moves the map store's keyframes, frames and points (never the window), takes the reactivated
+  /// keyframes back when something moved, and reports each loop.
+  void applyCorrections(const std::vector<loop::LoopCorrection>& corrections);
   void publishReference();
   void publishSnapshot();
   /// ORB descriptors at the corners of a described keyframe (drops the ones without, and the
