@@ -15,8 +15,8 @@
 
 #include "features/corner_detector.h"
 #include "features/orb_extractor.h"
+#include "image/image_pyramid.h"
 #include "ldsm/drivers/dataset_source.h"
-#include "ldsm/image/image_pyramid.h"
 #include "loop/binary_kmajority.h"
 #include "loop/bow_index.h"
 #include "loop/keyframe_database.h"

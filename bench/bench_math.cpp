@@ -5,11 +5,11 @@
 #include <random>
 #include <vector>
 
+#include "image/image_pyramid.h"
+#include "image/interpolation.h"
 #include "ldsm/image.h"
-#include "ldsm/image/image_pyramid.h"
-#include "ldsm/image/interpolation.h"
-#include "ldsm/math/se3.h"
-#include "ldsm/math/sim3.h"
+#include "math/se3.h"
+#include "math/sim3.h"
 
 namespace {
 

@@ -6,9 +6,9 @@
 #include <vector>
 
 #include "alloc_counter.h"
+#include "image/image_pyramid.h"
+#include "image/interpolation.h"
 #include "ldsm/image.h"
-#include "ldsm/image/image_pyramid.h"
-#include "ldsm/image/interpolation.h"
 
 namespace ldsm {
 namespace {

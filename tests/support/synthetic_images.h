@@ -8,9 +8,9 @@
 #include <functional>
 
 #include "camera/pyramid_camera.h"
+#include "image/image_pyramid.h"
 #include "ldsm/image.h"
-#include "ldsm/image/image_pyramid.h"
-#include "ldsm/math/se3.h"
+#include "math/se3.h"
 
 namespace ldsm::test {
 

@@ -11,7 +11,7 @@
 
 #include "camera/pyramid_camera.h"
 #include "image/pyramid_pool.h"
-#include "ldsm/math/se3.h"
+#include "math/se3.h"
 #include "model/initialization_result.h"
 #include "plane_scene.h"
 

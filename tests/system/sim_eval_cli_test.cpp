@@ -6,7 +6,7 @@
 #include <random>
 
 #include "ldsm/drivers/trajectory_io.h"
-#include "ldsm/math/sim3.h"
+#include "math/sim3.h"
 #include "test_paths.h"
 
 namespace ldsm {

@@ -251,6 +251,9 @@ struct LoopConfig {
   /// constraints from the window optimisation, so that the drift a revisit reveals is spread
   /// over the keyframes in between.
   bool reuse_constraints = true;
+  /// Keyframes waiting for loop closure (threaded mode; rounded up to a power of two). A
+  /// keyframe that finds the queue full is not indexed (loop closure never holds up mapping).
+  int queue_capacity = 16;
 
   template <typename V>
   void visit(V& v) {
@@ -285,6 +288,9 @@ struct LoopConfig {
             "(no loop)");
     v.field("reuse_constraints", reuse_constraints,
             "map keyframes brought back into the window constrain the pose graph");
+    v.field("queue_capacity", queue_capacity, Range<int>{1, 1024},
+            "keyframes waiting for loop closure (threaded mode); one that finds the queue full "
+            "is not indexed");
   }
 };
 

@@ -104,9 +104,11 @@ struct MapMergeEvent {
 
 /// Receives events; every method has an empty default. In deterministic mode every call comes on
 /// the caller's thread (inside submit() or finish()). In threaded mode onFrame, onTrackingLost and
-/// onRelocalized come from the tracking thread, onInitialized, onKeyframe, onReuse,
-/// onLoopClosure and onMapsMerged from the mapping thread (possibly at the same time as the
-/// former). Keep handlers short and never call back into the System from them.
+/// onRelocalized come from the tracking thread, onInitialized, onKeyframe and onReuse from the
+/// mapping thread (possibly at the same time as the former), and onLoopClosure and onMapsMerged
+/// from the mapping thread or, for the corrections still pending at the end of a run, from the
+/// thread that calls System::finish() (after the mapping thread has gone idle). Keep handlers
+/// short and never call back into the System from them.
 class SystemListener {
  public:
   virtual ~SystemListener() = default;
@@ -114,13 +116,14 @@ class SystemListener {
   virtual void onKeyframe(const KeyframeEvent&) {}
   virtual void onInitialized(const InitializedEvent&) {}
   virtual void onTrackingLost(const TrackingLostEvent&) {}
-  /// When the correction has been applied (or found not significant).
+  /// When the correction has been applied (or found not significant): mapping thread, or the
+  /// thread calling System::finish() in threaded mode.
   virtual void onLoopClosure(const LoopClosureEvent&) {}
   /// When map keyframes are brought back into the window (mapping thread in threaded mode).
   virtual void onReuse(const ReuseEvent&) {}
   /// When tracking resumes in the existing map after a loss (tracking thread in threaded mode).
   virtual void onRelocalized(const RelocalizedEvent&) {}
-  /// When two maps were merged (mapping thread in threaded mode).
+  /// When two maps were merged (see the threads above).
   virtual void onMapsMerged(const MapMergeEvent&) {}
 };
 

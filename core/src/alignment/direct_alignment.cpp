@@ -6,7 +6,7 @@
 #include <Eigen/Cholesky>
 
 #include "camera/radial_distortion.h"
-#include "ldsm/image/interpolation.h"
+#include "image/interpolation.h"
 
 namespace ldsm {
 namespace {

@@ -17,8 +17,8 @@
 #include <Eigen/Core>
 
 #include "camera/pyramid_camera.h"
-#include "ldsm/image/image_pyramid.h"
-#include "ldsm/math/se3.h"
+#include "image/image_pyramid.h"
+#include "math/se3.h"
 #include "model/patch_point.h"
 
 namespace ldsm {

@@ -8,7 +8,7 @@
 #include <Eigen/Core>
 
 #include "ldsm/camera/calibration.h"
-#include "ldsm/math/se3.h"
+#include "math/se3.h"
 
 namespace ldsm {
 

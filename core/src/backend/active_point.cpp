@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "backend/window_keyframe.h"
-#include "ldsm/image/interpolation.h"
+#include "image/interpolation.h"
 
 namespace ldsm {
 

@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <tuple>
+#include <utility>
 
+#include "image/interpolation.h"
 #include "ldsm/error.h"
-#include "ldsm/image/interpolation.h"
 
 namespace ldsm {
 namespace {
@@ -147,6 +149,65 @@ LineMatch matchAlongLine(const PatternMatcher& m, const Eigen::Vector2f& a,
   return out;
 }
 
+/// Pattern orientation in the target: the local linear map of the rotation-only homography
+/// KRKi at the host pixel (pr = KRKi (u, v, 1)); identity when not rotated or degenerate.
+Eigen::Matrix2f patternOrientation(const Eigen::Matrix3f& KRKi, const Eigen::Vector3f& pr,
+                                   bool rotate) {
+  Eigen::Matrix2f J = Eigen::Matrix2f::Identity();
+  if (rotate && pr.z() > 0.f) {
+    const float iz = 1.f / pr.z();
+    for (int r = 0; r < 2; ++r) {
+      for (int c = 0; c < 2; ++c) J(r, c) = (KRKi(r, c) - pr[r] * iz * KRKi(2, c)) * iz;
+    }
+    if (!(std::abs(J.determinant()) > 1e-3f)) J.setIdentity();
+  }
+  return J;
+}
+
+/// Error bound along the epipolar line (pixels, into `error_px`) for the host pattern's gradient
+/// moments G oriented by J: the target-image derivative of the pattern along a target direction
+/// l is g_host^T J^-1 l, so a = sum (g^T J^-1 l)^2 and b the same across the line. kGood, or why
+/// a search over the projected interval of `length` pixels would not narrow it.
+TraceStatus lineErrorBound(const Eigen::Matrix2f& J, const Eigen::Matrix2f& G,
+                           const Eigen::Vector2f& dir, float length, const TraceSettings& settings,
+                           float& error_px) {
+  const Eigen::Matrix2f J_inv = J.inverse();
+  const Eigen::Vector2f l_host = J_inv * dir;
+  const Eigen::Vector2f n_host = J_inv * Eigen::Vector2f(-dir.y(), dir.x());
+  const float along = l_host.dot(G * l_host);
+  const float across = n_host.dot(G * n_host);
+  const float best_case = settings.matching_error + settings.epipolar_error;
+  if (2.f * best_case * settings.min_improvement > length) {
+    return TraceStatus::kSkipped;  // as converged as the matching accuracy allows
+  }
+  if (!(along > 0.f)) return TraceStatus::kBadCondition;
+  error_px =
+      settings.matching_error + settings.epipolar_error * std::sqrt((along + across) / along);
+  if (!(2.f * error_px * settings.min_improvement <=
+        std::min(length, settings.max_search_length))) {
+    return TraceStatus::kBadCondition;
+  }
+  return TraceStatus::kGood;
+}
+
+/// The new inverse-depth interval: the inverse depths whose projections are s -+ error_px on the
+/// line a_px + t dir, solved from the better conditioned image coordinate of
+/// q = (pr + rho Kt).xy / (pr + rho Kt).z; [0, inf) where that leaves the valid range.
+std::pair<float, float> idepthInterval(const Eigen::Vector3f& pr, const Eigen::Vector3f& Kt,
+                                       const Eigen::Vector2f& a_px, const Eigen::Vector2f& dir,
+                                       float s, float error_px) {
+  const int c = std::abs(dir.x()) >= std::abs(dir.y()) ? 0 : 1;
+  auto idepthAt = [&](float t) {
+    const float q = a_px[c] + t * dir[c];
+    return (pr[c] - q * pr.z()) / (q * Kt.z() - Kt[c]);
+  };
+  float new_min = idepthAt(s - error_px);
+  float new_max = idepthAt(s + error_px);
+  if (!(new_min >= 0.f) || !std::isfinite(new_min)) new_min = 0.f;
+  if (!(new_max >= new_min) || !std::isfinite(new_max)) new_max = kInf;  // past the epipole
+  return {new_min, new_max};
+}
+
 }  // namespace
 
 const char* traceStatusName(TraceStatus status) {
@@ -237,15 +298,7 @@ TraceStatus ImmaturePoint::trace(ImageView<const GradientPixel> target, const Le
   const Eigen::Vector2f a_px = h_lo.head<2>() / h_lo.z();
   if (!a_px.allFinite()) return status_ = TraceStatus::kOob;
 
-  // Pattern orientation in the target: the rotation-only homography's local linear map J.
-  Eigen::Matrix2f J = Eigen::Matrix2f::Identity();
-  if (settings.rotate_pattern && pr.z() > 0.f) {
-    const float iz = 1.f / pr.z();
-    for (int r = 0; r < 2; ++r) {
-      for (int c = 0; c < 2; ++c) J(r, c) = (KRKi(r, c) - pr[r] * iz * KRKi(2, c)) * iz;
-    }
-    if (!(std::abs(J.determinant()) > 1e-3f)) J.setIdentity();
-  }
+  const Eigen::Matrix2f J = patternOrientation(KRKi, pr, settings.rotate_pattern);
   float radius = 0.f;
   const PatternMatcher m = orientedMatcher(target, J, weights_.data(), colors_.data(), affine,
                                            settings.huber_threshold, &radius);
@@ -289,26 +342,11 @@ TraceStatus ImmaturePoint::trace(ImageView<const GradientPixel> target, const Le
   if (!(s0 <= s1) || !inside(s0) || !inside(s1)) return status_ = TraceStatus::kOob;
   if (!(length >= settings.min_search_length)) return status_ = TraceStatus::kSkipped;
 
-  // Error bound along the line. The target-image derivative of the pattern along a target
-  // direction l is g_host^T J^-1 l, so a = sum (g^T J^-1 l)^2 and b the same across the line.
-  const Eigen::Matrix2f J_inv = J.inverse();
   Eigen::Matrix2f G;
   G << grad_xx_, grad_xy_, grad_xy_, grad_yy_;
-  const Eigen::Vector2f l_host = J_inv * dir;
-  const Eigen::Vector2f n_host = J_inv * Eigen::Vector2f(-dir.y(), dir.x());
-  const float along = l_host.dot(G * l_host);
-  const float across = n_host.dot(G * n_host);
-  const float best_case = settings.matching_error + settings.epipolar_error;
-  if (2.f * best_case * settings.min_improvement > length) {
-    return status_ = TraceStatus::kSkipped;  // as converged as the matching accuracy allows
-  }
-  if (!(along > 0.f)) return status_ = TraceStatus::kBadCondition;
-  const float error_px =
-      settings.matching_error + settings.epipolar_error * std::sqrt((along + across) / along);
-  if (!(2.f * error_px * settings.min_improvement <=
-        std::min(length, settings.max_search_length))) {
-    return status_ = TraceStatus::kBadCondition;
-  }
+  float error_px = 0.f;
+  const TraceStatus bound = lineErrorBound(J, G, dir, length, settings, error_px);
+  if (bound != TraceStatus::kGood) return status_ = bound;
 
   const LineMatch match = matchAlongLine(m, a_px, dir, s0, s1, settings);
   if (std::isfinite(match.second)) quality_ = match.second / std::max(match.best_energy, 1e-3f);
@@ -323,19 +361,7 @@ TraceStatus ImmaturePoint::trace(ImageView<const GradientPixel> target, const Le
     return status_ = TraceStatus::kOutlier;
   }
 
-  // New interval: the inverse depths whose projections are s -+ error_px, solved from the better
-  // conditioned image coordinate of q = A + s dir = (pr + rho Kt).xy / (pr + rho Kt).z.
-  const int c = std::abs(dir.x()) >= std::abs(dir.y()) ? 0 : 1;
-  auto idepthAt = [&](float t) {
-    const float q = a_px[c] + t * dir[c];
-    return (pr[c] - q * pr.z()) / (q * Kt.z() - Kt[c]);
-  };
-  float new_min = idepthAt(s - error_px);
-  float new_max = idepthAt(s + error_px);
-  if (!(new_min >= 0.f) || !std::isfinite(new_min)) new_min = 0.f;
-  if (!(new_max >= new_min) || !std::isfinite(new_max)) new_max = kInf;  // past the epipole
-  idepth_min_ = new_min;
-  idepth_max_ = new_max;
+  std::tie(idepth_min_, idepth_max_) = idepthInterval(pr, Kt, a_px, dir, s, error_px);
   return status_ = TraceStatus::kGood;
 }
 

@@ -11,9 +11,9 @@
 #include <limits>
 
 #include "camera/pyramid_camera.h"
+#include "image/gradient_pixel.h"
 #include "ldsm/image.h"
-#include "ldsm/image/gradient_pixel.h"
-#include "ldsm/math/se3.h"
+#include "math/se3.h"
 #include "model/residual_pattern.h"
 
 namespace ldsm {

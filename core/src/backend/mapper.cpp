@@ -10,35 +10,6 @@
 #include "backend/loop_description.h"
 
 namespace ldsm {
-namespace {
-
-WindowOptimizerSettings optimizerSettings(const Config& c, bool photometry_known) {
-  WindowOptimizerSettings s;
-  s.max_iterations = c.window.max_iterations;
-  const double w = photometry_known ? c.photometric.affine_prior_weight_known
-                                    : c.photometric.affine_prior_weight_unknown;
-  s.affine_prior_a = w;
-  s.affine_prior_b = w;
-  s.residual.huber_threshold = static_cast<float>(c.tracking.huber_threshold);
-  const float th = static_cast<float>(c.window.outlier_threshold);
-  s.residual.outlier_energy = th * th * kPatternSize;
-  s.estimate_radial = c.calibration.refine_radial;
-  return s;
-}
-
-}  // namespace
-
-MapperSettings MapperSettings::fromConfig(const Config& config, bool photometry_known) {
-  MapperSettings s;
-  s.window = config.window;
-  s.points = config.points;
-  s.calibration = config.calibration;
-  s.optimizer = optimizerSettings(config, photometry_known);
-  s.optimizer.reactivated_weight = config.reuse.reactivated_pose_weight;
-  s.trace_huber_threshold = static_cast<float>(config.tracking.huber_threshold);
-  s.trace_outlier_threshold = static_cast<float>(config.window.outlier_threshold);
-  return s;
-}
 
 Mapper::Mapper(const MapperSettings& settings, const PyramidCamera& camera, PyramidPool& pyramids)
     : settings_(settings),

@@ -41,10 +41,6 @@ struct MapperSettings {
   WindowOptimizerSettings optimizer;
   float trace_huber_threshold = 9.f;
   float trace_outlier_threshold = 12.f;
-
-  /// `photometry_known`: response, vignette and exposure times are known, so affine brightness
-  /// is held near zero by the strong prior (photometric.affine_prior_weight_known).
-  static MapperSettings fromConfig(const Config& config, bool photometry_known);
 };
 
 /// What the window hands to the map after an operation, as values, in the order they arose.

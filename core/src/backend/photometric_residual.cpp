@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "backend/radial_correction.h"
-#include "ldsm/image/interpolation.h"
+#include "image/interpolation.h"
 
 namespace ldsm {
 

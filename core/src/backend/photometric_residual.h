@@ -17,8 +17,8 @@
 #include "backend/active_point.h"
 #include "backend/window_keyframe.h"
 #include "camera/pyramid_camera.h"
+#include "image/gradient_pixel.h"
 #include "kernels/pattern_accumulate.h"
-#include "ldsm/image/gradient_pixel.h"
 
 namespace ldsm {
 

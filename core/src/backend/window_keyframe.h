@@ -9,8 +9,8 @@
 
 #include "backend/active_point.h"
 #include "backend/immature_point.h"
-#include "ldsm/image/image_pyramid.h"
-#include "ldsm/math/se3.h"
+#include "image/image_pyramid.h"
+#include "math/se3.h"
 #include "model/affine_light.h"
 #include "model/patch_point.h"
 

@@ -2,8 +2,8 @@
 // through a bounded lock-free SPSC ring; a worker thread (at the given priority) runs the
 // plugged-in "process one job" callable and publishes its results in a mailbox the consumer
 // polls at a safe point. In kInline mode (deterministic runs) submit() runs the very same
-// processing synchronously, so results do not depend on thread timing. Loop closure runs on it
-// (a keyframe per job, corrections as results).
+// processing synchronously, so results do not depend on thread timing. The mapping stage (a
+// window change per job) and loop closure (a keyframe per job, corrections as results) run on it.
 //
 // Threads: submit() from one producer thread; tryTakeResults()/takeResults() from one consumer
 // thread; stop()/waitIdle() from the owner. The processor runs in the worker thread only
@@ -48,7 +48,8 @@ class BackgroundTask {
  public:
   /// Processes one job; returns a result to publish or nothing. `abort` becomes true on stop():
   /// long computations (pose-graph solves) should poll it. Exceptions are logged and the job is
-  /// skipped: a failing loop closure never reaches the odometry.
+  /// skipped: a failing job never reaches the producer (a failing loop closure never stops the
+  /// odometry).
   using Processor = std::function<std::optional<Result>(Job& job, const std::atomic<bool>& abort)>;
 
   /// Job must be default-constructible and movable. Throws ConfigError without a processor.
@@ -57,7 +58,7 @@ class BackgroundTask {
         mode_(options.mode),
         wait_when_full_(options.wait_when_full),
         queue_(concurrency::nextPowerOfTwo(std::max<std::size_t>(1, options.queue_capacity))) {
-    if (!processor_) throw ConfigError("loop closing task: no processor given");
+    if (!processor_) throw ConfigError("background task: no processor given");
     if (mode_ == TaskMode::kThreaded) {
       worker_ = std::make_unique<WorkerThread>([this] { drain(); }, options.priority);
     }

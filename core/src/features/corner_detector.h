@@ -6,8 +6,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "image/gradient_pixel.h"
 #include "ldsm/image.h"
-#include "ldsm/image/gradient_pixel.h"
 
 namespace ldsm {
 

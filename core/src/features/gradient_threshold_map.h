@@ -5,8 +5,8 @@
 
 #include <vector>
 
+#include "image/gradient_pixel.h"
 #include "ldsm/image.h"
-#include "ldsm/image/gradient_pixel.h"
 
 namespace ldsm {
 

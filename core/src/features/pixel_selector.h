@@ -21,9 +21,9 @@
 
 #include "features/corner_detector.h"
 #include "features/gradient_threshold_map.h"
+#include "image/image_pyramid.h"
 #include "ldsm/config.h"
 #include "ldsm/image.h"
-#include "ldsm/image/image_pyramid.h"
 
 namespace ldsm {
 

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <string>
 
+#include "image/interpolation.h"
 #include "ldsm/error.h"
-#include "ldsm/image/interpolation.h"
 
 namespace ldsm {
 
@@ -67,25 +67,6 @@ void CoarseInitializerSettings::validate() const {
           "max_residual_growth must be > 1");
   require(residual_growth_floor >= 0.f && std::isfinite(residual_growth_floor),
           "residual_growth_floor must be >= 0");
-}
-
-CoarseInitializerSettings CoarseInitializerSettings::fromConfig(const Config& config,
-                                                                int max_levels,
-                                                                bool exposures_known) {
-  CoarseInitializerSettings s;
-  s.max_levels = std::clamp(max_levels, 1, kMaxPyramidLevels);
-  s.huber_threshold = static_cast<float>(config.tracking.huber_threshold);
-  s.selection = config.points;
-  s.selector_density = static_cast<float>(config.initializer.point_density);
-  s.min_parallax_flow = static_cast<float>(config.initializer.min_parallax_px);
-  s.min_rotation_free_parallax =
-      static_cast<float>(config.initializer.min_rotation_free_parallax_px);
-  s.confirm_frames = config.initializer.confirm_frames;
-  if (exposures_known) {
-    s.affine_prior_weight_a = kAffinePriorKnownA;
-    s.affine_prior_weight_b = kAffinePriorKnownB;
-  }
-  return s;
 }
 
 const char* toString(InitStatus status) {

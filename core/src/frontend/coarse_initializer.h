@@ -45,8 +45,8 @@
 #include "features/pixel_selector.h"
 #include "frontend/coarse_initializer_settings.h"
 #include "frontend/init_point_graph.h"
-#include "ldsm/image/image_pyramid.h"
-#include "ldsm/math/se3.h"
+#include "image/image_pyramid.h"
+#include "math/se3.h"
 #include "model/affine_light.h"
 #include "model/residual_pattern.h"
 
@@ -145,6 +145,9 @@ class CoarseInitializer {
   void evaluate(int lvl, const SE3d& T, const AffineLight& affine, const float* idepth,
                 const float* ir, PointLinearization* lin, std::uint8_t* good,
                 Evaluation& out) const;
+  /// evaluate()'s last step: the lower triangle of H, the affine prior (weighted by the `n`
+  /// points) and the depth priors' energy `reg_energy`; whether everything stayed finite.
+  void addPriors(const AffineLight& affine, int n, double reg_energy, Evaluation& out) const;
   bool computeStep(int lvl, double lambda, SE3d& T_new, AffineLight& affine_new);
   /// Rescales all depths and translations so that the mean inverse depth of `lvl` is 1.
   void normaliseScale(int lvl);

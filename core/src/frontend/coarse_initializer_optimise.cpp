@@ -12,7 +12,7 @@
 #include <cmath>
 
 #include "frontend/coarse_initializer.h"
-#include "ldsm/image/interpolation.h"
+#include "image/interpolation.h"
 
 namespace ldsm {
 
@@ -93,6 +93,58 @@ inline PatternSums patternSums(const PatternModel& m, const Eigen::Vector3f& qc,
   return s;
 }
 
+/// An inlier's linearisation: its pose and affine blocks go into the float sums Hf, bf (added
+/// into the double sums by the caller every kFlushEvery points), its own row and depth terms into
+/// P, and its squared translation flow (level-0 pixels) into `flow_sq_sum`. `qc`: the centre
+/// projected with the current pose, `d` its inverse depth. (`Linearization`:
+/// CoarseInitializer::PointLinearization.)
+template <typename Linearization>
+void linearizeInlier(const PatternSums& ps, const Eigen::Vector3f& qc, float d,
+                     const Eigen::Vector3f& t, float fx, float fy, float to_level0, Mat88f& Hf,
+                     Vec8f& bf, Linearization& P, double& flow_sq_sum) {
+  // Centre geometry: normalised coordinates, 1/z of q and the Jacobians of pi.
+  const float iz = 1.f / qc.z();
+  const float nx = qc.x() * iz, ny = qc.y() * iz;
+  const float dz = d * iz;  // 1 / depth of the point in the frame
+  Eigen::Matrix<float, 2, 6> G;
+  G << fx * dz, 0.f, -fx * nx * dz, -fx * nx * ny, fx * (1.f + nx * nx), -fx * ny,  //
+      0.f, fy * dz, -fy * ny * dz, -fy * (1.f + ny * ny), fy * nx * ny, fy * nx;
+  const Eigen::Vector2f v(fx * iz * (t.x() - nx * t.z()), fy * iz * (t.y() - ny * t.z()));
+  Eigen::Matrix2f A;
+  A << ps.a00, ps.a01, ps.a01, ps.a11;
+  const Eigen::Vector2f B(ps.b0, ps.b1);
+  const Eigen::Vector2f Ca(ps.ca0, ps.ca1);
+  const Eigen::Vector2f Cb(ps.cb0, ps.cb1);
+
+  const Eigen::Matrix<float, 2, 6> AG = A * G;
+  Hf.topLeftCorner<6, 6>().noalias() += G.transpose() * AG;
+  Hf.block<6, 1>(0, 6).noalias() += G.transpose() * Ca;
+  Hf.block<6, 1>(0, 7).noalias() += G.transpose() * Cb;
+  Hf(6, 6) += ps.saa;
+  Hf(6, 7) += ps.sab;
+  Hf(7, 7) += ps.sbb;
+  bf.head<6>().noalias() += G.transpose() * B;
+  bf(6) += ps.sar;
+  bf(7) += ps.sbr;
+
+  const Eigen::Vector2f Av = A * v;
+  P.hphoto = v.dot(Av);
+  P.hdd += P.hphoto;
+  P.bd += v.dot(B);
+  P.hxd.template head<6>().noalias() = G.transpose() * Av;
+  P.hxd(6) = Ca.dot(v);
+  P.hxd(7) = Cb.dot(v);
+
+  // Flow due to translation: pi(q) against pi(q - t d), in level-0 pixels.
+  const Eigen::Vector3f qr = qc - t * d;
+  if (qr.z() > kMinDepth) {
+    const float izr = 1.f / qr.z();
+    const float fu = fx * (nx - qr.x() * izr) * to_level0;
+    const float fv = fy * (ny - qr.y() * izr) * to_level0;
+    flow_sq_sum += fu * fu + fv * fv;
+  }
+}
+
 }  // namespace
 
 void CoarseInitializer::evaluate(int lvl, const SE3d& T, const AffineLight& affine,
@@ -121,11 +173,8 @@ void CoarseInitializer::evaluate(int lvl, const SE3d& T, const AffineLight& affi
 
   out.H.setZero();
   out.b.setZero();
-  out.energy = 0;
-  out.photo_good = 0;
-  out.photo_all = 0;
+  out.energy = out.photo_good = out.photo_all = out.flow_sq_sum = 0;
   out.good = 0;
-  out.flow_sq_sum = 0;
   out.finite = true;
   Mat88f Hf = Mat88f::Zero();
   Vec8f bf = Vec8f::Zero();
@@ -163,47 +212,7 @@ void CoarseInitializer::evaluate(int lvl, const SE3d& T, const AffineLight& affi
     good[i] = 1;
     P.energy = e;
 
-    // Centre geometry: normalised coordinates, 1/z of q and the Jacobians of pi.
-    const float iz = 1.f / qc.z();
-    const float nx = qc.x() * iz, ny = qc.y() * iz;
-    const float dz = d * iz;  // 1 / depth of the point in the frame
-    Eigen::Matrix<float, 2, 6> G;
-    G << fx * dz, 0.f, -fx * nx * dz, -fx * nx * ny, fx * (1.f + nx * nx), -fx * ny,  //
-        0.f, fy * dz, -fy * ny * dz, -fy * (1.f + ny * ny), fy * nx * ny, fy * nx;
-    const Eigen::Vector2f v(fx * iz * (t.x() - nx * t.z()), fy * iz * (t.y() - ny * t.z()));
-    Eigen::Matrix2f A;
-    A << ps.a00, ps.a01, ps.a01, ps.a11;
-    const Eigen::Vector2f B(ps.b0, ps.b1);
-    const Eigen::Vector2f Ca(ps.ca0, ps.ca1);
-    const Eigen::Vector2f Cb(ps.cb0, ps.cb1);
-
-    const Eigen::Matrix<float, 2, 6> AG = A * G;
-    Hf.topLeftCorner<6, 6>().noalias() += G.transpose() * AG;
-    Hf.block<6, 1>(0, 6).noalias() += G.transpose() * Ca;
-    Hf.block<6, 1>(0, 7).noalias() += G.transpose() * Cb;
-    Hf(6, 6) += ps.saa;
-    Hf(6, 7) += ps.sab;
-    Hf(7, 7) += ps.sbb;
-    bf.head<6>().noalias() += G.transpose() * B;
-    bf(6) += ps.sar;
-    bf(7) += ps.sbr;
-
-    const Eigen::Vector2f Av = A * v;
-    P.hphoto = v.dot(Av);
-    P.hdd += P.hphoto;
-    P.bd += v.dot(B);
-    P.hxd.head<6>().noalias() = G.transpose() * Av;
-    P.hxd(6) = Ca.dot(v);
-    P.hxd(7) = Cb.dot(v);
-
-    // Flow due to translation: pi(q) against pi(q - t d), in level-0 pixels.
-    const Eigen::Vector3f qr = qc - t * d;
-    if (qr.z() > kMinDepth) {
-      const float izr = 1.f / qr.z();
-      const float fu = fx * (nx - qr.x() * izr) * to_level0;
-      const float fv = fy * (ny - qr.y() * izr) * to_level0;
-      out.flow_sq_sum += fu * fu + fv * fv;
-    }
+    linearizeInlier(ps, qc, d, t, fx, fy, to_level0, Hf, bf, P, out.flow_sq_sum);
 
     if (++in_block == kFlushEvery) {
       out.H += Hf.cast<double>();
@@ -215,10 +224,14 @@ void CoarseInitializer::evaluate(int lvl, const SE3d& T, const AffineLight& affi
   }
   out.H += Hf.cast<double>();
   out.b += bf.cast<double>();
+  addPriors(affine, n, reg_energy, out);
+}
+
+void CoarseInitializer::addPriors(const AffineLight& affine, int n, double reg_energy,
+                                  Evaluation& out) const {
   for (int r = 1; r < 8; ++r) {
     for (int c = 0; c < r; ++c) out.H(r, c) = out.H(c, r);
   }
-
   // Affine prior, scaled with the number of points so that its strength relative to the data
   // is the same on every level.
   const double wa = settings_.affine_prior_weight_a * static_cast<double>(n);

@@ -6,7 +6,7 @@
 
 #include "camera/pyramid_camera.h"
 #include "ldsm/config.h"
-#include "ldsm/math/se3.h"
+#include "math/se3.h"
 #include "model/affine_light.h"
 #include "model/initialization_result.h"
 
@@ -78,13 +78,6 @@ struct CoarseInitializerSettings {
 
   /// Throws ConfigError naming the first invalid field.
   void validate() const;
-
-  /// Defaults with the configured values: initializer.* (parallax thresholds, confirmation
-  /// frames, point density), points.* (the level-0 selection), tracking.huber_threshold, at
-  /// most `max_levels` pyramid levels, and strong affine priors when the frames' exposure times
-  /// are known (photometrically calibrated input).
-  static CoarseInitializerSettings fromConfig(const Config& config, int max_levels,
-                                              bool exposures_known);
 };
 
 enum class InitStatus {

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <string>
 
+#include "image/interpolation.h"
 #include "ldsm/error.h"
-#include "ldsm/image/interpolation.h"
 
 namespace ldsm {
 
@@ -97,20 +97,6 @@ const char* toString(TrackingFailure failure) {
       return "too few inlier residuals";
   }
   return "unknown";
-}
-
-CoarseTrackerSettings CoarseTrackerSettings::fromConfig(const Config& config,
-                                                        bool exposures_known) {
-  CoarseTrackerSettings s;
-  s.huber_threshold = static_cast<float>(config.tracking.huber_threshold);
-  const int it = config.tracking.max_iterations_per_level;
-  for (int l = 0; l < kMaxPyramidLevels; ++l)
-    s.max_iterations[l] = l == 0 ? it : (l == 1 ? 2 : 5) * it;
-  const double prior = exposures_known ? config.photometric.affine_prior_weight_known
-                                       : config.photometric.affine_prior_weight_unknown;
-  s.affine_prior_weight_a = prior;
-  s.affine_prior_weight_b = prior;
-  return s;
 }
 
 double CoarseTracker::Evaluation::rmse() const {

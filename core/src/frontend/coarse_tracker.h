@@ -13,9 +13,8 @@
 #include "camera/pyramid_camera.h"
 #include "frontend/coarse_residuals.h"
 #include "frontend/depth_map_pyramid.h"
-#include "ldsm/config.h"
-#include "ldsm/image/image_pyramid.h"
-#include "ldsm/math/se3.h"
+#include "image/image_pyramid.h"
+#include "math/se3.h"
 #include "model/affine_light.h"
 
 namespace ldsm {
@@ -65,12 +64,6 @@ struct CoarseTrackerSettings {
   /// or after max_rejected_steps steps in a row failed to lower the cost.
   double convergence_rms_step = 5e-3;
   int max_rejected_steps = 3;
-
-  /// Settings from the configuration: tracking.huber_threshold, tracking.max_iterations_per_level
-  /// (for level 0; level 1 gets twice and coarser levels five times as many, as coarse levels are
-  /// cheap and start furthest from the solution) and the affine prior weight for known or unknown
-  /// exposures.
-  static CoarseTrackerSettings fromConfig(const Config& config, bool exposures_known);
 };
 
 enum class TrackingFailure {

@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "camera/pyramid_camera.h"
+#include "image/image_pyramid.h"
 #include "ldsm/image.h"
-#include "ldsm/image/image_pyramid.h"
 #include "model/depth_point.h"
 
 namespace ldsm {

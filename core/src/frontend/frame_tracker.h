@@ -32,10 +32,6 @@ struct FrameTrackerSettings {
   KeyframeConfig keyframes;
   CoarseTrackerSettings coarse;
   double max_rmse_growth = 5.0;  ///< TrackingConfig::max_rmse_growth
-  static FrameTrackerSettings fromConfig(const Config& config, bool exposures_known) {
-    return {config.keyframes, CoarseTrackerSettings::fromConfig(config, exposures_known),
-            config.tracking.max_rmse_growth};
-  }
 };
 
 class FrameTracker {

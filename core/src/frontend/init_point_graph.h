@@ -7,8 +7,8 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "image/gradient_pixel.h"
 #include "ldsm/image.h"
-#include "ldsm/image/gradient_pixel.h"
 
 namespace ldsm {
 

@@ -11,8 +11,8 @@
 #include <limits>
 
 #include "frontend/coarse_tracker.h"
-#include "ldsm/image/image_pyramid.h"
-#include "ldsm/math/se3.h"
+#include "image/image_pyramid.h"
+#include "math/se3.h"
 #include "model/affine_light.h"
 
 namespace ldsm {

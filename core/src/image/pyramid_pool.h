@@ -8,7 +8,7 @@
 #include <mutex>
 #include <vector>
 
-#include "ldsm/image/image_pyramid.h"
+#include "image/image_pyramid.h"
 
 namespace ldsm {
 

@@ -14,9 +14,9 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "image/gradient_pixel.h"
+#include "image/interpolation.h"
 #include "ldsm/image.h"
-#include "ldsm/image/gradient_pixel.h"
-#include "ldsm/image/interpolation.h"
 #include "math/simd/vec4f.h"
 #include "model/residual_pattern.h"
 

@@ -16,7 +16,7 @@ LoopCloser::LoopCloser(const LoopConfig& config, const PinholeIntrinsics& camera
   verification_.min_inliers = config.min_inliers;
   concurrency::TaskOptions options;
   options.mode = inline_mode ? concurrency::TaskMode::kInline : concurrency::TaskMode::kThreaded;
-  options.queue_capacity = 16;
+  options.queue_capacity = static_cast<std::size_t>(config.queue_capacity);
   task_ = std::make_unique<concurrency::BackgroundTask<LoopJob, LoopCorrection>>(
       [this](LoopJob& job, const std::atomic<bool>& abort) { return process(job, abort); },
       options);

@@ -17,13 +17,13 @@
 #include "concurrency/background_task.h"
 #include "ldsm/camera/calibration.h"
 #include "ldsm/config.h"
-#include "ldsm/math/se3.h"
 #include "loop/bow_index.h"
 #include "loop/loop_types.h"
 #include "loop/loop_verification.h"
 #include "loop/odometry_drift.h"
 #include "loop/place_snapshot.h"
 #include "loop/pose_graph.h"
+#include "math/se3.h"
 #include "model/marginalized_keyframe.h"
 
 namespace ldsm::loop {

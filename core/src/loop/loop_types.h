@@ -12,8 +12,8 @@
 #include <Eigen/Core>
 
 #include "ldsm/camera/calibration.h"
-#include "ldsm/math/se3.h"
-#include "ldsm/math/sim3.h"
+#include "math/se3.h"
+#include "math/sim3.h"
 #include "model/orb_descriptor.h"
 
 namespace ldsm::loop {

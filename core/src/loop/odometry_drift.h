@@ -6,8 +6,8 @@
 #pragma once
 
 #include "ldsm/config.h"
-#include "ldsm/math/sim3.h"
 #include "loop/sim3_edge.h"
+#include "math/sim3.h"
 
 namespace ldsm::loop {
 

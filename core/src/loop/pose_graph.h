@@ -20,8 +20,8 @@
 
 #include <Eigen/Core>
 
-#include "ldsm/math/sim3.h"
 #include "loop/sim3_edge.h"
+#include "math/sim3.h"
 
 namespace ldsm::loop {
 

@@ -10,7 +10,7 @@
 
 #include <Eigen/Core>
 
-#include "ldsm/math/sim3.h"
+#include "math/sim3.h"
 
 namespace ldsm::loop {
 

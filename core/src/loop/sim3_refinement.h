@@ -12,7 +12,7 @@
 #include <Eigen/Core>
 
 #include "ldsm/camera/calibration.h"
-#include "ldsm/math/sim3.h"
+#include "math/sim3.h"
 
 namespace ldsm::loop {
 

@@ -7,8 +7,8 @@
 #include <opencv2/imgproc.hpp>
 
 #include "features/corner_detector.h"
+#include "image/image_pyramid.h"
 #include "ldsm/error.h"
-#include "ldsm/image/image_pyramid.h"
 
 namespace ldsm::loop {
 

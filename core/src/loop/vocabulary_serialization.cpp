@@ -2,6 +2,7 @@
 #include <cmath>
 #include <cstring>
 #include <string>
+#include <vector>
 
 #include "ldsm/error.h"
 #include "loop/vocabulary.h"
@@ -61,6 +62,115 @@ float bitsFloat(std::uint32_t u) {
   return f;
 }
 
+/// The header of a serialised vocabulary, checked.
+struct Header {
+  std::uint32_t k = 0;
+  std::uint32_t levels = 0;
+  std::uint64_t nodes = 0;
+  std::uint64_t words = 0;
+  std::uint32_t documents = 0;
+};
+
+/// Reads and checks the header, the size it implies and the checksum; InputError naming `where`
+/// and the problem otherwise.
+Header readHeader(const std::uint8_t* data, std::size_t size, const std::string& where) {
+  auto fail = [&where](const std::string& what) -> InputError {
+    return InputError(where + ": " + what);
+  };
+  if (data == nullptr || size < 8 || std::memcmp(data, kMagic, 8) != 0) {
+    throw fail("not an ldsm vocabulary (missing \"LDSMVOCB\" signature)");
+  }
+  if (size < kHeaderBytes) {
+    throw fail("truncated vocabulary: " + std::to_string(size) + " bytes, the header alone has " +
+               std::to_string(kHeaderBytes));
+  }
+  const std::uint32_t version = readU32(data + 8);
+  if (version != Vocabulary::kFormatVersion) {
+    throw fail("unsupported vocabulary format version " + std::to_string(version) +
+               " (this build reads version " + std::to_string(Vocabulary::kFormatVersion) + ")");
+  }
+  Header h;
+  h.k = readU32(data + 12);
+  h.levels = readU32(data + 16);
+  h.nodes = readU32(data + 20);
+  h.words = readU32(data + 24);
+  h.documents = readU32(data + 28);
+  if (h.k < 2 || h.k > static_cast<std::uint32_t>(Vocabulary::kMaxBranching)) {
+    throw fail("corrupt vocabulary: branching " + std::to_string(h.k) + " outside [2, " +
+               std::to_string(Vocabulary::kMaxBranching) + "]");
+  }
+  if (h.levels < 1 || h.levels > static_cast<std::uint32_t>(Vocabulary::kMaxLevels)) {
+    throw fail("corrupt vocabulary: levels " + std::to_string(h.levels) + " outside [1, " +
+               std::to_string(Vocabulary::kMaxLevels) + "]");
+  }
+  if (h.nodes < 2 || h.words < 1 || h.words >= h.nodes) {
+    throw fail("corrupt vocabulary: " + std::to_string(h.nodes) + " nodes and " +
+               std::to_string(h.words) + " words");
+  }
+  const std::uint64_t expected =
+      kHeaderBytes + h.nodes + (h.nodes - 1) * kDescriptorBytes + 4 * h.words + kChecksumBytes;
+  if (size < expected) {
+    throw fail("truncated vocabulary: " + std::to_string(size) + " bytes, expected " +
+               std::to_string(expected) + " for " + std::to_string(h.nodes) + " nodes and " +
+               std::to_string(h.words) + " words");
+  }
+  if (size > expected) {
+    throw fail("corrupt vocabulary: " + std::to_string(size - expected) +
+               " unexpected bytes after the end of the data");
+  }
+  if (checksum(data, size - kChecksumBytes) != readU64(data + size - kChecksumBytes)) {
+    throw fail("corrupt vocabulary: checksum mismatch");
+  }
+  return h;
+}
+
+/// The first child of every node of the breadth-first layout (children follow their parent,
+/// contiguously, in parent order), checking that the tree fits the header: at most k children,
+/// at most `levels` deep, every node reachable, one leaf per word.
+std::vector<std::uint32_t> linkTree(const std::vector<std::uint8_t>& child_count, const Header& h,
+                                    const std::string& where) {
+  auto fail = [&where](const std::string& what) -> InputError {
+    return InputError(where + ": " + what);
+  };
+  std::vector<std::uint32_t> first_child(h.nodes, 0u);
+  std::vector<std::uint8_t> depth(h.nodes, 0);
+  std::uint64_t next = 1;
+  std::uint64_t leaves = 0;
+  for (std::uint64_t n = 0; n < h.nodes; ++n) {
+    const std::uint32_t count = child_count[n];
+    if (count == 0) {
+      ++leaves;
+      continue;
+    }
+    if (count > h.k) {
+      throw fail("corrupt vocabulary: node " + std::to_string(n) + " has " + std::to_string(count) +
+                 " children, more than the branching " + std::to_string(h.k));
+    }
+    if (next <= n || next + count > h.nodes) {
+      throw fail("corrupt vocabulary: the children of node " + std::to_string(n) +
+                 " lie outside the node table");
+    }
+    if (depth[n] + 1u > h.levels) {
+      throw fail("corrupt vocabulary: the tree is deeper than its " + std::to_string(h.levels) +
+                 " levels");
+    }
+    first_child[n] = static_cast<std::uint32_t>(next);
+    for (std::uint32_t c = 0; c < count; ++c) {
+      depth[next + c] = static_cast<std::uint8_t>(depth[n] + 1);
+    }
+    next += count;
+  }
+  if (next != h.nodes) {
+    throw fail("corrupt vocabulary: " + std::to_string(h.nodes - next) +
+               " nodes are not reachable from the root");
+  }
+  if (leaves != h.words) {
+    throw fail("corrupt vocabulary: " + std::to_string(leaves) + " leaves but " +
+               std::to_string(h.words) + " word weights");
+  }
+  return first_child;
+}
+
 }  // namespace
 
 std::vector<std::uint8_t> Vocabulary::serialize() const {
@@ -95,110 +205,28 @@ std::vector<std::uint8_t> Vocabulary::serialize() const {
 
 Vocabulary Vocabulary::deserialize(const std::uint8_t* data, std::size_t size,
                                    const std::string& where) {
-  auto fail = [&where](const std::string& what) -> InputError {
-    return InputError(where + ": " + what);
-  };
-  if (data == nullptr || size < 8 || std::memcmp(data, kMagic, 8) != 0) {
-    throw fail("not an ldsm vocabulary (missing \"LDSMVOCB\" signature)");
-  }
-  if (size < kHeaderBytes) {
-    throw fail("truncated vocabulary: " + std::to_string(size) + " bytes, the header alone has " +
-               std::to_string(kHeaderBytes));
-  }
-  const std::uint32_t version = readU32(data + 8);
-  if (version != kFormatVersion) {
-    throw fail("unsupported vocabulary format version " + std::to_string(version) +
-               " (this build reads version " + std::to_string(kFormatVersion) + ")");
-  }
-  const std::uint32_t k = readU32(data + 12);
-  const std::uint32_t levels = readU32(data + 16);
-  const std::uint64_t nodes = readU32(data + 20);
-  const std::uint64_t words = readU32(data + 24);
-  const std::uint32_t documents = readU32(data + 28);
-  if (k < 2 || k > static_cast<std::uint32_t>(kMaxBranching)) {
-    throw fail("corrupt vocabulary: branching " + std::to_string(k) + " outside [2, " +
-               std::to_string(kMaxBranching) + "]");
-  }
-  if (levels < 1 || levels > static_cast<std::uint32_t>(kMaxLevels)) {
-    throw fail("corrupt vocabulary: levels " + std::to_string(levels) + " outside [1, " +
-               std::to_string(kMaxLevels) + "]");
-  }
-  if (nodes < 2 || words < 1 || words >= nodes) {
-    throw fail("corrupt vocabulary: " + std::to_string(nodes) + " nodes and " +
-               std::to_string(words) + " words");
-  }
-  const std::uint64_t expected =
-      kHeaderBytes + nodes + (nodes - 1) * kDescriptorBytes + 4 * words + kChecksumBytes;
-  if (size < expected) {
-    throw fail("truncated vocabulary: " + std::to_string(size) + " bytes, expected " +
-               std::to_string(expected) + " for " + std::to_string(nodes) + " nodes and " +
-               std::to_string(words) + " words");
-  }
-  if (size > expected) {
-    throw fail("corrupt vocabulary: " + std::to_string(size - expected) +
-               " unexpected bytes after the end of the data");
-  }
-  if (checksum(data, size - kChecksumBytes) != readU64(data + size - kChecksumBytes)) {
-    throw fail("corrupt vocabulary: checksum mismatch");
-  }
-
+  const Header h = readHeader(data, size, where);
   Vocabulary v;
-  v.branching_ = static_cast<int>(k);
-  v.levels_ = static_cast<int>(levels);
-  v.training_images_ = documents;
+  v.branching_ = static_cast<int>(h.k);
+  v.levels_ = static_cast<int>(h.levels);
+  v.training_images_ = h.documents;
   const std::uint8_t* p = data + kHeaderBytes;
-  v.child_count_.assign(p, p + nodes);
-  p += nodes;
-  // Breadth-first layout: children follow their parent, contiguously, in parent order.
-  v.first_child_.assign(nodes, 0u);
-  std::vector<std::uint8_t> depth(nodes, 0);
-  std::uint64_t next = 1;
-  std::uint64_t leaves = 0;
-  for (std::uint64_t n = 0; n < nodes; ++n) {
-    const std::uint32_t count = v.child_count_[n];
-    if (count == 0) {
-      ++leaves;
-      continue;
-    }
-    if (count > k) {
-      throw fail("corrupt vocabulary: node " + std::to_string(n) + " has " + std::to_string(count) +
-                 " children, more than the branching " + std::to_string(k));
-    }
-    if (next <= n || next + count > nodes) {
-      throw fail("corrupt vocabulary: the children of node " + std::to_string(n) +
-                 " lie outside the node table");
-    }
-    if (depth[n] + 1u > levels) {
-      throw fail("corrupt vocabulary: the tree is deeper than its " + std::to_string(levels) +
-                 " levels");
-    }
-    v.first_child_[n] = static_cast<std::uint32_t>(next);
-    for (std::uint32_t c = 0; c < count; ++c) {
-      depth[next + c] = static_cast<std::uint8_t>(depth[n] + 1);
-    }
-    next += count;
-  }
-  if (next != nodes) {
-    throw fail("corrupt vocabulary: " + std::to_string(nodes - next) +
-               " nodes are not reachable from the root");
-  }
-  if (leaves != words) {
-    throw fail("corrupt vocabulary: " + std::to_string(leaves) + " leaves but " +
-               std::to_string(words) + " word weights");
-  }
-  v.node_descriptor_.resize(nodes);
+  v.child_count_.assign(p, p + h.nodes);
+  p += h.nodes;
+  v.first_child_ = linkTree(v.child_count_, h, where);
+  v.node_descriptor_.resize(h.nodes);
   v.node_descriptor_[0] = OrbDescriptor{};
-  for (std::uint64_t n = 1; n < nodes; ++n) {
+  for (std::uint64_t n = 1; n < h.nodes; ++n) {
     for (std::size_t w = 0; w < 4; ++w) v.node_descriptor_[n][w] = readU64(p + 8 * w);
     p += kDescriptorBytes;
   }
   v.buildWordIndex();
-  for (std::uint64_t w = 0; w < words; ++w) {
+  for (std::uint64_t w = 0; w < h.words; ++w) {
     const float weight = bitsFloat(readU32(p));
     p += 4;
     if (!std::isfinite(weight) || weight < 0.f) {
-      throw fail("corrupt vocabulary: weight of word " + std::to_string(w) +
-                 " is not a finite non-negative number");
+      throw InputError(where + ": corrupt vocabulary: weight of word " + std::to_string(w) +
+                       " is not a finite non-negative number");
     }
     v.word_weight_[w] = weight;
   }

@@ -8,9 +8,9 @@
 
 #include <vector>
 
-#include "ldsm/math/se3.h"
-#include "ldsm/math/sim3.h"
 #include "ldsm/types.h"
+#include "math/se3.h"
+#include "math/sim3.h"
 
 namespace ldsm {
 

@@ -2,12 +2,40 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
 
 namespace ldsm {
 
-void MapStore::setKeyframe(const KeyframeRecord& record) {
+MapStore::MapStore() {
   std::lock_guard<std::mutex> lock(mutex_);
+  publishLocked(true);
+}
+
+std::shared_ptr<const MapSnapshot> MapStore::snapshot() const {
+  return std::atomic_load(&snapshot_);
+}
+
+void MapStore::publishLocked(bool keyframes_changed) {
+  auto s = std::make_shared<MapSnapshot>();
+  const std::shared_ptr<const MapSnapshot> previous = std::atomic_load(&snapshot_);
+  if (keyframes_changed || !previous) {
+    s->keyframes = std::make_shared<const std::vector<KeyframeRecord>>(keyframes_);
+  } else {
+    s->keyframes = previous->keyframes;
+  }
+  for (const KeyframeRecord& kf : *s->keyframes) s->keyframe_count += kf.id >= 0 ? 1 : 0;
+  s->points = points_;
+  s->point_count = point_count_;
+  s->maps = maps_;
+  s->data_keyframes = data_.size();
+  std::size_t point_bytes = 0;
+  for (const auto& block : points_) point_bytes += block->capacity() * sizeof(HostedPoint);
+  s->data_bytes = data_bytes_ + point_bytes;
+  std::atomic_store(&snapshot_, std::shared_ptr<const MapSnapshot>(std::move(s)));
+}
+
+void MapStore::setKeyframeLocked(const KeyframeRecord& record) {
   if (record.id >= static_cast<int>(keyframes_.size())) {
     KeyframeRecord empty;
     empty.id = -1;
@@ -21,7 +49,9 @@ void MapStore::setKeyframe(const KeyframeRecord& record) {
 
 int MapStore::startNewMap() {
   std::lock_guard<std::mutex> lock(mutex_);
-  return maps_.startNew();
+  const int map = maps_.startNew();
+  publishLocked(false);
+  return map;
 }
 
 int MapStore::currentMap() const {
@@ -49,7 +79,21 @@ int MapStore::mergeMaps(int from, int into, const Sim3d& S_into_from,
   const int moved = applyCorrection(S_world_camera);
   std::lock_guard<std::mutex> lock(mutex_);
   maps_.merge(from, into, S_into_from);
+  publishLocked(false);
   return moved;
+}
+
+void MapStore::setKeyframe(const KeyframeRecord& record) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  setKeyframeLocked(record);
+  publishLocked(true);
+}
+
+void MapStore::setKeyframes(const std::vector<KeyframeRecord>& records) {
+  if (records.empty()) return;
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (const KeyframeRecord& r : records) setKeyframeLocked(r);
+  publishLocked(true);
 }
 
 void MapStore::addFrame(const FrameRecord& record) {
@@ -61,8 +105,12 @@ void MapStore::reserveFrames(std::size_t n) {
 }
 
 void MapStore::addPoints(const std::vector<HostedPoint>& points) {
+  if (points.empty()) return;
+  auto block = std::make_shared<const MapSnapshot::PointBlock>(points);
   std::lock_guard<std::mutex> lock(mutex_);
-  points_.insert(points_.end(), points.begin(), points.end());
+  points_.push_back(std::move(block));
+  point_count_ += points.size();
+  publishLocked(false);
 }
 
 KeyframeRecord MapStore::keyframe(int id) const {
@@ -92,6 +140,7 @@ void MapStore::setKeyframeData(std::shared_ptr<const MarginalizedKeyframe> data)
   data_[id] = std::move(data);
   if (id >= 0 && id < static_cast<int>(keyframes_.size()) && keyframes_[id].id >= 0)
     spatial_.set(id, keyframes_[id].T_w_c.translation());
+  publishLocked(false);
 }
 
 std::shared_ptr<const MarginalizedKeyframe> MapStore::keyframeData(int id) const {
@@ -109,9 +158,22 @@ void MapStore::cullKeyframe(int id) {
   }
   spatial_.remove(id);
   covisibility_.remove(id);
-  points_.erase(std::remove_if(points_.begin(), points_.end(),
-                               [&](const HostedPoint& p) { return p.host == id; }),
-                points_.end());
+  // Only the blocks holding the keyframe's points are copied (snapshots keep the old ones).
+  const auto hosted = [&](const HostedPoint& p) { return p.host == id; };
+  std::vector<std::shared_ptr<const MapSnapshot::PointBlock>> kept;
+  kept.reserve(points_.size());
+  for (auto& block : points_) {
+    if (std::none_of(block->begin(), block->end(), hosted)) {
+      kept.push_back(std::move(block));
+      continue;
+    }
+    auto rest = std::make_shared<MapSnapshot::PointBlock>();
+    std::remove_copy_if(block->begin(), block->end(), std::back_inserter(*rest), hosted);
+    point_count_ -= block->size() - rest->size();
+    if (!rest->empty()) kept.push_back(std::move(rest));
+  }
+  points_ = std::move(kept);
+  publishLocked(false);
 }
 
 void MapStore::connect(int a, int b, int weight) {
@@ -166,18 +228,15 @@ int MapStore::mostRedundantKeyframe(double max_angle_rad, const std::vector<int>
 }
 
 std::size_t MapStore::dataKeyframeCount() const {
-  std::lock_guard<std::mutex> lock(mutex_);
-  return data_.size();
+  return snapshot()->data_keyframes;
 }
 
 std::size_t MapStore::pointCount() const {
-  std::lock_guard<std::mutex> lock(mutex_);
-  return points_.size();
+  return snapshot()->point_count;
 }
 
 std::size_t MapStore::dataBytes() const {
-  std::lock_guard<std::mutex> lock(mutex_);
-  return data_bytes_ + points_.capacity() * sizeof(HostedPoint);
+  return snapshot()->data_bytes;
 }
 
 int MapStore::applyCorrection(const std::map<int, Sim3d>& S_world_camera) {
@@ -193,25 +252,28 @@ int MapStore::applyCorrection(const std::map<int, Sim3d>& S_world_camera) {
     kf.scale = S_new.scale();
     if (data_.count(id) != 0) spatial_.set(id, kf.T_w_c.translation());
   }
-  for (HostedPoint& p : points_) {
-    const auto it = moves.find(p.host);
-    if (it != moves.end()) p.point.position = it->second * p.point.position;
+  // Copy on write: only the blocks holding points of a keyframe that moves are copied.
+  const auto moved = [&](const HostedPoint& p) { return moves.count(p.host) != 0; };
+  for (auto& block : points_) {
+    if (std::none_of(block->begin(), block->end(), moved)) continue;
+    auto copy = std::make_shared<MapSnapshot::PointBlock>(*block);
+    for (HostedPoint& p : *copy) {
+      const auto it = moves.find(p.host);
+      if (it != moves.end()) p.point.position = it->second * p.point.position;
+    }
+    block = std::move(copy);
   }
+  publishLocked(true);
   return static_cast<int>(moves.size());
 }
 
 Trajectory MapStore::frameTrajectory() const {
   // The frames published so far (no lock: tracking keeps appending), then the keyframe poses
-  // (briefly under the lock) they are composed with.
+  // of the latest snapshot they are composed with.
   const std::size_t n = frames_.size();
-  std::vector<KeyframeRecord> keyframes;
-  MapFrames maps;
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    keyframes = keyframes_;
-    maps = maps_;
-  }
-
+  const std::shared_ptr<const MapSnapshot> s = snapshot();
+  const std::vector<KeyframeRecord>& keyframes = *s->keyframes;
+  const MapFrames& maps = s->maps;
   Trajectory out;
   out.reserve(n);
   for (std::size_t i = 0; i < n; ++i) {
@@ -229,35 +291,34 @@ Trajectory MapStore::frameTrajectory() const {
 }
 
 Trajectory MapStore::keyframeTrajectory() const {
-  std::lock_guard<std::mutex> lock(mutex_);
+  const std::shared_ptr<const MapSnapshot> s = snapshot();
   Trajectory out;
-  for (const KeyframeRecord& kf : keyframes_) {
+  for (const KeyframeRecord& kf : *s->keyframes) {
     if (kf.id < 0) continue;
-    const int label = maps_.label(kf.map);
-    out.push_back({kf.timestamp, label == 0 ? maps_.report(kf.T_w_c) : kf.T_w_c.toPose(), label});
+    const int label = s->maps.label(kf.map);
+    out.push_back({kf.timestamp, label == 0 ? s->maps.report(kf.T_w_c) : kf.T_w_c.toPose(), label});
   }
   return out;
 }
 
 std::vector<MapPoint> MapStore::points() const {
-  std::lock_guard<std::mutex> lock(mutex_);
+  const std::shared_ptr<const MapSnapshot> s = snapshot();
   std::vector<MapPoint> out;
-  out.reserve(points_.size());
-  for (const HostedPoint& p : points_) {
-    MapPoint m = p.point;
-    const bool hosted = p.host >= 0 && p.host < static_cast<int>(keyframes_.size());
-    m.map = hosted ? maps_.label(keyframes_[p.host].map) : 0;
-    if (m.map == 0) m.position = maps_.reportFrame() * m.position;
-    out.push_back(m);
-  }
+  out.reserve(s->point_count);
+  const std::vector<KeyframeRecord>& keyframes = *s->keyframes;
+  for (const auto& block : s->points)
+    for (const HostedPoint& p : *block) {
+      MapPoint m = p.point;
+      const bool hosted = p.host >= 0 && p.host < static_cast<int>(keyframes.size());
+      m.map = hosted ? s->maps.label(keyframes[p.host].map) : 0;
+      if (m.map == 0) m.position = s->maps.reportFrame() * m.position;
+      out.push_back(m);
+    }
   return out;
 }
 
 std::size_t MapStore::keyframeCount() const {
-  std::lock_guard<std::mutex> lock(mutex_);
-  std::size_t n = 0;
-  for (const auto& kf : keyframes_) n += kf.id >= 0 ? 1 : 0;
-  return n;
+  return snapshot()->keyframe_count;
 }
 
 bool MapStore::hasKeyframe(int id) const {

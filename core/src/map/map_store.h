@@ -5,7 +5,11 @@
 // and a spatial index of keyframe centres. Thread-safe: tracking, mapping and readers of results
 // use it from different threads. The frame records are an append-only log written by tracking
 // alone: addFrame() takes no lock, and readers (frameTrajectory) never make tracking wait; the
-// rest is guarded by one mutex, never held while the window is optimised.
+// rest is guarded by one mutex, never held while the window is optimised. The queries
+// (frameTrajectory, keyframeTrajectory, points, the counts) take no lock either: every change
+// publishes an immutable MapSnapshot, which they read. The points are kept in immutable blocks
+// (one per addPoints call) that snapshots share; a correction or a cull copies only the blocks it
+// changes, so publishing costs a copy of the keyframe poses and of the block pointers.
 #pragma once
 
 #include <cstdint>
@@ -15,20 +19,35 @@
 #include <vector>
 
 #include "concurrency/append_only_log.h"
-#include "ldsm/math/sim3.h"
 #include "ldsm/types.h"
 #include "map/covisibility_graph.h"
 #include "map/map_frames.h"
 #include "map/spatial_index.h"
+#include "math/sim3.h"
 #include "model/map_records.h"
 #include "model/marginalized_keyframe.h"
 
 namespace ldsm {
 
+/// What the map store's queries read: the state after one change, never modified afterwards.
+struct MapSnapshot {
+  using PointBlock = std::vector<HostedPoint>;
+  std::shared_ptr<const std::vector<KeyframeRecord>> keyframes;  ///< indexed by id (-1: none)
+  std::vector<std::shared_ptr<const PointBlock>> points;         ///< in the order they were added
+  std::size_t keyframe_count = 0;
+  std::size_t data_keyframes = 0;
+  std::size_t point_count = 0;
+  std::size_t data_bytes = 0;
+  MapFrames maps;  ///< which map each keyframe's map belongs to, and the reported frame
+};
+
 class MapStore {
  public:
+  MapStore();
   /// Adds or updates a keyframe's pose.
   void setKeyframe(const KeyframeRecord& record);
+  /// Adds or updates several keyframes' poses (one snapshot published).
+  void setKeyframes(const std::vector<KeyframeRecord>& records);
   /// Tracking thread only (the log's one writer): records a tracked frame; lock-free.
   void addFrame(const FrameRecord& record);
   /// Tracking thread only: makes room for `n` more frame records, so that addFrame() does not
@@ -53,6 +72,8 @@ class MapStore {
   /// window's frame. The reuse queries below return only such keyframes.
   bool inCurrentMap(int keyframe_id) const;
 
+  /// The state after the latest change; never waits for a writer.
+  std::shared_ptr<const MapSnapshot> snapshot() const;
   /// World pose of every recorded frame, composed with the current keyframe poses.
   Trajectory frameTrajectory() const;
   Trajectory keyframeTrajectory() const;
@@ -88,16 +109,23 @@ class MapStore {
  private:
   static std::size_t bytesOf(const MarginalizedKeyframe& kf);
   bool inCurrentMapLocked(int keyframe_id) const;
+  void setKeyframeLocked(const KeyframeRecord& record);
+  /// Under the mutex, after a change: publishes the state as the new snapshot (the keyframe
+  /// poses copied only when `keyframes_changed`).
+  void publishLocked(bool keyframes_changed);
 
   mutable std::mutex mutex_;
   MapFrames maps_;
   std::vector<KeyframeRecord> keyframes_;  ///< indexed by id
   concurrency::AppendOnlyLog<FrameRecord> frames_;
-  std::vector<HostedPoint> points_;
+  std::vector<std::shared_ptr<const MapSnapshot::PointBlock>> points_;
+  std::size_t point_count_ = 0;
   std::map<int, std::shared_ptr<const MarginalizedKeyframe>> data_;
   std::size_t data_bytes_ = 0;
   CovisibilityGraph covisibility_;
   SpatialIndex spatial_;
+  /// Written under mutex_ (std::atomic_store), read without it (std::atomic_load).
+  std::shared_ptr<const MapSnapshot> snapshot_;
 };
 
 }  // namespace ldsm

@@ -4,7 +4,7 @@
 
 #include <vector>
 
-#include "ldsm/math/se3.h"
+#include "math/se3.h"
 #include "model/affine_light.h"
 
 namespace ldsm {

@@ -4,8 +4,8 @@
 
 #include <cstdint>
 
-#include "ldsm/math/se3.h"
 #include "ldsm/types.h"
+#include "math/se3.h"
 
 namespace ldsm {
 

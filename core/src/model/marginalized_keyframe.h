@@ -10,7 +10,7 @@
 #include <Eigen/Core>
 
 #include "ldsm/image.h"
-#include "ldsm/math/se3.h"
+#include "math/se3.h"
 #include "model/affine_light.h"
 #include "model/orb_descriptor.h"
 #include "model/patch_point.h"

@@ -3,8 +3,8 @@
 // reference).
 #pragma once
 
-#include "ldsm/image/image_pyramid.h"
-#include "ldsm/math/se3.h"
+#include "image/image_pyramid.h"
+#include "math/se3.h"
 #include "model/affine_light.h"
 
 namespace ldsm {

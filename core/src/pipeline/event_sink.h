@@ -1,8 +1,9 @@
 // The one route by which events leave the engine: every stage reports to the EventSink, which
 // forwards to the application's listener and keeps the loop events for the statistics. In
-// deterministic mode every call comes on the caller's thread; in threaded mode frame and loss
-// events come from the tracking thread, and initialisation, keyframe and loop events from the
-// mapping thread (events.h).
+// deterministic mode every call comes on the caller's thread; in threaded mode frame, loss and
+// relocalised events come from the tracking thread, initialisation, keyframe and reuse
+// (reactivated) events from the mapping thread, and loop events from the mapping thread or, at
+// the end of a run, from the thread calling System::finish() (events.h).
 #pragma once
 
 #include <mutex>

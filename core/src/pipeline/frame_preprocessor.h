@@ -5,11 +5,11 @@
 
 #include <memory>
 
+#include "image/image_pyramid.h"
 #include "ldsm/camera/calibration.h"
 #include "ldsm/camera/photometric_model.h"
 #include "ldsm/camera/rectifier.h"
 #include "ldsm/config.h"
-#include "ldsm/image/image_pyramid.h"
 
 namespace ldsm {
 

@@ -74,12 +74,14 @@ bool pinCurrentThreadToCpu(int cpu, const char* what) {
 
 FrameWorker::FrameWorker(Handler handler, const FrameWorkerOptions& options)
     : handler_(std::move(handler)),
-      pool_(static_cast<std::size_t>(std::max(options.pool_size, 0)), options.width,
-            options.height),
-      queue_(queueCapacityFor(options.pool_size)),
+      mode_(options.mode),
+      queue_(queued() ? queueCapacityFor(options.pool_size) : 2),
       policy_(options.live ? concurrency::OverflowPolicy::DropOldest
                            : concurrency::OverflowPolicy::Wait),
       cpu_(options.cpu) {
+  if (!queued()) return;
+  pool_.emplace(static_cast<std::size_t>(std::max(options.pool_size, 0)), options.width,
+                options.height);
   thread_ = std::thread([this] { run(); });
 }
 
@@ -90,17 +92,23 @@ FrameWorker::~FrameWorker() {
 void FrameWorker::acquire(pipeline::FrameTicket& ticket) {
   // Live mode never waits here (the pool outnumbers the queue by two); offline the producer
   // waits for the tracking thread to give a buffer back.
-  for (concurrency::Backoff backoff; (ticket.buffer = pool_.tryAcquire()) < 0; backoff.pause())
+  for (concurrency::Backoff backoff; (ticket.buffer = pool_->tryAcquire()) < 0; backoff.pause())
     if (stop_.load(std::memory_order_acquire)) return;
 }
 
 void FrameWorker::push(const FrameView& frame) {
   if (stop_.load(std::memory_order_acquire)) return;
+  if (!queued()) {
+    submitted_.store(submitted_.load(std::memory_order_relaxed) + 1, std::memory_order_release);
+    handler_(frame, steadyNowNs());
+    processed_.store(processed_.load(std::memory_order_relaxed) + 1, std::memory_order_release);
+    return;
+  }
   pipeline::FrameTicket ticket;
   ticket.enqueued_ns = steadyNowNs();
   acquire(ticket);
   if (ticket.buffer < 0) return;  // stopped while waiting
-  ImageU8& image = pool_.image(ticket.buffer);
+  ImageU8& image = pool_->image(ticket.buffer);
   image.copyFrom(frame.image);  // same size as the pool's buffers: no allocation
   const std::int64_t index = submitted_.load(std::memory_order_relaxed);
   ticket.index = index;
@@ -112,11 +120,11 @@ void FrameWorker::push(const FrameView& frame) {
     case concurrency::PushOutcome::Pushed:
       break;
     case concurrency::PushOutcome::PushedDroppingOldest:
-      pool_.release(dropped.buffer);
+      pool_->release(dropped.buffer);
       dropped_.store(dropped_.load(std::memory_order_relaxed) + 1, std::memory_order_release);
       break;
     case concurrency::PushOutcome::Stopped:
-      pool_.release(ticket.buffer);
+      pool_->release(ticket.buffer);
       submitted_.store(index, std::memory_order_release);
       return;
   }
@@ -136,9 +144,8 @@ void FrameWorker::drain() {
 }
 
 void FrameWorker::stop() {
-  if (!thread_.joinable()) return;
   stop_.store(true, std::memory_order_release);
-  thread_.join();
+  if (thread_.joinable()) thread_.join();
 }
 
 FrameWorkerCounts FrameWorker::counts() const {
@@ -146,7 +153,7 @@ FrameWorkerCounts FrameWorker::counts() const {
   c.submitted = submitted_.load(std::memory_order_acquire);
   c.dropped = dropped_.load(std::memory_order_acquire);
   c.processed = processed_.load(std::memory_order_acquire);
-  c.queue_capacity = static_cast<int>(queue_.capacity());
+  c.queue_capacity = queued() ? static_cast<int>(queue_.capacity()) : 0;
   c.max_queue_depth = max_depth_.load(std::memory_order_relaxed);
   const std::int64_t pushed = c.submitted;
   c.mean_queue_depth = pushed > 0
@@ -160,13 +167,13 @@ void FrameWorker::run() {
   pinCurrentThreadToCpu(cpu_, "tracking");
   pipeline::FrameTicket ticket;
   while (concurrency::popWaiting(queue_, ticket, stop_)) {
-    const ImageU8& image = pool_.image(ticket.buffer);
+    const ImageU8& image = pool_->image(ticket.buffer);
     try {
       handler_(FrameView{image.view(), ticket.timestamp, ticket.exposure_ms}, ticket.enqueued_ns);
     } catch (const std::exception& e) {
       spdlog::error("frame at t = {} s failed: {}", ticket.timestamp, e.what());
     }
-    pool_.release(ticket.buffer);
+    pool_->release(ticket.buffer);
     processed_.store(processed_.load(std::memory_order_relaxed) + 1, std::memory_order_release);
   }
 }

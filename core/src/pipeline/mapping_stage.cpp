@@ -10,17 +10,6 @@
 
 namespace ldsm {
 
-MappingStageSettings MappingStageSettings::fromConfig(const Config& config, bool photometry_known) {
-  MappingStageSettings s;
-  s.mapper = MapperSettings::fromConfig(config, photometry_known);
-  s.tracker = CoarseTrackerSettings::fromConfig(config, photometry_known);
-  s.reuse = config.reuse;
-  s.queue_capacity = config.system.mapping_queue;
-  s.loop_corners = config.loop.corners_per_keyframe;
-  s.loop_corner_min_score = static_cast<float>(config.loop.corner_min_score);
-  return s;
-}
-
 MappingStage::MappingStage(const MappingStageSettings& settings, const PyramidCamera& camera,
                            PyramidPool& pyramids, MapStore& store, EventSink& events,
                            loop::LoopCloser* loop_closer, bool inline_mode)
@@ -166,14 +155,7 @@ void MappingStage::initialize(MappingJob& job) {
   init_outcome_ = InitializationOutcome();
   if (!ok) return;
   keyframes_.fetch_add(2, std::memory_order_relaxed);
-  const WindowKeyframe& newest = mapper_.newestKeyframe();
-  init_outcome_ = {true, mapper_.activePointCount(), newest.id(), newest.T_c_w, newest.aff};
-  publishReference();
-  publishSnapshot();
-  events_.initialized(
-      InitializedEvent{job.info.frame_index, job.info.timestamp, init_outcome_.points});
-  events_.keyframe(KeyframeEvent{newest.id(), job.info.frame_index, job.info.timestamp,
-                                 newest.T_c_w.inverse().toPose(), init_outcome_.points});
+  startWindow(job.info, mapper_.activePointCount(), /*initialized=*/true);
   spdlog::info("frame {}: initialised with {} points", job.info.frame_index, init_outcome_.points);
 }
 
@@ -189,13 +171,18 @@ void MappingStage::relocalize(MappingJob& job) {
   publishMap(std::move(ins.map));
   keyframes_.fetch_add(1, std::memory_order_relaxed);
   ++reuse_stats_.reactivations;
+  store_.connect(mapper_.newestKeyframe().id(), job.anchor_keyframe);
+  startWindow(job.info, ins.map_points_in_view, /*initialized=*/false);
+}
+
+void MappingStage::startWindow(const MapperFrame& info, int points, bool initialized) {
   const WindowKeyframe& newest = mapper_.newestKeyframe();
-  init_outcome_ = {true, ins.map_points_in_view, newest.id(), newest.T_c_w, newest.aff};
-  store_.connect(newest.id(), job.anchor_keyframe);
+  init_outcome_ = {true, points, newest.id(), newest.T_c_w, newest.aff};
   publishReference();
   publishSnapshot();
-  events_.keyframe(KeyframeEvent{newest.id(), job.info.frame_index, job.info.timestamp,
-                                 newest.T_c_w.inverse().toPose(), ins.map_points_in_view});
+  if (initialized) events_.initialized(InitializedEvent{info.frame_index, info.timestamp, points});
+  events_.keyframe(KeyframeEvent{newest.id(), info.frame_index, info.timestamp,
+                                 newest.T_c_w.inverse().toPose(), points});
 }
 
 void MappingStage::reset() {
@@ -208,7 +195,7 @@ void MappingStage::reset() {
 
 void MappingStage::publishMap(MapUpdate&& update) {
   store_.addPoints(update.points);
-  for (const KeyframeRecord& r : update.keyframes) store_.setKeyframe(r);
+  store_.setKeyframes(update.keyframes);
   for (MarginalizedKeyframe& kf : update.left) {
     if (describe_) describeOrb(kf);
     // A keyframe an earlier visit's map keyframe already covers adds nothing the map lacks.
@@ -286,8 +273,11 @@ double MappingStage::medianDepth(const std::vector<DepthPoint>& points,
 }
 
 void MappingStage::applyLoopCorrections() {
-  if (!loop_closer_) return;
-  for (const loop::LoopCorrection& c : loop_closer_->takeCorrections()) {
+  if (loop_closer_) applyCorrections(loop_closer_->takeCorrections());
+}
+
+void MappingStage::applyCorrections(const std::vector<loop::LoopCorrection>& corrections) {
+  for (const loop::LoopCorrection& c : corrections) {
     int merged = 0;
     if (c.merge) merged = mergeMaps(*c.merge);
     int moved = 0;

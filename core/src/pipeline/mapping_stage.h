@@ -78,11 +78,9 @@ struct MappingStageSettings {
   MapperSettings mapper;
   CoarseTrackerSettings tracker;  ///< of the tracking references it prepares
   ReuseConfig reuse;
-  int queue_capacity = 8;             ///< system.mapping_queue
+  int queue_capacity = 4;             ///< system.mapping_queue
   int loop_corners = 400;             ///< loop.corners_per_keyframe
   float loop_corner_min_score = 9.f;  ///< loop.corner_min_score
-
-  static MappingStageSettings fromConfig(const Config& config, bool photometry_known);
 };
 
 class MappingStage {
@@ -127,18 +125,27 @@ class MappingStage {
   std::int64_t keyframes() const { return keyframes_.load(std::memory_order_relaxed); }
 
  private:
+  friend struct MappingStageAccess;  // the unit tests
   struct Done {};
   std::optional<Done> process(MappingJob& job);
   void trace(MappingJob& job);
   void integrateKeyframe(MappingJob& job);
   void initialize(MappingJob& job);
   void relocalize(MappingJob& job);
+  /// The window (re)started with the newest keyframe (initialisation, relocalisation): its outcome,
+  /// tracking reference and snapshot are published, then the listener hears of it (initialised
+  /// first, when `initialized`), with `points` the points it sees.
+  void startWindow(const MapperFrame& info, int points, bool initialized);
   void reset();
   /// Hands the window's output to the map store and loop closure.
   void publishMap(MapUpdate&& update);
   /// reuse.max_map_keyframes: the most redundant kept keyframes keep only their poses.
   void keepMapBudget();
+  /// The corrections loop closure has published so far (applyCorrections).
   void applyLoopCorrections();
+  /// Merges maps a loop connected, moves the map store's keyframes, frames and points (never the
+  /// window) and the reactivated keyframes with them, and reports each loop.
+  void applyCorrections(const std::vector<loop::LoopCorrection>& corrections);
   /// A loop connected an earlier map to the current one; returns the keyframes moved.
   int mergeMaps(const loop::MapMerge& merge);
   void publishReference();

@@ -13,7 +13,7 @@
 #include <mutex>
 
 #include "frontend/coarse_tracker.h"
-#include "ldsm/math/se3.h"
+#include "math/se3.h"
 
 namespace ldsm {
 

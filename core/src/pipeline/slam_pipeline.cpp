@@ -1,5 +1,7 @@
 #include "pipeline/slam_pipeline.h"
 
+#include "pipeline/stage_settings.h"
+
 namespace ldsm {
 namespace {
 
@@ -19,25 +21,24 @@ std::unique_ptr<loop::LoopCloser> makeLoopCloser(const Config& config,
   const LevelCamera& c = camera[0];
   return std::make_unique<loop::LoopCloser>(
       config.loop, PinholeIntrinsics{c.fx, c.fy, c.cx, c.cy, c.width, c.height},
-      /*inline_mode=*/config.system.deterministic);
+      /*inline_mode=*/stageMode(config) == concurrency::TaskMode::kInline);
 }
 
 }  // namespace
 
 SlamPipeline::SlamPipeline(const Config& config, const GeometricCalibration& geometric,
                            const PhotometricCalibration& photometric)
-    : config_(config),
-      preprocessor_(geometric, photometric, config.photometric),
+    : preprocessor_(geometric, photometric, config.photometric),
       camera_(preprocessor_.output(),
               usableLevels(preprocessor_.output(), config.tracking.pyramid_levels)),
       pyramids_(camera_[0].width, camera_[0].height, camera_.levels()),
       loop_closer_(makeLoopCloser(config, camera_)),
-      mapping_(MappingStageSettings::fromConfig(config, photometryKnown(preprocessor_, config)),
-               camera_, pyramids_, store_, events_, loop_closer_.get(),
-               config.system.deterministic),
-      tracking_(TrackingStageSettings::fromConfig(config, camera_.levels(),
-                                                  photometryKnown(preprocessor_, config)),
-                camera_, preprocessor_, pyramids_, store_, mapping_, events_) {}
+      mapping_(mappingStageSettings(config, photometryKnown(preprocessor_, config)), camera_,
+               pyramids_, store_, events_, loop_closer_.get(),
+               stageMode(config) == concurrency::TaskMode::kInline),
+      tracking_(
+          trackingStageSettings(config, camera_.levels(), photometryKnown(preprocessor_, config)),
+          camera_, preprocessor_, pyramids_, store_, mapping_, events_) {}
 
 SlamPipeline::~SlamPipeline() = default;
 

@@ -60,7 +60,6 @@ class SlamPipeline {
   void fillStats(SystemStats& stats) const;
 
  private:
-  Config config_;
   FramePreprocessor preprocessor_;
   PyramidCamera camera_;
   PyramidPool pyramids_;

@@ -10,6 +10,7 @@
 #include "ldsm/error.h"
 #include "pipeline/frame_worker.h"
 #include "pipeline/slam_pipeline.h"
+#include "pipeline/stage_settings.h"
 #include "pipeline/stage_timer.h"
 
 namespace ldsm {
@@ -70,7 +71,7 @@ struct System::Impl {
 
   /// Runs on the tracking thread (threaded mode) or in submit() (deterministic mode).
   void process(const FrameView& f, std::int64_t submitted_ns) {
-    if (worker) latency.record(kQueueWait, msSince(submitted_ns));
+    latency.record(kQueueWait, msSince(submitted_ns));
     const std::string reason = rejectReason(f);
     const std::int64_t index = frames.load(std::memory_order_relaxed);
     frames.store(index + 1, std::memory_order_release);
@@ -92,13 +93,12 @@ struct System::Impl {
       latest_pose.publish(StampedPose{f.timestamp, frame.pose});
     }
     status.store(pipeline.status(), std::memory_order_release);
-    if (worker) {
-      const auto backlog = static_cast<int>(pipeline.mapping().backlog());
-      backlog_sum.fetch_add(backlog, std::memory_order_relaxed);
-      backlog_samples.fetch_add(1, std::memory_order_relaxed);
-      if (backlog > max_backlog.load(std::memory_order_relaxed))
-        max_backlog.store(backlog, std::memory_order_relaxed);
-    }
+    // Always 0 in deterministic mode (the mapping stage runs inline).
+    const auto backlog = static_cast<int>(pipeline.mapping().backlog());
+    backlog_sum.fetch_add(backlog, std::memory_order_relaxed);
+    backlog_samples.fetch_add(1, std::memory_order_relaxed);
+    if (backlog > max_backlog.load(std::memory_order_relaxed))
+      max_backlog.store(backlog, std::memory_order_relaxed);
     latency.record(kSubmitToTracked, msSince(submitted_ns));
   }
 
@@ -120,22 +120,21 @@ struct System::Impl {
   std::atomic<TrackingStatus> status{TrackingStatus::Initializing};
   mutable concurrency::LatestValue<StampedPose> latest_pose;
   StageTimer latency;
-  std::unique_ptr<FrameWorker> worker;
+  std::unique_ptr<FrameWorker> input;  ///< never null; inline in deterministic mode
 };
 
 System::System(const Config& config, const GeometricCalibration& geometric,
                const PhotometricCalibration& photometric) {
   validateConfig(config);
   impl_ = std::make_unique<Impl>(config, geometric, photometric);
+  // The input stage runs in the mode every stage runs in (stageMode): a tracking thread of its
+  // own, or inline on the caller's thread; the mapping stage's thread, if any, is pinned.
   const SystemConfig& sc = config.system;
-  if (sc.deterministic) {
-    if (sc.tracking_cpu >= 0 || sc.mapping_cpu >= 0)
-      spdlog::warn(
-          "system.tracking_cpu / system.mapping_cpu are ignored in deterministic mode (every "
-          "stage runs on the caller's thread)");
-    return;
-  }
-  // Tracking on the frame worker's thread, mapping on the mapping stage's thread.
+  const concurrency::TaskMode mode = stageMode(config);
+  if (mode == concurrency::TaskMode::kInline && (sc.tracking_cpu >= 0 || sc.mapping_cpu >= 0))
+    spdlog::warn(
+        "system.tracking_cpu / system.mapping_cpu are ignored in deterministic mode (every "
+        "stage runs on the caller's thread)");
   if (const auto mapping = impl_->pipeline.mapping().threadHandle())
     pinThreadToCpu(*mapping, sc.mapping_cpu, "mapping");
   FrameWorkerOptions options;
@@ -144,7 +143,8 @@ System::System(const Config& config, const GeometricCalibration& geometric,
   options.height = impl_->input_height;
   options.live = sc.live;
   options.cpu = sc.tracking_cpu;
-  impl_->worker = std::make_unique<FrameWorker>(
+  options.mode = mode;
+  impl_->input = std::make_unique<FrameWorker>(
       [impl = impl_.get()](const FrameView& f, std::int64_t submitted_ns) {
         impl->process(f, submitted_ns);
       },
@@ -152,7 +152,7 @@ System::System(const Config& config, const GeometricCalibration& geometric,
 }
 
 System::~System() {
-  if (impl_ && impl_->worker) impl_->worker->stop();
+  if (impl_ && impl_->input) impl_->input->stop();
 }
 
 void System::setListener(SystemListener* listener) {
@@ -166,15 +166,11 @@ void System::submit(const FrameView& frame) {
     throw InputError("frame at t = " + std::to_string(frame.timestamp) + " s is " +
                      std::to_string(frame.image.width) + "x" + std::to_string(frame.image.height) +
                      " but the camera is " + std::to_string(w) + "x" + std::to_string(h));
-  if (impl_->worker) {
-    impl_->worker->push(frame);
-  } else {
-    impl_->process(frame, steadyNowNs());
-  }
+  impl_->input->push(frame);
 }
 
 void System::finish() {
-  if (impl_->worker) impl_->worker->drain();
+  impl_->input->drain();
   impl_->pipeline.finish();
 }
 
@@ -213,18 +209,15 @@ SystemStats System::stats() const {
                         static_cast<double>(samples)
                   : 0.0;
   // Read after `frames`: submitted >= frames + dropped holds in every snapshot.
-  if (impl_->worker) {
-    const FrameWorkerCounts c = impl_->worker->counts();
-    s.submitted_frames = c.submitted;
-    s.dropped_frames = c.dropped;
-    s.queue_capacity = c.queue_capacity;
-    s.max_queue_depth = c.max_queue_depth;
-    s.mean_queue_depth = c.mean_queue_depth;
-  } else {
-    s.submitted_frames = s.frames;
-  }
+  const FrameWorkerCounts c = impl_->input->counts();
+  s.submitted_frames = c.submitted;
+  s.dropped_frames = c.dropped;
+  s.queue_capacity = c.queue_capacity;
+  s.max_queue_depth = c.max_queue_depth;
+  s.mean_queue_depth = c.mean_queue_depth;
+  // A frame waits in a queue only in threaded mode.
   for (StageTiming& t : impl_->latency.summary())
-    if (impl_->worker || t.stage != "queue_wait") s.latency.push_back(std::move(t));
+    if (impl_->input->queued() || t.stage != "queue_wait") s.latency.push_back(std::move(t));
   return s;
 }
 

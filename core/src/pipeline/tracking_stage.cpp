@@ -6,16 +6,6 @@
 
 namespace ldsm {
 
-TrackingStageSettings TrackingStageSettings::fromConfig(const Config& config, int levels,
-                                                        bool photometry_known) {
-  TrackingStageSettings s;
-  s.initializer = CoarseInitializerSettings::fromConfig(config, levels, photometry_known);
-  s.initializer_hypotheses = config.initializer.hypotheses;
-  s.tracker = FrameTrackerSettings::fromConfig(config, photometry_known);
-  s.reuse = config.reuse;
-  return s;
-}
-
 TrackingStage::TrackingStage(const TrackingStageSettings& settings, const PyramidCamera& camera,
                              FramePreprocessor& preprocessor, PyramidPool& pyramids,
                              MapStore& store, MappingStage& mapping, EventSink& events)
@@ -101,7 +91,7 @@ void TrackingStage::initializeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent
   }
   initializer_.releaseMemory();
   status_ = TrackingStatus::Tracking;
-  ++initializations_;
+  initializations_.fetch_add(1, std::memory_order_relaxed);
   store_.addFrame({init_reference_info_.frame_index, init_reference_info_.timestamp,
                    outcome.keyframe_id - 1, SE3d()});
   store_.addFrame({index, frame.timestamp, outcome.keyframe_id, SE3d()});
@@ -172,7 +162,7 @@ void TrackingStage::adoptNewestReference() {
 
 void TrackingStage::loseTracking(const FrameEvent& frame, const std::string& reason) {
   spdlog::warn("tracking lost: {}", reason);
-  ++losses_;
+  losses_.fetch_add(1, std::memory_order_relaxed);
   events_.trackingLost(TrackingLostEvent{frame.frame_index, frame.timestamp, reason});
   mapping_.waitIdle();
   status_ = TrackingStatus::Lost;

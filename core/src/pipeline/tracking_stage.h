@@ -35,9 +35,6 @@ struct TrackingStageSettings {
   int initializer_hypotheses = 7;  ///< initializer.hypotheses
   FrameTrackerSettings tracker;
   ReuseConfig reuse;  ///< relocalisation after a loss (reuse.enabled, relocalization_*)
-
-  /// `levels`: the pyramid levels the camera uses.
-  static TrackingStageSettings fromConfig(const Config& config, int levels, bool photometry_known);
 };
 
 class TrackingStage {
@@ -57,8 +54,8 @@ class TrackingStage {
                      double exposure);
 
   TrackingStatus status() const { return status_; }
-  std::int64_t initializations() const { return initializations_; }
-  std::int64_t losses() const { return losses_; }
+  std::int64_t initializations() const { return initializations_.load(std::memory_order_relaxed); }
+  std::int64_t losses() const { return losses_.load(std::memory_order_relaxed); }
   std::int64_t relocalizationAttempts() const {
     return relocalization_attempts_.load(std::memory_order_relaxed);
   }
@@ -113,8 +110,8 @@ class TrackingStage {
   // Counted on the tracking thread, read by stats() on any thread.
   std::atomic<std::int64_t> relocalization_attempts_{0};
   std::atomic<std::int64_t> relocalizations_{0};
-  std::int64_t initializations_ = 0;
-  std::int64_t losses_ = 0;
+  std::atomic<std::int64_t> initializations_{0};
+  std::atomic<std::int64_t> losses_{0};
 };
 
 }  // namespace ldsm

@@ -20,8 +20,8 @@
 
 #include "camera/pyramid_camera.h"
 #include "ldsm/config.h"
-#include "ldsm/math/se3.h"
 #include "map/map_store.h"
+#include "math/se3.h"
 #include "model/marginalized_keyframe.h"
 #include "model/orb_descriptor.h"
 

@@ -8,7 +8,7 @@
 
 #include <Eigen/Eigenvalues>
 
-#include "ldsm/image/interpolation.h"
+#include "image/interpolation.h"
 #include "plane_scene.h"
 
 namespace ldsm {

@@ -2,6 +2,7 @@
 // are optimised onto the truth, the window stays within its bounds by marginalising keyframes,
 // and everything the map keeps leaves as values (MapUpdate).
 #include "backend/mapper.h"
+#include "pipeline/stage_settings.h"
 
 #include <gtest/gtest.h>
 
@@ -35,7 +36,7 @@ SE3d perturbed(const SE3d& T) {
 TEST(Mapper, KeyframesConvergeToTheTruthAndTheWindowStaysBounded) {
   SyntheticWindow w(30);
   const Config config = mapperConfig();
-  Mapper mapper(MapperSettings::fromConfig(config, false), w.camera(), w.pool());
+  Mapper mapper(mapperSettings(config, false), w.camera(), w.pool());
   KeyframeInsertion init;
   ASSERT_TRUE(mapper.initialize(w.initialization(2), frameInfo(w, 0, w.T_c_w(0)), w.pyramid(0),
                                 frameInfo(w, 2, w.T_c_w(2)), w.pyramid(2), &init));
@@ -87,7 +88,7 @@ TEST(Mapper, KeyframesConvergeToTheTruthAndTheWindowStaysBounded) {
 
 TEST(Mapper, LeavingKeyframesAreDescribedForLoopClosureWhenAsked) {
   SyntheticWindow w(40);
-  Mapper mapper(MapperSettings::fromConfig(mapperConfig(), false), w.camera(), w.pool());
+  Mapper mapper(mapperSettings(mapperConfig(), false), w.camera(), w.pool());
   mapper.setDescribeLeavingKeyframes(true);
   // The loop corners the mapping stage detects come with each keyframe; here a fixed grid.
   std::vector<Eigen::Vector2f> grid;
@@ -123,7 +124,7 @@ TEST(Mapper, LeavingKeyframesAreDescribedForLoopClosureWhenAsked) {
 
 TEST(Mapper, ResetHandsBackTheWindowPosesAndEmptiesIt) {
   SyntheticWindow w(8);
-  Mapper mapper(MapperSettings::fromConfig(mapperConfig(), false), w.camera(), w.pool());
+  Mapper mapper(mapperSettings(mapperConfig(), false), w.camera(), w.pool());
   KeyframeInsertion init;
   ASSERT_TRUE(mapper.initialize(w.initialization(2), frameInfo(w, 0, w.T_c_w(0)), w.pyramid(0),
                                 frameInfo(w, 2, w.T_c_w(2)), w.pyramid(2), &init));
@@ -142,7 +143,7 @@ TEST(Mapper, ResetHandsBackTheWindowPosesAndEmptiesIt) {
 
 TEST(Mapper, AnInitialisationWithTooFewPointsIsRefusedAndLeavesNoWindow) {
   SyntheticWindow w(4);
-  Mapper mapper(MapperSettings::fromConfig(mapperConfig(), false), w.camera(), w.pool());
+  Mapper mapper(mapperSettings(mapperConfig(), false), w.camera(), w.pool());
   InitializationResult r = w.initialization(2);
   r.points.resize(20);
   KeyframeInsertion ins;

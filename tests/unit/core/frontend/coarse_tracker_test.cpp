@@ -326,7 +326,7 @@ TEST_F(CoarseTrackerTest, RejectsBadInput) {
   EXPECT_EQ(tracker->depthMaps().points(0).count, 0);
 }
 
-TEST(CoarseTrackerSettingsTest, RejectsBadThresholdsAndReadsConfig) {
+TEST(CoarseTrackerSettingsTest, RejectsBadThresholds) {
   CoarseTrackerSettings s;
   s.huber_threshold = 0.f;
   EXPECT_THROW(CoarseTracker(64, 48, 3, s), ConfigError);
@@ -334,19 +334,6 @@ TEST(CoarseTrackerSettingsTest, RejectsBadThresholdsAndReadsConfig) {
   s.outlier_threshold = std::nanf("");
   EXPECT_THROW(CoarseTracker(64, 48, 3, s), ConfigError);
   EXPECT_THROW(CoarseTracker(64, 48, 9, CoarseTrackerSettings()), ConfigError);
-
-  Config config;
-  config.tracking.huber_threshold = 5.0;
-  config.tracking.max_iterations_per_level = 4;
-  config.photometric.affine_prior_weight_known = 123.0;
-  config.photometric.affine_prior_weight_unknown = 0.5;
-  const CoarseTrackerSettings known = CoarseTrackerSettings::fromConfig(config, true);
-  EXPECT_FLOAT_EQ(known.huber_threshold, 5.f);
-  EXPECT_EQ(known.max_iterations[0], 4);
-  EXPECT_EQ(known.max_iterations[1], 8);
-  EXPECT_EQ(known.max_iterations[4], 20);
-  EXPECT_DOUBLE_EQ(known.affine_prior_weight_a, 123.0);
-  EXPECT_DOUBLE_EQ(CoarseTrackerSettings::fromConfig(config, false).affine_prior_weight_b, 0.5);
 }
 
 }  // namespace

@@ -10,7 +10,7 @@
 
 #include "ldsm/camera/calibration.h"
 #include "ldsm/image.h"
-#include "ldsm/math/se3.h"
+#include "math/se3.h"
 
 namespace ldsm::init_test {
 

@@ -15,8 +15,8 @@
 
 #include "camera/pyramid_camera.h"
 #include "frontend/coarse_initializer.h"
+#include "image/image_pyramid.h"
 #include "init_scene.h"
-#include "ldsm/image/image_pyramid.h"
 #include "test_paths.h"
 
 namespace ldsm::init_test {

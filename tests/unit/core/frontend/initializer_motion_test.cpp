@@ -12,6 +12,7 @@
 #include "init_test_util.h"
 #include "ldsm/config.h"
 #include "ldsm/error.h"
+#include "pipeline/stage_settings.h"
 
 namespace ldsm {
 namespace {
@@ -153,7 +154,7 @@ void runBrightnessChange(bool exposure_known) {
   const InitScene scene = init_test::wallAndFloorScene();
   const std::vector<SE3d> poses = linearMotion({0.012, 0, 0.003}, 0.0, 40);
   CoarseInitializer init(PyramidCamera(K, 5),
-                         CoarseInitializerSettings::fromConfig(Config{}, 5, exposure_known));
+                         coarseInitializerSettings(Config{}, 5, exposure_known));
   std::mt19937 rng(21);
   ImagePyramid pyramid(K.width, K.height, 5);
   int done_at = -1;
@@ -205,33 +206,6 @@ TEST(BrightnessChange, AffineBrightnessAbsorbsUnknownGainAndOffset) {
 
 TEST(BrightnessChange, KnownExposureLeavesAffineAtZero) {
   runBrightnessChange(true);
-}
-
-TEST(CoarseInitializerConfig, SettingsFollowTheConfiguration) {
-  Config c;
-  c.initializer.min_parallax_px = 9.0;
-  c.initializer.min_rotation_free_parallax_px = 2.5;
-  c.initializer.confirm_frames = 3;
-  c.initializer.point_density = 1.5;
-  c.points.points_per_keyframe = 1234;
-  c.tracking.huber_threshold = 7.0;
-  const CoarseInitializerSettings s = CoarseInitializerSettings::fromConfig(c, 4, false);
-  EXPECT_EQ(s.max_levels, 4);
-  EXPECT_FLOAT_EQ(s.min_parallax_flow, 9.f);
-  EXPECT_FLOAT_EQ(s.min_rotation_free_parallax, 2.5f);
-  EXPECT_EQ(s.confirm_frames, 3);
-  EXPECT_FLOAT_EQ(s.selector_density, 1.5f);
-  EXPECT_EQ(s.selection.points_per_keyframe, 1234);
-  EXPECT_FLOAT_EQ(s.huber_threshold, 7.f);
-  EXPECT_NO_THROW(s.validate());
-  EXPECT_GT(CoarseInitializerSettings::fromConfig(c, 4, true).affine_prior_weight_a,
-            1e3f * s.affine_prior_weight_a);
-
-  c.initializer.min_rotation_free_parallax_px = 12.0;  // more than min_parallax_px
-  const std::vector<std::string> problems = configProblems(c);
-  ASSERT_EQ(problems.size(), 1u);
-  EXPECT_NE(problems[0].find("initializer.min_rotation_free_parallax_px"), std::string::npos);
-  EXPECT_THROW(CoarseInitializerSettings::fromConfig(c, 4, false).validate(), ConfigError);
 }
 
 INSTANTIATE_TEST_SUITE_P(Motions, TranslatingCamera,

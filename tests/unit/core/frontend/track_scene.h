@@ -10,10 +10,10 @@
 
 #include "camera/pyramid_camera.h"
 #include "frontend/depth_map_pyramid.h"
+#include "image/image_pyramid.h"
 #include "ldsm/camera/calibration.h"
 #include "ldsm/image.h"
-#include "ldsm/image/image_pyramid.h"
-#include "ldsm/math/se3.h"
+#include "math/se3.h"
 
 namespace ldsm::test {
 

@@ -1,4 +1,4 @@
-#include "ldsm/image/image_pyramid.h"
+#include "image/image_pyramid.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "ldsm/image/interpolation.h"
+#include "image/interpolation.h"
 
 #include <gtest/gtest.h>
 
@@ -7,7 +7,7 @@
 #include <random>
 #include <vector>
 
-#include "ldsm/image/image_pyramid.h"
+#include "image/image_pyramid.h"
 
 namespace ldsm {
 namespace {

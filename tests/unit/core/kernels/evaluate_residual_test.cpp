@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "backend/photometric_residual.h"
-#include "ldsm/image/interpolation.h"
+#include "image/interpolation.h"
 #include "plane_scene.h"
 
 namespace ldsm {

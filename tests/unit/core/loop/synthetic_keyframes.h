@@ -11,8 +11,8 @@
 #include <utility>
 #include <vector>
 
-#include "ldsm/math/sim3.h"
 #include "loop/loop_types.h"
+#include "math/sim3.h"
 
 namespace ldsm::loop::test {
 

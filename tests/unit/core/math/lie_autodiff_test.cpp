@@ -2,10 +2,10 @@
 // at exactly the identity, where the series are used) reproduces the analytic Jacobians.
 #include <gtest/gtest.h>
 
-#include "ldsm/math/se3.h"
-#include "ldsm/math/sim3.h"
-#include "ldsm/math/so3.h"
 #include "lie_test_utils.h"
+#include "math/se3.h"
+#include "math/sim3.h"
+#include "math/so3.h"
 
 #if __has_include(<ceres/jet.h>)
 #include <ceres/jet.h>

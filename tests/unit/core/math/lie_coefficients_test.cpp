@@ -1,7 +1,7 @@
 // The scalar coefficients of the Lie-group formulas against independent long-double references:
 // power series (with many more terms than the implementation keeps) and Gauss-Legendre quadrature
 // of the defining integrals.
-#include "ldsm/math/lie_coefficients.h"
+#include "math/lie_coefficients.h"
 
 #include <gtest/gtest.h>
 

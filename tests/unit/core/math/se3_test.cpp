@@ -1,4 +1,4 @@
-#include "ldsm/math/se3.h"
+#include "math/se3.h"
 
 #include <gtest/gtest.h>
 
@@ -54,17 +54,8 @@ TEST(SE3, LogAtExactlyPi) {
   EXPECT_LT(maxAbsDiff(SE3d::exp(x).matrix(), T.matrix()), 1e-14);
 }
 
-TEST(SE3, HatVeeAndSmallAdjointIsTheLieBracket) {
-  TestRandom rnd(22);
-  const Vector6d x = rnd.vector<6>(1.0);
-  const Vector6d y = rnd.vector<6>(1.0);
-  EXPECT_EQ(SE3d::vee(SE3d::hat(x)), x);
-  const Matrix4d X = SE3d::hat(x);
-  const Matrix4d Y = SE3d::hat(y);
-  EXPECT_LT(maxAbsDiff(SE3d::ad(x) * y, SE3d::vee(X * Y - Y * X)), 1e-15);
-}
-
-// Composition, inverse and the action: lie_group_laws_test.cpp.
+// Composition, inverse, the action, hat/vee, the Lie bracket and float against double:
+// lie_group_laws_test.cpp.
 TEST(SE3, ActionConstructionsAndConversions) {
   TestRandom rnd(23);
   for (int i = 0; i < 50; ++i) {
@@ -123,23 +114,6 @@ TEST_P(SE3Jacobians, MatchNumericDifferentiation) {
 
 // 0 and 1e-7 exercise the series, 0.01 the switch, 3.0 the neighbourhood of pi.
 INSTANTIATE_TEST_SUITE_P(Angles, SE3Jacobians, ::testing::Values(0.0, 1e-7, 0.01, 0.5, 2.0, 3.0));
-
-TEST(SE3, FloatAgreesWithDouble) {
-  TestRandom rnd(26);
-  for (double angle : {0.0, 1e-8, 1e-4, 0.01, 0.3, 2.0, 3.1}) {
-    const Vector6d x = randomTangent(rnd, angle);
-    const SE3d Td = SE3d::exp(x);
-    const SE3f Tf = SE3f::exp(x.cast<float>());
-    const Vector3d p = rnd.vector<3>(2.0);
-    EXPECT_LT(maxAbsDiff(Tf.matrix(), Td.matrix()), test::kFloatSlack * 2e-6) << angle;
-    EXPECT_LT(maxAbsDiff(Tf.log(), Td.log()), test::kFloatSlack * 1e-5) << angle;
-    EXPECT_LT(maxAbsDiff(Tf * p.cast<float>(), Td * p), test::kFloatSlack * 1e-5) << angle;
-    EXPECT_LT(maxAbsDiff(SE3f::leftJacobianInverse(x.cast<float>()), SE3d::leftJacobianInverse(x)),
-              test::kFloatSlack * 1e-5)
-        << angle;
-    EXPECT_LT(maxAbsDiff(Td.cast<float>().matrix(), Td.matrix()), test::kFloatSlack * 1e-6);
-  }
-}
 
 TEST(SE3, InterpolateRotatesAlongTheGeodesicAndTranslatesLinearly) {
   TestRandom rnd(27);

@@ -1,16 +1,27 @@
 // The mapping stage on a small synthetic window: one code path in both modes (inline and on its
 // own thread give the same map), what it publishes after each job (tracking reference, snapshot,
-// events, the map store), and a reset.
+// events, the map store), a reset, loop corrections, relocalisation in the map and map reuse.
 #include "pipeline/mapping_stage.h"
+#include "pipeline/stage_settings.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <thread>
 #include <vector>
 
 #include "synthetic_window.h"
 
 namespace ldsm {
+
+/// The stage's private steps the tests drive directly.
+struct MappingStageAccess {
+  static void applyCorrections(MappingStage& stage,
+                               const std::vector<loop::LoopCorrection>& corrections) {
+    stage.applyCorrections(corrections);
+  }
+};
+
 namespace {
 
 using test::SyntheticWindow;
@@ -22,8 +33,12 @@ class RecordingListener : public SystemListener {
     threads.push_back(std::this_thread::get_id());
   }
   void onInitialized(const InitializedEvent& e) override { initialized.push_back(e.points); }
+  void onLoopClosure(const LoopClosureEvent& e) override { loops.push_back(e); }
+  void onReuse(const ReuseEvent& e) override { reuse.push_back(e); }
   std::vector<int> keyframes;
   std::vector<int> initialized;
+  std::vector<LoopClosureEvent> loops;
+  std::vector<ReuseEvent> reuse;
   std::vector<std::thread::id> threads;
 };
 
@@ -70,8 +85,8 @@ StageRun runStage(bool inline_mode) {
   RecordingListener listener;
   events.setListener(&listener);
   const Config config = stageConfig();
-  MappingStage stage(MappingStageSettings::fromConfig(config, false), w.camera(), w.pool(), store,
-                     events, nullptr, inline_mode);
+  MappingStage stage(mappingStageSettings(config, false), w.camera(), w.pool(), store, events,
+                     nullptr, inline_mode);
   StageRun run;
   stage.submit(initJob(w));
   stage.waitIdle();
@@ -135,8 +150,8 @@ TEST(MappingStage, ResetEmptiesTheWindowAndDropsTheUnadoptedReference) {
   SyntheticWindow w(8);
   MapStore store;
   EventSink events;
-  MappingStage stage(MappingStageSettings::fromConfig(stageConfig(), false), w.camera(), w.pool(),
-                     store, events, nullptr, true);
+  MappingStage stage(mappingStageSettings(stageConfig(), false), w.camera(), w.pool(), store,
+                     events, nullptr, true);
   stage.submit(initJob(w));
   ASSERT_TRUE(stage.lastInitialization().ok);
   stage.setKeyframeInFlight();
@@ -154,6 +169,139 @@ TEST(MappingStage, ResetEmptiesTheWindowAndDropsTheUnadoptedReference) {
   stage.submit(initJob(w));
   EXPECT_TRUE(stage.lastInitialization().ok);
   EXPECT_TRUE(stage.references().takeNewest(r));
+}
+
+/// An inline stage that has initialised on `w` and taken every third frame up to `last` as a
+/// keyframe, so that the first keyframes have left the window for the map store.
+struct MappedWindow {
+  explicit MappedWindow(int frames, const Config& config)
+      : w(frames),
+        stage(mappingStageSettings(config, false), w.camera(), w.pool(), store, events, nullptr,
+              /*inline_mode=*/true) {
+    events.setListener(&listener);
+    stage.submit(initJob(w));
+    EXPECT_TRUE(stage.lastInitialization().ok);
+  }
+  void keyframes(int first, int last, int step) {
+    for (int i = first; step > 0 ? i <= last : i >= last; i += step) {
+      stage.setKeyframeInFlight();
+      stage.submit(frameJob(w, i, true));
+    }
+  }
+  /// A keyframe that has left the window.
+  int mapKeyframe() const {
+    const std::vector<int>& window = stage.snapshot()->window_ids;
+    for (int id = 0; id < 100; ++id)
+      if (store.hasKeyframe(id) && std::find(window.begin(), window.end(), id) == window.end())
+        return id;
+    return -1;
+  }
+
+  SyntheticWindow w;
+  MapStore store;
+  EventSink events;
+  RecordingListener listener;
+  MappingStage stage;
+};
+
+TEST(MappingStage, LoopCorrectionsMoveTheMapButNotTheWindow) {
+  MappedWindow m(26, stageConfig());
+  m.keyframes(3, 24, 3);
+  const int old_id = m.mapKeyframe();
+  ASSERT_GE(old_id, 0) << "no keyframe left the window";
+  const KeyframeRecord before = m.store.keyframe(old_id);
+  const std::vector<int> window = m.stage.snapshot()->window_ids;
+  ASSERT_FALSE(window.empty());
+  const KeyframeRecord newest_before = m.store.keyframe(window.back());
+
+  // Not significant: reported, nothing moves.
+  loop::DetectedLoop loop;
+  loop.current_keyframe_id = window.back();
+  loop.candidate_keyframe_id = old_id;
+  loop.inliers = 40;
+  loop::LoopCorrection small;
+  small.loops.push_back(loop);
+  // Significant: the pose graph moved the old keyframe 0.1 m further along x, at scale 1.5.
+  loop::LoopCorrection big;
+  loop.significant = true;
+  big.loops.push_back(loop);
+  const Sim3d S_new(before.T_w_c.so3(), before.T_w_c.translation() + Eigen::Vector3d(0.1, 0, 0),
+                    1.5);
+  big.S_world_camera = {{old_id, S_new}};
+  MappingStageAccess::applyCorrections(m.stage, {small, big});
+
+  ASSERT_EQ(m.listener.loops.size(), 2u);
+  EXPECT_EQ(m.listener.loops[0].corrected_keyframes, 0);
+  EXPECT_EQ(m.listener.loops[1].corrected_keyframes, 1);
+  EXPECT_EQ(m.listener.loops[1].matched_keyframe_id, old_id);
+  EXPECT_EQ(m.events.loops().size(), 2u) << "kept for the statistics";
+  const KeyframeRecord after = m.store.keyframe(old_id);
+  EXPECT_LT((after.T_w_c.translation() - S_new.translation()).norm(), 1e-12);
+  EXPECT_DOUBLE_EQ(after.scale, 1.5);
+  // The window's keyframes keep their poses (the map moves to the window, not the other way).
+  const KeyframeRecord newest_after = m.store.keyframe(window.back());
+  EXPECT_EQ(newest_after.T_w_c.translation(), newest_before.T_w_c.translation());
+  EXPECT_EQ(m.stage.snapshot()->window_ids, window);
+  EXPECT_TRUE(m.stage.snapshot()->reactivated.empty());
+}
+
+TEST(MappingStage, RelocalizeStartsAWindowAtAMapKeyframe) {
+  Config config = stageConfig();
+  config.reuse.enabled = true;
+  config.reuse.cull_redundant = false;
+  MappedWindow m(26, config);
+  m.keyframes(3, 24, 3);
+  MappingJob reset;
+  reset.kind = MappingJob::Kind::kReset;
+  m.stage.submit(std::move(reset));
+  ASSERT_FALSE(m.stage.snapshot()->has_window);
+  PreparedReference r;
+  ASSERT_FALSE(m.stage.references().takeNewest(r));
+
+  // The frame right after keyframe `anchor`'s frame, found in the map at that keyframe.
+  int anchor = -1;
+  for (int id = 0; id < 100 && anchor < 0; ++id)
+    if (m.store.keyframeData(id) && m.store.keyframe(id).frame_index >= 9) anchor = id;
+  ASSERT_GE(anchor, 0) << "no keyframe kept for reuse";
+  const int frame = static_cast<int>(m.store.keyframe(anchor).frame_index) + 1;
+  const std::size_t keyframe_events = m.listener.keyframes.size();
+  MappingJob job;
+  job.kind = MappingJob::Kind::kRelocalize;
+  job.pyramid = m.w.pyramid(frame);
+  job.info = {frame, 0.1 * frame, 1.0, m.w.T_c_w(frame), AffineLight{}, {}};
+  job.anchor_keyframe = anchor;
+  m.stage.submit(std::move(job));
+
+  const InitializationOutcome& outcome = m.stage.lastInitialization();
+  ASSERT_TRUE(outcome.ok);
+  EXPECT_GT(outcome.points, 100) << "map points in view";
+  EXPECT_GT(outcome.keyframe_id, anchor);
+  // Published as after an initialisation: reference, snapshot, a keyframe event (and no second
+  // initialised event).
+  ASSERT_TRUE(m.stage.references().takeNewest(r));
+  EXPECT_EQ(r.keyframe_id, outcome.keyframe_id);
+  EXPECT_TRUE(m.stage.snapshot()->has_window);
+  ASSERT_EQ(m.listener.keyframes.size(), keyframe_events + 1);
+  EXPECT_EQ(m.listener.keyframes.back(), outcome.keyframe_id);
+  EXPECT_EQ(m.listener.initialized.size(), 1u);
+  EXPECT_EQ(m.stage.snapshot()->reuse.reactivations, 1);
+  EXPECT_LT(test::poseError(outcome.T_c_w, m.w.T_c_w(frame))[1], 0.05);
+}
+
+TEST(MappingStage, ReturningCameraBringsMapKeyframesBack) {
+  Config config = stageConfig();
+  config.reuse.enabled = true;
+  config.reuse.cull_redundant = false;
+  config.reuse.min_keyframe_age = 2;
+  MappedWindow m(34, config);
+  m.keyframes(3, 33, 3);   // out ...
+  m.keyframes(32, 2, -3);  // ... and back over the first keyframes
+  ASSERT_FALSE(m.listener.reuse.empty()) << "no map keyframe brought back";
+  for (const ReuseEvent& e : m.listener.reuse) {
+    EXPECT_FALSE(e.reactivated.empty());
+    for (const int id : e.reactivated) EXPECT_LT(id, e.keyframe_id);
+  }
+  EXPECT_GT(m.stage.snapshot()->reuse.reactivations, 0);
 }
 
 }  // namespace

@@ -13,7 +13,7 @@
 #include <Eigen/Core>
 
 #include "camera/pyramid_camera.h"
-#include "ldsm/math/se3.h"
+#include "math/se3.h"
 #include "model/marginalized_keyframe.h"
 #include "reuse/reactivation_search.h"
 

@@ -10,7 +10,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 
-#include "ldsm/math/lie_coefficients.h"
+#include "math/lie_coefficients.h"
 
 namespace ldsm {
 

@@ -7,9 +7,9 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "ldsm/math/lie_coefficients.h"
-#include "ldsm/math/so3.h"
 #include "ldsm/types.h"
+#include "math/lie_coefficients.h"
+#include "math/so3.h"
 
 namespace ldsm {
 

@@ -1,4 +1,6 @@
-// The System's input stage (core/src/pipeline/frame_worker.h) under stress: 20 000 small frames
+// The System's input stage (core/src/pipeline/frame_worker.h). Inline (deterministic mode): the
+// handler runs inside push(), on the caller's image, and its exceptions reach the caller.
+// Threaded, under stress: 20 000 small frames
 // from a producer to the tracking thread through the frame pool and the lock-free queue, with
 // random stalls on both sides. Offline: nothing lost, duplicated or reordered, and every pixel of
 // every frame intact (a buffer reused while still queued would show). Live: received + dropped
@@ -109,6 +111,42 @@ TEST(FrameWorkerStress, PoolSmallerThanFourIsAConfigError) {
   options.width = kW;
   options.height = kH;
   EXPECT_THROW(FrameWorker([](const FrameView&, std::int64_t) {}, options), ConfigError);
+}
+
+TEST(FrameWorkerInline, RunsTheHandlerInsidePushOnTheCallersImage) {
+  FrameWorkerOptions options;
+  options.mode = concurrency::TaskMode::kInline;
+  options.pool_size = 0;  // unused inline: no pool, no queue, no thread
+  ImageU8 image(kW, kH);
+  image(3, 4) = 77;
+  std::vector<std::int64_t> seen;
+  const std::thread::id caller = std::this_thread::get_id();
+  FrameWorker worker(
+      [&](const FrameView& f, std::int64_t enqueued_ns) {
+        EXPECT_EQ(std::this_thread::get_id(), caller);
+        EXPECT_EQ(f.image.data, image.view().data) << "no copy";
+        EXPECT_LE(enqueued_ns, steadyNowNs());
+        if (f.timestamp < 0) throw InputError("negative");
+        seen.push_back(static_cast<std::int64_t>(f.timestamp));
+      },
+      options);
+  EXPECT_FALSE(worker.queued());
+  for (int n = 0; n < 5; ++n) {
+    worker.push({image.view(), static_cast<double>(n)});
+    ASSERT_EQ(seen.size(), static_cast<std::size_t>(n + 1)) << "processed before push() returns";
+  }
+  EXPECT_THROW(worker.push({image.view(), -1.0}), InputError);
+  worker.drain();
+  const FrameWorkerCounts c = worker.counts();
+  EXPECT_EQ(c.submitted, 6);
+  EXPECT_EQ(c.processed, 5);
+  EXPECT_EQ(c.dropped, 0);
+  EXPECT_EQ(c.queue_capacity, 0);
+  EXPECT_EQ(c.max_queue_depth, 0);
+  EXPECT_DOUBLE_EQ(c.mean_queue_depth, 0.0);
+  worker.stop();
+  worker.push({image.view(), 9.0});
+  EXPECT_EQ(seen.size(), 5u) << "nothing after stop()";
 }
 
 }  // namespace

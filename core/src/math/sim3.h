@@ -9,9 +9,9 @@
 #include <cassert>
 #include <cmath>
 
-#include "ldsm/math/lie_coefficients.h"
-#include "ldsm/math/se3.h"
-#include "ldsm/math/so3.h"
+#include "math/lie_coefficients.h"
+#include "math/se3.h"
+#include "math/so3.h"
 
 namespace ldsm {
 

@@ -5,8 +5,8 @@
 
 #include <cassert>
 
+#include "image/gradient_pixel.h"
 #include "ldsm/image.h"
-#include "ldsm/image/gradient_pixel.h"
 
 namespace ldsm {
 
