@@ -32,7 +32,7 @@ const std::vector<std::set<std::string>>& layers() {
       {"camera", "image", "config", "eval"},
       {"model"},
       {"kernels", "features", "alignment"},
-      {"frontend", "backend", "map"},
+      {"frontend", "backend", "map", "mapfile"},
       {"loop", "reuse"},
       {"pipeline"},
   };
@@ -55,6 +55,7 @@ const std::map<std::string, std::set<std::string>>& allowedModules() {
       {"frontend", {"math", "config", "camera", "image", "model", "kernels", "features"}},
       {"backend", {"math", "config", "camera", "image", "model", "kernels", "features"}},
       {"map", {"math", "model", "concurrency"}},
+      {"mapfile", {"math", "camera", "model"}},
       {"loop",
        {"math", "config", "camera", "image", "model", "features", "concurrency", "alignment"}},
       {"reuse", {"math", "config", "camera", "model", "features", "alignment", "map"}},
