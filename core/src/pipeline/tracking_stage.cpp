@@ -144,6 +144,7 @@ void TrackingStage::acceptTrackedFrame(std::unique_ptr<ImagePyramid> pyr, FrameE
   frame.has_pose = true;
   frame.pose = outcome.T_c_w.inverse().toPose();
   frame.residual_rmse = outcome.rmse;
+  if (image_out_ != nullptr) publishImage(*pyr, frame, outcome.T_c_w);
   frame.is_keyframe = outcome.wants_keyframe;
   MappingJob job;
   job.kind = outcome.wants_keyframe ? MappingJob::Kind::kKeyframe : MappingJob::Kind::kTrace;
@@ -155,6 +156,26 @@ void TrackingStage::acceptTrackedFrame(std::unique_ptr<ImagePyramid> pyr, FrameE
     store_.reserveFrames(kFrameHeadroom);
   }
   mapping_.submit(std::move(job));
+}
+
+void TrackingStage::publishImage(const ImagePyramid& pyr, const FrameEvent& frame,
+                                 const SE3d& T_c_w) {
+  const int level = std::min(1, pyr.levels() - 1);
+  const ImageView<const float> img = pyr.intensity(level);
+  TrackedImage& out = image_scratch_;
+  out.frame_index = frame.frame_index;
+  out.timestamp = frame.timestamp;
+  out.width = img.width;
+  out.height = img.height;
+  out.pixels.resize(static_cast<std::size_t>(img.width) * static_cast<std::size_t>(img.height));
+  std::uint8_t* dst = out.pixels.data();
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const float v = img(x, y);  // NaN -> 0
+      *dst++ = static_cast<std::uint8_t>(v > 0.f ? (v < 255.f ? v + 0.5f : 255.f) : 0.f);
+    }
+  tracker_.projectReferencePoints(level, T_c_w, out.points);
+  image_out_->publish(out);
 }
 
 void TrackingStage::adoptNewestReference() {

@@ -1,0 +1,234 @@
+// The viewer's server against real sockets on 127.0.0.1: it serves only its files, reads nothing
+// from the source while no page is connected, sends pages deltas, and bad or too many pages
+// change nothing for the others.
+#include <arpa/inet.h>
+#include <civetweb.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <thread>
+
+#include "ldsm/error.h"
+#include "test_paths.h"
+#include "viewer_server.h"
+
+namespace ldsm::viewer {
+namespace {
+
+namespace fs = std::filesystem;
+using namespace std::chrono_literals;
+
+class FakeSource : public SnapshotSource {
+ public:
+  ViewerSnapshot snapshot(bool) override {
+    ++calls;
+    ViewerSnapshot s;
+    for (int i = 0; i < poses.load() * kPoseStride; ++i) s.trajectory.push_back(float(i));
+    s.figures.status = "tracking";
+    return s;
+  }
+  std::atomic<int> calls{0};
+  std::atomic<int> poses{3};
+};
+
+std::string webRoot(const std::string& name) {
+  const std::string dir = test::scratchDir(name);
+  fs::create_directories(dir + "/web");
+  std::ofstream(dir + "/web/index.html") << "<html>page</html>";
+  std::ofstream(dir + "/secret.txt") << "secret";
+  return dir + "/web";
+}
+
+ViewerOptions options(const std::string& root, int max_clients = 4) {
+  ViewerOptions o;
+  o.port = 0;
+  o.web_root = root;
+  o.max_clients = max_clients;
+  o.publisher.update_hz = 20.0;
+  return o;
+}
+
+/// Sends raw bytes to the server and returns what it answers (until it closes or 2 s pass).
+std::string rawExchange(int port, const std::string& request, bool close_at_once = false) {
+  const int fd = socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in addr{};
+  addr.sin_family = AF_INET;
+  addr.sin_port = htons(static_cast<std::uint16_t>(port));
+  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  if (connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof(addr)) != 0) {
+    close(fd);
+    return "connect failed";
+  }
+  timeval tv{2, 0};
+  setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof(tv));
+  (void)send(fd, request.data(), request.size(), MSG_NOSIGNAL);
+  std::string out;
+  char buf[4096];
+  if (!close_at_once)
+    for (ssize_t n; (n = recv(fd, buf, sizeof(buf), 0)) > 0;) out.append(buf, std::size_t(n));
+  close(fd);
+  return out;
+}
+
+/// A page: civetweb's WebSocket client, recording what it receives.
+struct Page {
+  explicit Page(int port) {
+    char err[256] = {};
+    conn = mg_connect_websocket_client("127.0.0.1", port, 0, err, sizeof(err), "/ws", nullptr,
+                                       &Page::onData, &Page::onClose, this);
+  }
+  ~Page() {
+    if (conn != nullptr && !closed) mg_close_connection(conn);
+  }
+  static int onData(mg_connection*, int bits, char* data, std::size_t len, void* self) {
+    auto* p = static_cast<Page*>(self);
+    std::lock_guard<std::mutex> lock(p->mutex);
+    if ((bits & 0x0f) == MG_WEBSOCKET_OPCODE_BINARY) p->binary.emplace_back(data, len);
+    if ((bits & 0x0f) == MG_WEBSOCKET_OPCODE_TEXT) ++p->texts;
+    return 1;
+  }
+  static void onClose(const mg_connection*, void* self) {
+    static_cast<Page*>(self)->closed = true;
+  }
+  /// (from, count, total) of the trajectory messages received so far.
+  std::vector<std::array<std::uint32_t, 3>> trajectoryMessages() {
+    std::lock_guard<std::mutex> lock(mutex);
+    std::vector<std::array<std::uint32_t, 3>> out;
+    for (const std::string& b : binary) {
+      std::uint32_t h[4];
+      if (b.size() < 16) continue;
+      std::memcpy(h, b.data(), 16);
+      if (h[0] == 1) out.push_back({h[1], h[2], h[3]});
+    }
+    return out;
+  }
+  int textCount() {
+    std::lock_guard<std::mutex> lock(mutex);
+    return texts;
+  }
+  mg_connection* conn = nullptr;
+  std::atomic<bool> closed{false};
+  std::mutex mutex;
+  std::vector<std::string> binary;
+  int texts = 0;
+};
+
+template <typename F>
+bool waitFor(F condition, std::chrono::milliseconds limit = 5000ms) {
+  const auto end = std::chrono::steady_clock::now() + limit;
+  while (std::chrono::steady_clock::now() < end) {
+    if (condition()) return true;
+    std::this_thread::sleep_for(10ms);
+  }
+  return condition();
+}
+
+TEST(ViewerServer, ServesOnlyItsOwnFiles) {
+  FakeSource source;
+  ViewerServer server(source, options(webRoot("viewer_server_files")));
+  ASSERT_GT(server.port(), 0);
+  const std::string page = rawExchange(server.port(), "GET / HTTP/1.1\r\nHost: x\r\n\r\n");
+  EXPECT_NE(page.find("200 OK"), std::string::npos) << page;
+  EXPECT_NE(page.find("<html>page</html>"), std::string::npos) << page;
+  for (const char* path : {"/../secret.txt", "/%2e%2e/secret.txt", "/..%2fsecret.txt",
+                           "/web/../../secret.txt", "/nothing"}) {
+    const std::string r =
+        rawExchange(server.port(), std::string("GET ") + path + " HTTP/1.1\r\nHost: x\r\n\r\n");
+    EXPECT_EQ(r.find("secret"), std::string::npos) << path << ": " << r;
+    EXPECT_EQ(r.find("200 OK"), std::string::npos) << path << ": " << r;
+  }
+  const std::string post = rawExchange(server.port(), "POST / HTTP/1.1\r\nHost: x\r\n\r\n");
+  EXPECT_NE(post.find("405"), std::string::npos) << post;
+  // Garbage and a huge header are refused; the server still serves afterwards.
+  rawExchange(server.port(), std::string("\x01\x02garbage\r\n\r\n", 13));
+  rawExchange(server.port(), "GET / HTTP/1.1\r\nX: " + std::string(100000, 'a') + "\r\n\r\n");
+  EXPECT_NE(rawExchange(server.port(), "GET /index.html HTTP/1.1\r\n\r\n").find("200 OK"),
+            std::string::npos);
+  EXPECT_EQ(source.calls.load(), 0) << "no page connected: nothing is read from the source";
+}
+
+TEST(ViewerServer, PagesReceiveDeltas) {
+  FakeSource source;
+  ViewerServer server(source, options(webRoot("viewer_server_deltas")));
+  Page page(server.port());
+  ASSERT_NE(page.conn, nullptr);
+  ASSERT_TRUE(waitFor([&] { return !page.trajectoryMessages().empty() && page.textCount() > 0; }));
+  EXPECT_EQ(page.trajectoryMessages()[0], (std::array<std::uint32_t, 3>{0, 3, 3}));
+  source.poses = 5;
+  ASSERT_TRUE(waitFor([&] { return page.trajectoryMessages().size() >= 2; }));
+  // Only the two new poses travel.
+  EXPECT_EQ(page.trajectoryMessages()[1], (std::array<std::uint32_t, 3>{3, 2, 5}));
+  EXPECT_GT(source.calls.load(), 0);
+}
+
+TEST(ViewerServer, RefusesPagesOverTheLimit) {
+  FakeSource source;
+  ViewerServer server(source, options(webRoot("viewer_server_limit"), 2));
+  Page a(server.port()), b(server.port());
+  ASSERT_TRUE(waitFor([&] { return server.counters().pages_accepted == 2; }));
+  Page c(server.port());
+  EXPECT_TRUE(waitFor([&] { return server.counters().pages_refused == 1; }));
+  EXPECT_TRUE(c.conn == nullptr || waitFor([&] { return c.closed.load(); }));
+  EXPECT_TRUE(waitFor([&] { return a.textCount() > 2 && b.textCount() > 2; }));
+}
+
+TEST(ViewerServer, BadPagesChangeNothingForTheOthers) {
+  FakeSource source;
+  ViewerServer server(source, options(webRoot("viewer_server_bad_pages")));
+  Page good(server.port());
+  ASSERT_NE(good.conn, nullptr);
+  {
+    // Oversized message: that page is closed.
+    Page noisy(server.port());
+    ASSERT_NE(noisy.conn, nullptr);
+    const std::string big(8192, 'x');
+    mg_websocket_client_write(noisy.conn, MG_WEBSOCKET_OPCODE_TEXT, big.data(), big.size());
+    EXPECT_TRUE(waitFor([&] { return noisy.closed.load(); }));
+    EXPECT_EQ(server.counters().pages_closed_for_input, 1);
+  }
+  // A page that completes the handshake and vanishes mid-stream.
+  for (int i = 0; i < 3; ++i)
+    rawExchange(server.port(),
+                "GET /ws HTTP/1.1\r\nHost: x\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+                "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n",
+                true);
+  // Garbage frames after a handshake.
+  rawExchange(server.port(),
+              "GET /ws HTTP/1.1\r\nHost: x\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+              "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n" +
+                  std::string("\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff garbage", 20));
+  EXPECT_TRUE(waitFor([&] { return server.counters().pages_connected == 1; }))
+      << server.counters().pages_connected;
+  const int before = good.textCount();
+  EXPECT_TRUE(waitFor([&] { return good.textCount() > before + 3; }));
+  EXPECT_FALSE(good.closed.load());
+}
+
+TEST(ViewerServer, AddressParsingAndBindErrors) {
+  ViewerOptions o;
+  parseServeAddress("9000", o);
+  EXPECT_EQ(o.address, "127.0.0.1");
+  EXPECT_EQ(o.port, 9000);
+  parseServeAddress("0.0.0.0:8081", o);
+  EXPECT_EQ(o.address, "0.0.0.0");
+  EXPECT_EQ(o.port, 8081);
+  for (const char* bad : {"", "abc", "70000", "host:", ":80", "1.2.3.4:8x", "a b:80"})
+    EXPECT_THROW(parseServeAddress(bad, o), ConfigError) << bad;
+  FakeSource source;
+  ViewerServer first(source, options(webRoot("viewer_server_bind")));
+  ViewerOptions same = options(webRoot("viewer_server_bind2"));
+  same.port = first.port();
+  EXPECT_THROW(ViewerServer(source, same), ConfigError);
+}
+
+}  // namespace
+}  // namespace ldsm::viewer
