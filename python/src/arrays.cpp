@@ -66,8 +66,8 @@ py::array_t<double> mapPointsToArray(const std::vector<MapPoint>& points) {
 }
 
 py::array_t<std::uint8_t> imageToArray(ImageView<const std::uint8_t> image) {
-  py::array_t<std::uint8_t> out({static_cast<py::ssize_t>(image.height),
-                                 static_cast<py::ssize_t>(image.width)});
+  py::array_t<std::uint8_t> out(
+      {static_cast<py::ssize_t>(image.height), static_cast<py::ssize_t>(image.width)});
   auto a = out.mutable_unchecked<2>();
   for (int y = 0; y < image.height; ++y)
     for (int x = 0; x < image.width; ++x) a(y, x) = image(x, y);
@@ -82,7 +82,7 @@ ImageView<const std::uint8_t> arrayToImage(const py::handle& frame, py::object& 
   std::string shape;
   for (py::ssize_t i = 0; i < arr.ndim(); ++i)
     shape += (i ? ", " : "") + std::to_string(arr.shape(i));
-  if (!arr.dtype().is(py::dtype::of<std::uint8_t>()) || arr.ndim() != 2)
+  if (arr.dtype().kind() != 'u' || arr.itemsize() != 1 || arr.ndim() != 2)
     throw InputError("frame must be a numpy uint8 array of shape (H, W), got " +
                      std::string(py::str(arr.dtype())) + " of shape (" + shape + ")");
   if (arr.shape(0) == 0 || arr.shape(1) == 0) throw InputError("frame is empty (" + shape + ")");

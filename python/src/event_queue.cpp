@@ -109,6 +109,8 @@ std::size_t EventQueue::dropped() const {
   return dropped_;
 }
 
-py::dict eventToDict(const AnyEvent& event) { return std::visit(ToDict{}, event); }
+py::dict eventToDict(const AnyEvent& event) {
+  return std::visit(ToDict{}, event);
+}
 
 }  // namespace ldsm::python

@@ -13,8 +13,7 @@ namespace ldsm::python {
 void bindCalibration(py::module_& m) {
   py::class_<GeometricCalibration>(m, "Calibration", "A camera's geometric calibration")
       .def_property_readonly("width", [](const GeometricCalibration& c) { return c.input.width; })
-      .def_property_readonly("height",
-                             [](const GeometricCalibration& c) { return c.input.height; })
+      .def_property_readonly("height", [](const GeometricCalibration& c) { return c.input.height; })
       .def_property_readonly("fx", [](const GeometricCalibration& c) { return c.input.fx; })
       .def_property_readonly("fy", [](const GeometricCalibration& c) { return c.input.fy; })
       .def_property_readonly("cx", [](const GeometricCalibration& c) { return c.input.cx; })
@@ -45,8 +44,8 @@ void bindCalibration(py::module_& m) {
       [](const std::string& pcalib, const std::string& vignette, int width, int height) {
         return calib::loadPhotometricCalibration(pcalib, vignette, width, height);
       },
-      py::arg("pcalib") = "", py::arg("vignette") = "", py::arg("width") = 0,
-      py::arg("height") = 0, "Reads pcalib.txt and/or a vignette image (empty path: not known)");
+      py::arg("pcalib") = "", py::arg("vignette") = "", py::arg("width") = 0, py::arg("height") = 0,
+      "Reads pcalib.txt and/or a vignette image (empty path: not known)");
 }
 
 }  // namespace ldsm::python

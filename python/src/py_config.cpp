@@ -56,8 +56,9 @@ void bindConfig(py::module_& m) {
       .def(py::init([](const py::object& value) { return toConfig(value); }),
            py::arg("value") = py::none(),
            "Defaults, or from a dict of sections, a YAML file path or another Config.")
-      .def_static("from_yaml", [](const std::string& path) { return drivers::loadConfigYaml(path); },
-                  py::arg("path"))
+      .def_static(
+          "from_yaml", [](const std::string& path) { return drivers::loadConfigYaml(path); },
+          py::arg("path"))
       .def_static(
           "from_yaml_text",
           [](const std::string& text) { return drivers::parseConfigYaml(text, "YAML text"); },

@@ -5,6 +5,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 
@@ -71,17 +72,20 @@ void bindDataset(py::module_& m) {
       .def_readonly("exposure_ms", &PyFrame::exposure_ms, "milliseconds, None when unknown")
       .def_readonly("image", &PyFrame::image, "(H, W) uint8");
   py::class_<FrameIterator>(m, "FrameIterator")
-      .def("__iter__", [](FrameIterator& it) -> FrameIterator& { return it; })
+      .def(
+          "__iter__", [](FrameIterator& it) -> FrameIterator& { return it; },
+          py::return_value_policy::reference_internal)
       .def("__next__", &FrameIterator::next);
   py::class_<PyDataset>(m, "Dataset", "A recorded sequence (TUM-Mono, EuRoC, KITTI, ...)")
       .def("__iter__", [](const PyDataset& d) { return FrameIterator(d.description()); })
-      .def("__len__",
-           [](const PyDataset& d) {
-             return static_cast<std::size_t>(std::max<std::int64_t>(d.description().frame_count, 0));
-           })
+      .def(
+          "__len__",
+          [](const PyDataset& d) {
+            return static_cast<std::size_t>(std::max<std::int64_t>(d.description().frame_count, 0));
+          })
       .def_property_readonly("path", [](const PyDataset& d) { return d.description().root; })
-      .def_property_readonly(
-          "format", [](const PyDataset& d) { return toString(d.description().format); })
+      .def_property_readonly("format",
+                             [](const PyDataset& d) { return toString(d.description().format); })
       .def_property_readonly("width", [](const PyDataset& d) { return d.description().width; })
       .def_property_readonly("height", [](const PyDataset& d) { return d.description().height; })
       .def_property_readonly(

@@ -25,19 +25,19 @@ void bindEvaluation(py::module_& m) {
           r = eval::computeAte(g, e, align == "sim3" ? eval::AlignMode::Sim3 : eval::AlignMode::SE3,
                                max_dt);
         }
-        return py::dict(py::arg("rmse") = r.rmse, py::arg("mean") = r.mean,
-                        py::arg("median") = r.median, py::arg("max") = r.max,
-                        py::arg("rotation_rmse_deg") = r.rotation_rmse_deg,
-                        py::arg("matched") = r.matched, py::arg("gt_path_length") = r.gt_path_length,
-                        py::arg("scale") = r.sim3_scale,
-                        py::arg("aligned_estimate") = trajectoryToArray(r.aligned_estimate));
+        return py::dict(
+            py::arg("rmse") = r.rmse, py::arg("mean") = r.mean, py::arg("median") = r.median,
+            py::arg("max") = r.max, py::arg("rotation_rmse_deg") = r.rotation_rmse_deg,
+            py::arg("matched") = r.matched, py::arg("gt_path_length") = r.gt_path_length,
+            py::arg("scale") = r.sim3_scale,
+            py::arg("aligned_estimate") = trajectoryToArray(r.aligned_estimate));
       },
       py::arg("gt"), py::arg("est"), py::arg("align") = "sim3", py::arg("max_dt") = 0.02,
       "Absolute trajectory error after aligning est to gt (align: sim3 or se3)");
   m.def(
       "rpe",
-      [](const py::handle& gt, const py::handle& est, std::vector<double> lengths,
-         std::size_t step, double scale, double max_dt) {
+      [](const py::handle& gt, const py::handle& est, std::vector<double> lengths, std::size_t step,
+         double scale, double max_dt) {
         const Trajectory g = arrayToTrajectory(gt, "rpe: gt");
         const Trajectory e = arrayToTrajectory(est, "rpe: est");
         eval::RpeOptions o;
@@ -52,8 +52,7 @@ void bindEvaluation(py::module_& m) {
         }
         py::list per_length;
         for (const eval::RpeLengthStats& s : r.per_length)
-          per_length.append(py::dict(py::arg("length") = s.length,
-                                     py::arg("segments") = s.segments,
+          per_length.append(py::dict(py::arg("length") = s.length, py::arg("segments") = s.segments,
                                      py::arg("translation_percent") = s.translation_percent,
                                      py::arg("rotation_deg_per_m") = s.rotation_deg_per_m));
         return py::dict(py::arg("segments") = r.segments,

@@ -116,7 +116,8 @@ void bindSystem(py::module_& m) {
       .def("finish", &PySystem::finish,
            "Waits until every submitted frame is processed and the last optimisation is done.")
       .def(
-          "trajectory", [](const PySystem& s) { return trajectoryToArray(s.system().trajectory()); },
+          "trajectory",
+          [](const PySystem& s) { return trajectoryToArray(s.system().trajectory()); },
           "(N, 8) float64 array: t tx ty tz qx qy qz qw per tracked frame (camera-to-world)")
       .def(
           "keyframe_trajectory",
@@ -149,7 +150,8 @@ void bindSystem(py::module_& m) {
           },
           "The ideal pinhole the engine works in")
       .def(
-          "on_event", [](PySystem& s, const py::object& callback) {
+          "on_event",
+          [](PySystem& s, const py::object& callback) {
             if (!callback.is_none() && !PyCallable_Check(callback.ptr()))
               throw InputError("on_event: the callback must be callable or None");
             s.callback_ = callback;

@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cstring>
@@ -96,9 +97,7 @@ struct Page {
     if ((bits & 0x0f) == MG_WEBSOCKET_OPCODE_TEXT) ++p->texts;
     return 1;
   }
-  static void onClose(const mg_connection*, void* self) {
-    static_cast<Page*>(self)->closed = true;
-  }
+  static void onClose(const mg_connection*, void* self) { static_cast<Page*>(self)->closed = true; }
   /// (from, count, total) of the trajectory messages received so far.
   std::vector<std::array<std::uint32_t, 3>> trajectoryMessages() {
     std::lock_guard<std::mutex> lock(mutex);
@@ -205,7 +204,7 @@ TEST(ViewerServer, BadPagesChangeNothingForTheOthers) {
   rawExchange(server.port(),
               "GET /ws HTTP/1.1\r\nHost: x\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
               "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n" +
-                  std::string("\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff garbage", 20));
+                  std::string("\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff garbage", 18));
   EXPECT_TRUE(waitFor([&] { return server.counters().pages_connected == 1; }))
       << server.counters().pages_connected;
   const int before = good.textCount();
@@ -227,7 +226,7 @@ TEST(ViewerServer, AddressParsingAndBindErrors) {
   ViewerServer first(source, options(webRoot("viewer_server_bind")));
   ViewerOptions same = options(webRoot("viewer_server_bind2"));
   same.port = first.port();
-  EXPECT_THROW(ViewerServer(source, same), ConfigError);
+  EXPECT_THROW((ViewerServer{source, same}), ConfigError);
 }
 
 }  // namespace

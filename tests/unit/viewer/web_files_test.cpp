@@ -37,9 +37,9 @@ TEST(WebFiles, ServesItsFilesByExactName) {
 TEST(WebFiles, NothingOutsideTheFolderIsFound) {
   const std::string dir = makeWebRoot("web_files_traversal");
   const WebFiles files(dir + "/web");
-  for (const char* p : {"/../secret.txt", "/three/../../secret.txt", "/%2e%2e/secret.txt",
-                        "//secret.txt", "/./index.html", "/.hidden", "/etc/passwd", "",
-                        "/three/", "/index.html/"})
+  for (const char* p :
+       {"/../secret.txt", "/three/../../secret.txt", "/%2e%2e/secret.txt", "//secret.txt",
+        "/./index.html", "/.hidden", "/etc/passwd", "", "/three/", "/index.html/"})
     EXPECT_EQ(files.find(p), nullptr) << p;
 }
 

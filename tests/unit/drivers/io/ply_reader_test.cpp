@@ -69,9 +69,10 @@ TEST(PlyReader, MalformedFilesAreErrorsNamingTheFile) {
       "ply\nformat binary_little_endian 1.0\nelement vertex 1000000000\nproperty float x\n"
       "property float y\nproperty float z\nend_header\nabc",
       "shorter than");
-  expectError("ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
-              "property float z\nend_header\n1 2 3\n4 5 x\n",
-              "vertex 1 of 2");
+  expectError(
+      "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
+      "property float z\nend_header\n1 2 3\n4 5 x\n",
+      "vertex 1 of 2");
   EXPECT_THROW(readPly(dir + "/missing.ply"), InputError);
 }
 
