@@ -70,6 +70,12 @@ class PySystem {
   std::unique_ptr<System> system_;
 };
 
+py::dict timingToDict(const StageTiming& t) {
+  return py::dict(py::arg("count") = t.count, py::arg("mean_ms") = t.mean_ms,
+                  py::arg("p50_ms") = t.p50_ms, py::arg("p99_ms") = t.p99_ms,
+                  py::arg("max_ms") = t.max_ms);
+}
+
 py::dict statsToDict(const SystemStats& s) {
   py::dict d;
   d["frames"] = s.frames;
@@ -85,14 +91,8 @@ py::dict statsToDict(const SystemStats& s) {
   d["map_bytes"] = s.map.bytes;
   d["reactivations"] = s.reuse.reactivations;
   py::dict stages, latency;
-  for (const StageTiming& t : s.stages)
-    stages[t.stage.c_str()] = py::dict(py::arg("count") = t.count, py::arg("mean_ms") = t.mean_ms,
-                                       py::arg("p50_ms") = t.p50_ms, py::arg("p99_ms") = t.p99_ms,
-                                       py::arg("max_ms") = t.max_ms);
-  for (const StageTiming& t : s.latency)
-    latency[t.stage.c_str()] = py::dict(py::arg("count") = t.count, py::arg("mean_ms") = t.mean_ms,
-                                        py::arg("p50_ms") = t.p50_ms, py::arg("p99_ms") = t.p99_ms,
-                                        py::arg("max_ms") = t.max_ms);
+  for (const StageTiming& t : s.stages) stages[t.stage.c_str()] = timingToDict(t);
+  for (const StageTiming& t : s.latency) latency[t.stage.c_str()] = timingToDict(t);
   d["stages"] = stages;
   d["latency"] = latency;
   return d;
