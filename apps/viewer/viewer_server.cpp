@@ -8,6 +8,7 @@
 #include <cerrno>
 #include <cstdlib>
 #include <mutex>
+#include <utility>
 #include <vector>
 
 #include "ldsm/error.h"
@@ -107,7 +108,7 @@ struct ViewerServer::Impl {
     mg_set_user_connection_data(conn, channel.get());
     {
       std::lock_guard<std::mutex> lock(self->channels_mutex);
-      self->channels.push_back(channel);
+      self->channels.emplace_back(conn, channel);
     }
     self->accepted.fetch_add(1);
     self->publisher.add(channel);
@@ -136,8 +137,8 @@ struct ViewerServer::Impl {
       {
         std::lock_guard<std::mutex> lock(self->channels_mutex);
         for (auto it = self->channels.begin(); it != self->channels.end(); ++it)
-          if (it->get() == channel) {
-            owned = *it;
+          if (it->second.get() == channel) {
+            owned = it->second;
             self->channels.erase(it);
             break;
           }
@@ -154,7 +155,7 @@ struct ViewerServer::Impl {
   mg_context* ctx = nullptr;
   int bound_port = 0;
   std::mutex channels_mutex;
-  std::vector<std::shared_ptr<ClientChannel>> channels;
+  std::vector<std::pair<mg_connection*, std::shared_ptr<ClientChannel>>> channels;
   std::atomic<int> admitted{0};
   std::atomic<std::int64_t> accepted{0}, refused{0}, closed_for_input{0};
 };
@@ -202,6 +203,13 @@ ViewerServer::ViewerServer(SnapshotSource& source, const ViewerOptions& options)
 
 ViewerServer::~ViewerServer() {
   impl_->publisher.stop();
+  {
+    // Pages are told to close (civetweb would otherwise wait up to 10 s for their next read to
+    // time out); held under the lock, no connection can go away meanwhile.
+    std::lock_guard<std::mutex> lock(impl_->channels_mutex);
+    for (const auto& entry : impl_->channels)
+      mg_websocket_write(entry.first, MG_WEBSOCKET_OPCODE_CONNECTION_CLOSE, "", 0);
+  }
   mg_stop(impl_->ctx);  // closes every page (their close handlers stop their channels)
   releaseLibrary();
 }
