@@ -166,13 +166,30 @@ class LdsmScene {
     if (this.lastFollowed === null) {
       this.controls.target.copy(p);
       const back = Math.max(this.frustumSize * 40, 1.0);
-      this.camera.position.set(p.x - back * 0.2, p.y + back * 0.8, p.z - back);
+      // Behind and above the camera (its forward axis is -z in the scene).
+      this.camera.position.set(p.x - back * 0.2, p.y + back * 0.8, p.z + back);
     } else {
       const delta = p.clone().sub(this.lastFollowed);
       this.controls.target.add(delta);
       this.camera.position.add(delta);
     }
     this.lastFollowed = p;
+  }
+
+  // Shows the whole trajectory from above and behind its start.
+  fitAll(stream) {
+    const n = stream.length;
+    if (n === 0) return;
+    const box = new THREE.Box3();
+    for (let i = 0; i < n; ++i)
+      box.expandByPoint(new THREE.Vector3(stream.data[7 * i], stream.data[7 * i + 1],
+        stream.data[7 * i + 2]));
+    box.applyMatrix4(this.root.matrixWorld);
+    const centre = box.getCenter(new THREE.Vector3());
+    const r = Math.max(box.getSize(new THREE.Vector3()).length() / 2, 0.5);
+    this.controls.target.copy(centre);
+    this.camera.position.set(centre.x + 0.3 * r, centre.y + 1.6 * r, centre.z + 1.4 * r);
+    this.lastFollowed = null;
   }
 
   updatePoints(stream) {

@@ -19,6 +19,7 @@
   let dirty = { trajectory: false, keyframes: false, points: false };
   let figures = null;
   let pendingImage = null;
+  let fitPending = false;  // the run is over: show all of it once
 
   document.getElementById('follow').addEventListener('change', (e) => {
     scene.follow = e.target.checked;
@@ -46,6 +47,7 @@
     let f;
     try { f = JSON.parse(text); } catch (e) { ++counts.rejected; return; }
     if (f.type !== 'figures') return;
+    if (f.finished && !counts.finished) fitPending = true;
     figures = f;
     ++counts.figures;
     counts.frames = f.frames;
@@ -84,6 +86,13 @@
       scene.updateLoops(kfs, figures ? figures.loop_edges : []);
     }
     if (dirty.points) scene.updatePoints(pts);
+    if (fitPending && traj.length > 0) {
+      scene.root.updateMatrixWorld();
+      scene.fitAll(traj);
+      scene.follow = false;
+      document.getElementById('follow').checked = false;
+      fitPending = false;
+    }
     if (figures) {
       scene.updateCurrent(figures.current);
       panel.showFigures(figures, counts);
