@@ -4,6 +4,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <filesystem>
+#include <fstream>
 
 #include "ldsm/drivers/ply_reader.h"
 #include "ldsm/drivers/trajectory_io.h"
@@ -22,6 +23,19 @@ T number(const YAML::Node& node, const char* key, T fallback) {
   } catch (const YAML::Exception&) {
     return fallback;
   }
+}
+
+/// A trajectory file of a run; a run without poses writes only the header: no poses, no error.
+Trajectory readRunTrajectory(const fs::path& path) {
+  std::ifstream in(path);
+  std::string line;
+  bool data = false;
+  while (!data && std::getline(in, line)) {
+    const auto first = line.find_first_not_of(" \t\r");
+    data = first != std::string::npos && line[first] != '#';
+  }
+  if (!data) return {};
+  return drivers::readTrajectory(path.string(), drivers::TrajectoryFormat::Tum);
 }
 
 void readStats(const std::string& path, ViewerSnapshot& s) {
@@ -81,8 +95,7 @@ RunFolderSource::RunFolderSource(const std::string& dir) {
   };
   ViewerSnapshot& s = snapshot_;
   if (present("trajectory.txt")) {
-    const Trajectory t =
-        drivers::readTrajectory((base / "trajectory.txt").string(), drivers::TrajectoryFormat::Tum);
+    const Trajectory t = readRunTrajectory(base / "trajectory.txt");
     for (const StampedPose& p : t) appendPose(p.pose, s.trajectory);
     if (!t.empty()) {
       std::vector<float> last;
@@ -92,8 +105,7 @@ RunFolderSource::RunFolderSource(const std::string& dir) {
     }
   }
   if (present("keyframes.txt")) {
-    const Trajectory k =
-        drivers::readTrajectory((base / "keyframes.txt").string(), drivers::TrajectoryFormat::Tum);
+    const Trajectory k = readRunTrajectory(base / "keyframes.txt");
     for (const StampedPose& p : k) appendPose(p.pose, s.keyframes);
   }
   if (present("points.ply")) {
