@@ -61,27 +61,29 @@ struct ViewerServer::Impl {
   Impl(SnapshotSource& source, const ViewerOptions& o)
       : options(o), files(findWebRoot(o.web_root)), publisher(source, o.publisher) {}
 
+  /// A complete response. (Not mg_send_http_error: Debian's civetweb 1.15 crashed in it on a
+  /// browser's favicon request.)
+  static int respond(mg_connection* conn, int status, const char* reason, const char* type,
+                     const std::string& body, bool with_body) {
+    mg_printf(conn,
+              "HTTP/1.1 %d %s\r\nContent-Type: %s\r\nContent-Length: %zu\r\n"
+              "Cache-Control: no-cache\r\nX-Content-Type-Options: nosniff\r\n"
+              "Connection: close\r\n\r\n",
+              status, reason, type, body.size());
+    if (with_body) mg_write(conn, body.data(), body.size());
+    return status;
+  }
+
   static int onHttp(mg_connection* conn, void* data) {
     auto* self = static_cast<Impl*>(data);
     const mg_request_info* ri = mg_get_request_info(conn);
     const std::string method = ri->request_method ? ri->request_method : "";
-    if (method != "GET" && method != "HEAD") {
-      mg_send_http_error(conn, 405, "%s", "only GET and HEAD");
-      return 405;
-    }
+    if (method != "GET" && method != "HEAD")
+      return respond(conn, 405, "Method Not Allowed", "text/plain", "only GET and HEAD\n", true);
     const std::string path = ri->local_uri_raw ? ri->local_uri_raw : "";
     const WebFile* f = self->files.find(path);
-    if (f == nullptr) {
-      mg_send_http_error(conn, 404, "%s", "not found");
-      return 404;
-    }
-    mg_printf(conn,
-              "HTTP/1.1 200 OK\r\nContent-Type: %s\r\nContent-Length: %zu\r\n"
-              "Cache-Control: no-cache\r\nX-Content-Type-Options: nosniff\r\n"
-              "Connection: close\r\n\r\n",
-              f->content_type.c_str(), f->body.size());
-    if (method == "GET") mg_write(conn, f->body.data(), f->body.size());
-    return 200;
+    if (f == nullptr) return respond(conn, 404, "Not Found", "text/plain", "not found\n", true);
+    return respond(conn, 200, "OK", f->content_type.c_str(), f->body, method == "GET");
   }
 
   static int onWsConnect(const mg_connection*, void* data) {

@@ -7,7 +7,7 @@ import numpy as np
 import ldsm
 from conftest import ldsm_exe
 
-FRAMES = 120
+FRAMES = 60  # the whole `short` scene
 
 
 def test_python_matches_the_cli(scene, scratch):
@@ -35,7 +35,7 @@ def test_python_matches_the_cli(scene, scratch):
     assert (scratch / "python_trajectory.txt").read_bytes() == (out / "trajectory.txt").read_bytes()
     # And read back the same way (the reader renormalises quaternions): the same numbers.
     back = ldsm.read_trajectory(str(scratch / "python_trajectory.txt"))
-    assert back.shape == cli.shape and back.shape[0] > 30
+    assert back.shape == cli.shape and back.shape[0] > 20
     assert np.array_equal(back, cli)
     assert np.abs(py - cli).max() < 1e-12
     kinds = [e["type"] for e in events]

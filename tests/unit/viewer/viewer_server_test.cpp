@@ -145,6 +145,13 @@ TEST(ViewerServer, ServesOnlyItsOwnFiles) {
     EXPECT_EQ(r.find("secret"), std::string::npos) << path << ": " << r;
     EXPECT_EQ(r.find("200 OK"), std::string::npos) << path << ": " << r;
   }
+  // A browser's favicon request (civetweb's own error page crashed on it).
+  const std::string favicon = rawExchange(
+      server.port(),
+      "GET /favicon.ico HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: keep-alive\r\n"
+      "User-Agent: Mozilla/5.0 HeadlessChrome\r\nAccept: image/avif,image/webp,*/*\r\n"
+      "Referer: http://127.0.0.1/\r\nAccept-Encoding: gzip, deflate\r\n\r\n");
+  EXPECT_NE(favicon.find("404"), std::string::npos) << favicon;
   const std::string post = rawExchange(server.port(), "POST / HTTP/1.1\r\nHost: x\r\n\r\n");
   EXPECT_NE(post.find("405"), std::string::npos) << post;
   // Garbage and a huge header are refused; the server still serves afterwards.
