@@ -56,7 +56,7 @@ def trajectory_pixels(png):
     except ImportError:
         return None
     import numpy as np
-    img = matplotlib.image.imread(png)[:, :, :3]
+    img = matplotlib.image.imread(png)[:, :-380, :3]  # the 3D view, not the panel's legend
     target = np.array([0x4F, 0xC3, 0xF7]) / 255.0
     return int((np.abs(img - target).max(axis=2) < 0.12).sum())
 
@@ -81,12 +81,13 @@ def test_live_run_and_finished_run_in_the_browser(browser, scene, scratch):
                              "--no-eval"])
     try:
         counts = wait_for_counts(browser, url, lambda c: c["poses"] >= 10 and c["points"] >= 100
-                                 and c["images"] > 0)
+                                 and c["images"] > 0 and c["drawn"] > 0)
         time.sleep(1.0)  # a few more frames drawn
         browser.screenshot(str(shot_dir / "live.png"))
-        assert counts["rejected"] == 0, counts
+        assert counts["rejected"] == 0 and counts["errors"] == 0, counts
         # The run is not disturbed by the page: it finishes, then serves until SIGINT.
         wait_for_counts(browser, url, lambda c: c["finished"], limit=120)
+        time.sleep(1.0)  # drawn again, the whole run in view
         browser.screenshot(str(shot_dir / "finished.png"))
     finally:
         run.send_signal(signal.SIGINT)
@@ -100,9 +101,11 @@ def test_live_run_and_finished_run_in_the_browser(browser, scene, scratch):
                               "--seconds", "120"])
     try:
         counts = wait_for_counts(browser, url, lambda c: c["poses"] >= 10 and c["points"] > 100
-                                 and c["keyframes"] >= 2)
+                                 and c["keyframes"] >= 2 and c["drawn"] > 0)
         browser.screenshot(str(shot_dir / "view.png"))
-        assert counts["finished"]
+        assert counts["finished"] and counts["errors"] == 0, counts
+        pixels = trajectory_pixels(str(shot_dir / "view.png"))
+        assert pixels is None or pixels > 50, f"{pixels} trajectory pixels in the screenshot"
     finally:
         view.send_signal(signal.SIGINT)
         view.communicate(timeout=30)

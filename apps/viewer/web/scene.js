@@ -50,7 +50,7 @@ class LdsmScene {
   // the geometry was replaced.
   reserve(object, n) {
     const u = object.userData;
-    if (n <= u.capacity) return false;
+    if (n <= u.capacity && u.capacity > 0) return false;
     let cap = Math.max(u.capacity, 256);
     while (cap < n) cap *= 2;
     const g = new THREE.BufferGeometry();

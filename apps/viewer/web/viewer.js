@@ -12,7 +12,7 @@
     [P.KIND_POINTS]: new P.Stream(4),
   };
   const counts = { poses: 0, keyframes: 0, points: 0, images: 0, figures: 0, messages: 0,
-    rejected: 0, frames: 0, finished: false, connected: false };
+    rejected: 0, frames: 0, finished: false, connected: false, drawn: 0, errors: 0 };
   window.ldsmViewer = { counts };
   const scene = new LdsmScene(document.getElementById('view'));
   const panel = new LdsmPanel();
@@ -52,6 +52,7 @@
     ++counts.figures;
     counts.frames = f.frames;
     counts.finished = f.finished;
+    if (f.finished) panel.setConnection('done');
     dirty.keyframes = true;  // reactivated keyframes and loop edges may have changed
   }
 
@@ -78,6 +79,16 @@
   }
 
   function frame() {
+    try {
+      draw();
+    } catch (e) {
+      ++counts.errors;  // the test reads it; the page keeps going
+      console.error(e);
+    }
+    requestAnimationFrame(frame);
+  }
+
+  function draw() {
     const traj = streams[P.KIND_TRAJECTORY], kfs = streams[P.KIND_KEYFRAMES];
     const pts = streams[P.KIND_POINTS];
     if (dirty.trajectory) scene.updateTrajectory(traj);
@@ -101,7 +112,7 @@
     if (pendingImage) { panel.showImage(pendingImage); pendingImage = null; }
     dirty = { trajectory: false, keyframes: false, points: false };
     scene.render();
-    requestAnimationFrame(frame);
+    if (traj.length > 0) ++counts.drawn;
   }
 
   connect();
