@@ -17,8 +17,8 @@ report() {  # name stats.json
   python3 - "$1" "$2" <<'PY'
 import json, sys
 s = json.load(open(sys.argv[2]))
-lat = {t["stage"]: t for t in s["pipeline"]["latency"]}["submit_to_tracked"]
-track = {t["stage"]: t for t in s["stages"]}["track"]
+lat = s["pipeline"]["latency"]["submit_to_tracked"]
+track = s["stages"]["track"]
 print(f"{sys.argv[1]:<22} submit->tracked mean {lat['mean_ms']:6.1f} p50 {lat['p50_ms']:6.1f} "
       f"p99 {lat['p99_ms']:6.1f} ms | track p99 {track['p99_ms']:6.1f} ms | "
       f"dropped {s['pipeline']['dropped_frames']} of {s['pipeline']['submitted_frames']}")

@@ -55,12 +55,11 @@ void readStats(const std::string& path, ViewerSnapshot& s) {
   f.rss_mb = number<double>(root, "peak_rss_mb", 0.0);
   if (const YAML::Node p = root["pipeline"]; p && p.IsMap()) {
     f.dropped_frames = number<std::int64_t>(p, "dropped_frames", 0);
-    if (const YAML::Node lat = p["latency"]; lat && lat.IsSequence())
-      for (const YAML::Node& t : lat)
-        if (t.IsMap() && number<std::string>(t, "stage", "") == "submit_to_tracked") {
-          f.latency_mean_ms = number<double>(t, "mean_ms", 0.0);
-          f.latency_p99_ms = number<double>(t, "p99_ms", 0.0);
-        }
+    if (const YAML::Node lat = p["latency"]; lat && lat.IsMap())
+      if (const YAML::Node t = lat["submit_to_tracked"]; t && t.IsMap()) {
+        f.latency_mean_ms = number<double>(t, "mean_ms", 0.0);
+        f.latency_p99_ms = number<double>(t, "p99_ms", 0.0);
+      }
   }
   if (const YAML::Node r = root["reuse"]; r && r.IsMap())
     f.reactivations = number<std::int64_t>(r, "reactivations", 0);

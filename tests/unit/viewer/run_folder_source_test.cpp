@@ -21,8 +21,8 @@ TEST(RunFolderSource, ReadsTheRunOutputs) {
                     {{{100, 100, 100}}, {{255, 64, 0}}});
   std::ofstream(dir + "/stats.json")
       << R"({"tracking_status": "tracking", "frames": 12, "keyframes": 3,
-             "pipeline": {"dropped_frames": 2, "latency": [{"stage": "submit_to_tracked",
-             "mean_ms": 4.5, "p99_ms": 9.5}]}, "loops": [{"keyframe": 7, "matched_keyframe": 1}]})";
+             "pipeline": {"dropped_frames": 2, "latency": {"submit_to_tracked":
+             {"mean_ms": 4.5, "p99_ms": 9.5}}}, "loops": [{"keyframe": 7, "matched_keyframe": 1}]})";
   RunFolderSource source(dir);
   const ViewerSnapshot s = source.snapshot(true);
   ASSERT_EQ(s.trajectory.size(), 2u * kPoseStride);
