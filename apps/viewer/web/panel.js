@@ -31,9 +31,9 @@ class LdsmPanel {
       rgba.data[4 * i + 3] = 255;
     }
     ctx.putImageData(rgba, 0, 0);
-    ctx.fillStyle = '#66ff66';
+    ctx.fillStyle = 'rgba(102, 255, 102, 0.85)';
     for (let i = 0; i + 1 < image.points.length; i += 2)
-      ctx.fillRect(image.points[i] - 1, image.points[i + 1] - 1, 2, 2);
+      ctx.fillRect(image.points[i] - 0.75, image.points[i + 1] - 0.75, 1.5, 1.5);
   }
 
   showFigures(f, counts) {

@@ -33,7 +33,9 @@ class LdsmScene {
     this.points = this.makeLine(new THREE.Points(new THREE.BufferGeometry(),
       new THREE.PointsMaterial({ size: 2, sizeAttenuation: false,
         vertexColors: THREE.VertexColors })), 3, true);
-    window.addEventListener('resize', () => this.resize());
+    this.pendingDraw = true;
+    this.controls.addEventListener('change', () => { this.pendingDraw = true; });
+    window.addEventListener('resize', () => { this.resize(); this.pendingDraw = true; });
     this.resize();
   }
 
@@ -97,7 +99,7 @@ class LdsmScene {
         if (v > max[k]) max[k] = v;
       }
     const extent = Math.hypot(max[0] - min[0], max[1] - min[1], max[2] - min[2]);
-    this.frustumSize = Math.max(0.03 * extent, 1e-3);
+    this.frustumSize = Math.max(0.05 * extent, 1e-3);
   }
 
   // The 16 vertices (8 segments) of a camera frustum at pose p (7 floats at offset o).
@@ -123,7 +125,7 @@ class LdsmScene {
     const pos = g.attributes.position.array, col = g.attributes.color.array;
     const re = new Set(reactivated || []);
     for (let i = 0; i < n; ++i) {
-      this.frustumVertices(stream.data, 7 * i, this.frustumSize * 0.6, pos, 16 * i);
+      this.frustumVertices(stream.data, 7 * i, this.frustumSize * 0.5, pos, 16 * i);
       const rgb = re.has(i) ? [1.0, 0.70, 0.0] : [0.36, 0.42, 0.75];
       for (let k = 0; k < 16; ++k) col.set(rgb, 3 * (16 * i + k));
     }
@@ -186,9 +188,9 @@ class LdsmScene {
         stream.data[7 * i + 2]));
     box.applyMatrix4(this.root.matrixWorld);
     const centre = box.getCenter(new THREE.Vector3());
-    const r = Math.max(box.getSize(new THREE.Vector3()).length() / 2, 0.5);
+    const r = Math.max(box.getSize(new THREE.Vector3()).length() / 2, 1e-3);
     this.controls.target.copy(centre);
-    this.camera.position.set(centre.x + 0.3 * r, centre.y + 1.6 * r, centre.z + 1.4 * r);
+    this.camera.position.set(centre.x + 0.2 * r, centre.y + 1.1 * r, centre.z + 1.0 * r);
     this.lastFollowed = null;
   }
 
@@ -216,8 +218,13 @@ class LdsmScene {
     g.setDrawRange(0, n);
   }
 
-  render() {
-    this.controls.update();
+  // Draws when the data or the view changed (a page left open on the robot itself costs
+  // nothing between updates); `changed`: new data this frame.
+  render(changed) {
+    const moved = this.controls.update();
+    if (!changed && !moved && !this.pendingDraw) return false;
     this.renderer.render(this.scene, this.camera);
+    this.pendingDraw = false;
+    return true;
   }
 }

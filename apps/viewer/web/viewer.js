@@ -18,6 +18,7 @@
   const panel = new LdsmPanel();
   let dirty = { trajectory: false, keyframes: false, points: false };
   let figures = null;
+  let figuresNew = false;
   let pendingImage = null;
   let fitPending = false;  // the run is over: show all of it once
 
@@ -49,6 +50,7 @@
     if (f.type !== 'figures') return;
     if (f.finished && !counts.finished) fitPending = true;
     figures = f;
+    figuresNew = true;
     ++counts.figures;
     counts.frames = f.frames;
     counts.finished = f.finished;
@@ -97,22 +99,25 @@
       scene.updateLoops(kfs, figures ? figures.loop_edges : []);
     }
     if (dirty.points) scene.updatePoints(pts);
+    let fitted = false;
     if (fitPending && traj.length > 0) {
+      fitted = true;
       scene.root.updateMatrixWorld();
       scene.fitAll(traj);
       scene.follow = false;
       document.getElementById('follow').checked = false;
       fitPending = false;
     }
-    if (figures) {
-      scene.updateCurrent(figures.current);
+    if (figures) scene.updateCurrent(figures.current);
+    if (figuresNew) {
       panel.showFigures(figures, counts);
       document.title = `ldsm viewer · ${counts.poses} poses · ${counts.points} points`;
+      figuresNew = false;
     }
     if (pendingImage) { panel.showImage(pendingImage); pendingImage = null; }
+    const changed = dirty.trajectory || dirty.keyframes || dirty.points || fitted;
     dirty = { trajectory: false, keyframes: false, points: false };
-    scene.render();
-    if (traj.length > 0) ++counts.drawn;
+    if (scene.render(changed) && traj.length > 0) ++counts.drawn;
   }
 
   connect();

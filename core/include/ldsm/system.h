@@ -98,7 +98,7 @@ struct SystemStats {
 
 /// The newest tracked frame as the tracker saw it, for viewers: the rectified, photometrically
 /// corrected image at half resolution (pyramid level 1) and the pixels (at that resolution) where
-/// the reference keyframe's points fall with the frame's tracked pose.
+/// the reference keyframe's full-resolution points fall with the frame's tracked pose.
 struct TrackedImage {
   std::int64_t frame_index = -1;
   double timestamp = 0.0;

@@ -174,7 +174,11 @@ void TrackingStage::publishImage(const ImagePyramid& pyr, const FrameEvent& fram
       const float v = img(x, y);  // NaN -> 0
       *dst++ = static_cast<std::uint8_t>(v > 0.f ? (v < 255.f ? v + 0.5f : 255.f) : 0.f);
     }
-  tracker_.projectReferencePoints(level, T_c_w, out.points);
+  // The full-resolution reference points (the window's sparse points; coarser levels are filled
+  // in densely), in the half-resolution image's pixels.
+  tracker_.projectReferencePoints(0, T_c_w, out.points);
+  const float scale = static_cast<float>(img.width) / static_cast<float>(pyr.width(0));
+  for (Eigen::Vector2f& p : out.points) p *= scale;
   image_out_->publish(out);
 }
 
