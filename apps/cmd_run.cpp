@@ -11,6 +11,7 @@
 #include <memory>
 #include <optional>
 #include <sstream>
+#include <thread>
 
 #include "commands.h"
 #include "interrupt.h"
@@ -26,6 +27,7 @@
 #include "ldsm/eval/ate.h"
 #include "ldsm/system.h"
 #include "run_outputs.h"
+#include "viewer/run_viewer.h"
 #if defined(LDSM_HAVE_V4L2)
 #include "ldsm/drivers/v4l2_source.h"
 #endif
@@ -60,6 +62,10 @@ struct RunOptions {
   double gain = -1.0;
   bool lock_exposure = false;
   int timeout_ms = 2000;
+  // Browser viewer (docs/viewer.md).
+  std::string serve;  ///< "[ADDR:]PORT"; empty: no viewer
+  bool serve_wait = false;
+  std::string web_root;
 };
 
 /// Where the frames come from, with the calibration that goes with them.
@@ -204,7 +210,16 @@ int run(const RunOptions& o) {
   }
   System system(config, in.geometric, in.photometric);
   ProgressListener listener;
-  system.setListener(&listener);
+  // The viewer exists only with --serve: without it nothing of it is in the process.
+  std::unique_ptr<viewer::RunViewer> view;
+  if (!o.serve.empty()) {
+    const std::string mode = live_input                    ? "live"
+                             : config.system.deterministic ? "deterministic"
+                                                           : "offline";
+    view = std::make_unique<viewer::RunViewer>(system, o.serve, o.web_root, in.name, mode);
+    std::fprintf(stderr, "viewer: %s\n", view->url().c_str());
+  }
+  system.setListener(view ? view->listener(&listener) : &listener);
   spdlog::info("{}: {} frames, calibration {}, photometric {}", in.name,
                in.frame_count >= 0 ? std::to_string(in.frame_count) : "live", in.geometric_source,
                in.photometric_source);
@@ -269,6 +284,7 @@ int run(const RunOptions& o) {
   }
   if (tty) std::fputc('\n', stderr);
   system.finish();
+  if (view) view->finish();
   RunSummary summary;
   summary.dataset = in.name;
   summary.status = status;
@@ -316,6 +332,12 @@ int run(const RunOptions& o) {
                 o.out.c_str());
   else
     std::printf("outputs in %s incomplete: see the error above\n", o.out.c_str());
+  if (view && o.serve_wait && !InterruptHandler::requested()) {
+    std::fprintf(stderr, "viewer: %s still serving the final map; Ctrl-C stops\n",
+                 view->url().c_str());
+    while (!InterruptHandler::requested())
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
   // A camera runs until Ctrl-C: that is its normal end.
   const bool ok = status == "finished" || (!o.live.empty() && status == "stopped: interrupted");
   return ok && written ? 0 : 1;
@@ -373,6 +395,19 @@ void addRunCommand(CLI::App& app, CommandResult& result) {
   cmd->add_option("--timeout-ms", o->timeout_ms, "Longest wait for a camera frame")
       ->capture_default_str()
       ->group(cam);
+  const char* viewer = "Browser viewer (docs/viewer.md)";
+  auto* serve = cmd->add_option("--serve", o->serve,
+                                "Serve a live 3D view of the run at [ADDR:]PORT (default address "
+                                "127.0.0.1), e.g. --serve 8080")
+                    ->group(viewer);
+  cmd->add_flag("--serve-wait", o->serve_wait,
+                "After the run, keep serving the final map until Ctrl-C")
+      ->needs(serve)
+      ->group(viewer);
+  cmd->add_option("--web-root", o->web_root,
+                  "The viewer's page folder (default: share/ldsm/web beside the executable)")
+      ->needs(serve)
+      ->group(viewer);
   cmd->callback([o, &result]() { result.exit_code = run(*o); });
 }
 

@@ -14,6 +14,8 @@ PACKAGES=(
   libpng-dev libjpeg62-turbo-dev
   libv4l-dev libcamera-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  libcivetweb-dev libjs-three chromium
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib
 )
 
 SUDO=""

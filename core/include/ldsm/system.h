@@ -100,6 +100,18 @@ struct SystemStats {
   int mapping_backlog = 0;
 };
 
+/// The newest tracked frame as the tracker saw it, for viewers: the rectified, photometrically
+/// corrected image at half resolution (pyramid level 1) and the pixels (at that resolution) where
+/// the reference keyframe's full-resolution points fall with the frame's tracked pose.
+struct TrackedImage {
+  std::int64_t frame_index = -1;
+  double timestamp = 0.0;
+  int width = 0;
+  int height = 0;
+  std::vector<std::uint8_t> pixels;     ///< width * height grey values, row by row
+  std::vector<Eigen::Vector2f> points;  ///< tracked points inside the image
+};
+
 class System {
  public:
   /// Validates the configuration and the calibration (ConfigError / InputError naming the field).
@@ -130,6 +142,14 @@ class System {
   /// wait-free (a triple buffer written by the tracking thread): call it from one thread at a
   /// time, e.g. the application's control loop.
   std::optional<StampedPose> latestPose() const;
+  /// From now on the tracking publishes each tracked frame's image (half resolution) and tracked
+  /// points for latestTrackedImage(): one image copy per frame, nothing allocated after the
+  /// first. Off by default. Call it before the first submit().
+  void publishTrackedImages();
+  /// The newest tracked image with its tracked points, or nothing before the first tracked frame
+  /// or without publishTrackedImages(). Lock-free like latestPose() (a triple buffer
+  /// the tracking thread writes without allocating): call it from one thread at a time.
+  std::optional<TrackedImage> latestTrackedImage() const;
   /// The final estimate of every processed frame that has a pose (camera-to-world, TUM order).
   Trajectory trajectory() const;
   /// The keyframes' poses (final estimates).

@@ -37,6 +37,26 @@ void FrameTracker::adoptReference(std::unique_ptr<CoarseTracker>& prepared, int 
   first_rmse_ = -1.0;
 }
 
+void FrameTracker::projectReferencePoints(int level, const SE3d& T_c_w,
+                                          std::vector<Eigen::Vector2f>& out) const {
+  out.clear();
+  if (!has_reference_ || level < 0 || level >= tracker_->levels()) return;
+  const LevelPoints& pts = tracker_->depthMaps().points(level);
+  const LevelCamera& cam = camera_[level];
+  const SE3d T = T_c_w * T_ref_w_.inverse();
+  const Eigen::Matrix3f R = T.rotationMatrix().cast<float>();
+  const Eigen::Vector3f t = T.translation().cast<float>();
+  for (int i = 0; i < pts.count; ++i) {
+    if (pts.idepth[i] <= 0.f) continue;
+    const Eigen::Vector3f p = R * (cam.unproject(pts.x[i], pts.y[i]) / pts.idepth[i]) + t;
+    if (p.z() <= 1e-6f) continue;
+    const Eigen::Vector2f uv = cam.project(p);
+    if (uv.x() >= 0.f && uv.y() >= 0.f && uv.x() < static_cast<float>(cam.width) &&
+        uv.y() < static_cast<float>(cam.height))
+      out.push_back(uv);
+  }
+}
+
 void FrameTracker::resetMotion(const SE3d& T_c_w_last, const AffineLight& aff_last) {
   T_last_w_ = T_c_w_last;
   last_aff_ = aff_last;

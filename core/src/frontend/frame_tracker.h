@@ -57,6 +57,12 @@ class FrameTracker {
 
   FrameTrackingOutcome track(const ImagePyramid& frame, double exposure);
 
+  /// The pixels of `level` where the reference's points of that level fall for a frame at
+  /// world -> camera pose T_c_w (points behind the camera or outside the image left out).
+  /// Replaces `out`; allocates only when it grows beyond its capacity.
+  void projectReferencePoints(int level, const SE3d& T_c_w,
+                              std::vector<Eigen::Vector2f>& out) const;
+
   /// The motion history, to track a frame again (against a newer reference) as if the first
   /// attempt had not happened.
   struct MotionState {

@@ -119,6 +119,7 @@ struct System::Impl {
   int input_height;
   std::atomic<TrackingStatus> status{TrackingStatus::Initializing};
   mutable concurrency::LatestValue<StampedPose> latest_pose;
+  mutable concurrency::LatestValue<TrackedImage> tracked_image;
   StageTimer latency;
   std::unique_ptr<FrameWorker> input;  ///< never null; inline in deterministic mode
 };
@@ -182,6 +183,16 @@ std::optional<StampedPose> System::latestPose() const {
   StampedPose pose;
   if (!impl_->latest_pose.readLatest(pose)) return std::nullopt;
   return pose;
+}
+
+void System::publishTrackedImages() {
+  impl_->pipeline.tracking().setImageOutput(&impl_->tracked_image);
+}
+
+std::optional<TrackedImage> System::latestTrackedImage() const {
+  TrackedImage image;
+  if (!impl_->tracked_image.readLatest(image)) return std::nullopt;
+  return image;
 }
 
 Trajectory System::trajectory() const {

@@ -138,6 +138,7 @@ void TrackingStage::acceptTrackedFrame(std::unique_ptr<ImagePyramid> pyr, FrameE
   frame.has_pose = true;
   frame.pose = outcome.T_c_w.inverse().toPose();
   frame.residual_rmse = outcome.rmse;
+  if (image_out_ != nullptr) publishImage(*pyr, frame, outcome.T_c_w);
   frame.is_keyframe = outcome.wants_keyframe;
   MappingJob job;
   job.kind = outcome.wants_keyframe ? MappingJob::Kind::kKeyframe : MappingJob::Kind::kTrace;
@@ -149,6 +150,30 @@ void TrackingStage::acceptTrackedFrame(std::unique_ptr<ImagePyramid> pyr, FrameE
     store_.reserveFrames(kFrameHeadroom);
   }
   mapping_.submit(std::move(job));
+}
+
+void TrackingStage::publishImage(const ImagePyramid& pyr, const FrameEvent& frame,
+                                 const SE3d& T_c_w) {
+  const int level = std::min(1, pyr.levels() - 1);
+  const ImageView<const float> img = pyr.intensity(level);
+  TrackedImage& out = image_scratch_;
+  out.frame_index = frame.frame_index;
+  out.timestamp = frame.timestamp;
+  out.width = img.width;
+  out.height = img.height;
+  out.pixels.resize(static_cast<std::size_t>(img.width) * static_cast<std::size_t>(img.height));
+  std::uint8_t* dst = out.pixels.data();
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const float v = img(x, y);  // NaN -> 0
+      *dst++ = static_cast<std::uint8_t>(v > 0.f ? (v < 255.f ? v + 0.5f : 255.f) : 0.f);
+    }
+  // The full-resolution reference points (the window's sparse points; coarser levels are filled
+  // in densely), in the half-resolution image's pixels.
+  tracker_.projectReferencePoints(0, T_c_w, out.points);
+  const float scale = static_cast<float>(img.width) / static_cast<float>(pyr.width(0));
+  for (Eigen::Vector2f& p : out.points) p *= scale;
+  image_out_->publish(out);
 }
 
 void TrackingStage::adoptNewestReference() {

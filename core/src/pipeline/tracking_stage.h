@@ -14,12 +14,14 @@
 #include <memory>
 #include <string>
 
+#include "concurrency/latest_value.h"
 #include "frontend/coarse_initializer_settings.h"
 #include "frontend/frame_tracker.h"
 #include "frontend/initializer_hypotheses.h"
 #include "image/pyramid_pool.h"
 #include "ldsm/config.h"
 #include "ldsm/events.h"
+#include "ldsm/system.h"
 #include "map/map_store.h"
 #include "pipeline/event_sink.h"
 #include "pipeline/frame_preprocessor.h"
@@ -53,6 +55,10 @@ class TrackingStage {
   FrameEvent process(ImageView<const std::uint8_t> image, std::int64_t index, double timestamp,
                      double exposure);
 
+  /// Tracked frames' images (half resolution) and tracked points are published to `out` from now
+  /// on (null: not). Set before the first frame.
+  void setImageOutput(concurrency::LatestValue<TrackedImage>* out) { image_out_ = out; }
+
   TrackingStatus status() const { return status_; }
   std::int64_t initializations() const { return initializations_.load(std::memory_order_relaxed); }
   std::int64_t losses() const { return losses_.load(std::memory_order_relaxed); }
@@ -80,6 +86,7 @@ class TrackingStage {
   void acceptTrackedFrame(std::unique_ptr<ImagePyramid> pyr, FrameEvent& frame, double exposure,
                           const FrameTrackingOutcome& outcome);
   void resumeTracking(const FrameEvent& frame, int map_keyframe, const std::string& where);
+  void publishImage(const ImagePyramid& pyr, const FrameEvent& frame, const SE3d& T_c_w);
 
   FramePreprocessor& preprocessor_;
   PyramidPool& pyramids_;
@@ -108,6 +115,8 @@ class TrackingStage {
   bool window_kept_ = false;             ///< lost, but the window and its reference are still there
   FrameTracker::MotionState last_good_;  ///< the motion before the loss
   // Counted on the tracking thread, read by stats() on any thread.
+  concurrency::LatestValue<TrackedImage>* image_out_ = nullptr;
+  TrackedImage image_scratch_;  ///< reused: publishing allocates nothing after the first frame
   std::atomic<std::int64_t> relocalization_attempts_{0};
   std::atomic<std::int64_t> relocalizations_{0};
   std::atomic<std::int64_t> initializations_{0};

@@ -1,0 +1,169 @@
+// ldsm.System for Python: the engine with numpy frames in and numpy arrays out. The GIL is
+// released while the engine works (submit, finish); events reach the Python callback on the
+// caller's thread (event_queue.h).
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <optional>
+
+#include "arrays.h"
+#include "event_queue.h"
+#include "ldsm/error.h"
+#include "ldsm/system.h"
+#include "py_config.h"
+#include "py_modules.h"
+
+namespace ldsm::python {
+namespace {
+
+class PySystem {
+ public:
+  PySystem(const py::object& config, const GeometricCalibration& geometric,
+           const std::optional<PhotometricCalibration>& photometric)
+      : system_(std::make_unique<System>(toConfig(config), geometric,
+                                         photometric ? *photometric : PhotometricCalibration{})) {
+    system_->setListener(&events_);
+  }
+
+  void submit(const py::handle& frame, double timestamp, const py::object& exposure_ms) {
+    if (!system_) throw Error("System: finish() was called; make a new System");
+    py::object keep;
+    FrameView view;
+    view.image = arrayToImage(frame, keep);
+    view.timestamp = timestamp;
+    view.exposure_ms = exposure_ms.is_none() ? std::numeric_limits<double>::quiet_NaN()
+                                             : exposure_ms.cast<double>();
+    {
+      py::gil_scoped_release release;
+      system_->submit(view);
+    }
+    deliver();
+  }
+
+  void finish() {
+    if (system_) {
+      py::gil_scoped_release release;
+      system_->finish();
+    }
+    deliver();
+  }
+
+  void deliver() {
+    std::deque<AnyEvent> pending = events_.take();
+    if (callback_.is_none()) return;
+    for (const AnyEvent& e : pending) callback_(eventToDict(e));
+  }
+
+  const System& system() const {
+    if (!system_) throw Error("System is closed");
+    return *system_;
+  }
+
+  py::object callback_ = py::none();
+  EventQueue events_;
+
+ private:
+  std::unique_ptr<System> system_;
+};
+
+py::dict timingToDict(const StageTiming& t) {
+  return py::dict(py::arg("count") = t.count, py::arg("mean_ms") = t.mean_ms,
+                  py::arg("p50_ms") = t.p50_ms, py::arg("p99_ms") = t.p99_ms,
+                  py::arg("max_ms") = t.max_ms);
+}
+
+py::dict statsToDict(const SystemStats& s) {
+  py::dict d;
+  d["frames"] = s.frames;
+  d["tracked_frames"] = s.tracked_frames;
+  d["keyframes"] = s.keyframes;
+  d["initializations"] = s.initializations;
+  d["tracking_losses"] = s.tracking_losses;
+  d["rejected_frames"] = s.rejected_frames;
+  d["submitted_frames"] = s.submitted_frames;
+  d["dropped_frames"] = s.dropped_frames;
+  d["loops"] = s.loops.size();
+  d["map_points"] = s.map.points;
+  d["map_bytes"] = s.map.bytes;
+  d["reactivations"] = s.reuse.reactivations;
+  py::dict stages, latency;
+  for (const StageTiming& t : s.stages) stages[t.stage.c_str()] = timingToDict(t);
+  for (const StageTiming& t : s.latency) latency[t.stage.c_str()] = timingToDict(t);
+  d["stages"] = stages;
+  d["latency"] = latency;
+  return d;
+}
+
+}  // namespace
+
+void bindSystem(py::module_& m) {
+  py::class_<PySystem>(m, "System",
+                       "Monocular direct SLAM: submit 8-bit grey frames, read the trajectory and "
+                       "the map back as numpy arrays.")
+      .def(py::init<const py::object&, const GeometricCalibration&,
+                    const std::optional<PhotometricCalibration>&>(),
+           py::arg("config"), py::arg("calibration"), py::arg("photometric") = py::none(),
+           "config: None, an ldsm.Config, a dict of sections or a YAML path; calibration: from "
+           "ldsm.load_calibration() or a dataset's .calibration")
+      .def("submit", &PySystem::submit, py::arg("frame"), py::arg("timestamp"),
+           py::arg("exposure_ms") = py::none(),
+           "Processes (deterministic) or queues one (H, W) uint8 frame; timestamp in seconds, "
+           "increasing. Raises ldsm.InputError for a frame of the wrong type or size.")
+      .def("finish", &PySystem::finish,
+           "Waits until every submitted frame is processed and the last optimisation is done.")
+      .def(
+          "trajectory",
+          [](const PySystem& s) { return trajectoryToArray(s.system().trajectory()); },
+          "(N, 8) float64 array: t tx ty tz qx qy qz qw per tracked frame (camera-to-world)")
+      .def(
+          "keyframe_trajectory",
+          [](const PySystem& s) { return trajectoryToArray(s.system().keyframeTrajectory()); },
+          "(K, 8) float64 array of the keyframes' poses")
+      .def(
+          "map_points", [](const PySystem& s) { return mapPointsToArray(s.system().mapPoints()); },
+          "(P, 4) float64 array: x y z intensity per map point (world coordinates)")
+      .def(
+          "latest_pose",
+          [](PySystem& s) -> py::object {
+            const std::optional<StampedPose> p = s.system().latestPose();
+            if (!p) return py::none();
+            return trajectoryToArray({*p})[py::int_(0)];
+          },
+          "The newest tracked pose as (8,) t tx ty tz qx qy qz qw, or None")
+      .def(
+          "status", [](const PySystem& s) { return std::string(toString(s.system().status())); },
+          "\"initializing\", \"tracking\" or \"lost\"")
+      .def(
+          "stats", [](const PySystem& s) { return statsToDict(s.system().stats()); },
+          "Counts and timings as a dict")
+      .def(
+          "rectified_camera",
+          [](const PySystem& s) {
+            const PinholeIntrinsics k = s.system().rectifiedCamera();
+            return py::dict(py::arg("fx") = k.fx, py::arg("fy") = k.fy, py::arg("cx") = k.cx,
+                            py::arg("cy") = k.cy, py::arg("width") = k.width,
+                            py::arg("height") = k.height);
+          },
+          "The ideal pinhole the engine works in")
+      .def(
+          "on_event",
+          [](PySystem& s, const py::object& callback) {
+            if (!callback.is_none() && !PyCallable_Check(callback.ptr()))
+              throw InputError("on_event: the callback must be callable or None");
+            s.callback_ = callback;
+            s.events_.enable(!callback.is_none());
+          },
+          py::arg("callback"),
+          "callback(event: dict) for every event, called on this thread at the end of submit(), "
+          "finish() and poll_events() (None: no callback)")
+      .def("poll_events", &PySystem::deliver, "Hands waiting events to the callback now")
+      .def_property_readonly(
+          "dropped_events", [](const PySystem& s) { return s.events_.dropped(); },
+          "Events dropped because more than 100000 were waiting");
+}
+
+}  // namespace ldsm::python

@@ -1,0 +1,108 @@
+// The viewer's prefix deltas: where arrays differ, what a page is sent, in chunks, and the image
+// message's layout.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <limits>
+
+#include "stream_delta.h"
+#include "wire_format.h"
+
+namespace ldsm::viewer {
+namespace {
+
+std::uint32_t u32(const std::string& b, std::size_t at) {
+  std::uint32_t v;
+  std::memcpy(&v, b.data() + at, 4);
+  return v;
+}
+
+std::vector<float> poses(int n, float offset = 0.f) {
+  std::vector<float> v;
+  for (int i = 0; i < n * kPoseStride; ++i) v.push_back(static_cast<float>(i) + offset);
+  return v;
+}
+
+TEST(StreamDelta, FirstDifferenceIsPerElement) {
+  const std::vector<float> a = poses(5);
+  std::vector<float> b = a;
+  EXPECT_EQ(firstDifference(a, b, kPoseStride), 5u);
+  b[3 * kPoseStride + 6] += 1.f;  // last float of element 3
+  EXPECT_EQ(firstDifference(a, b, kPoseStride), 3u);
+  EXPECT_EQ(firstDifference(a, poses(2), kPoseStride), 2u);  // a prefix
+  EXPECT_EQ(firstDifference({}, a, kPoseStride), 0u);
+}
+
+TEST(StreamDelta, PageStreamKeepsTheEarliestChange) {
+  PageStream s;
+  s.sent(10);
+  s.changedFrom(7);
+  s.changedFrom(9);  // a later change does not undo the earlier one
+  EXPECT_EQ(s.valid, 7u);
+  EXPECT_EQ(s.have, 10u);
+  s.sent(12);
+  EXPECT_EQ(s.valid, 12u);
+}
+
+TEST(WireFormat, DeltaSendsFromTheFirstChangeInChunks) {
+  const std::vector<float> data = poses(10);
+  std::vector<WireMessage> out;
+  appendDelta(StreamKind::Trajectory, data, 4, 8, 4, out);  // page has 8, first 4 valid
+  ASSERT_EQ(out.size(), 2u);                                // elements 4..7 and 8..9
+  EXPECT_EQ(u32(out[0].bytes, 0), 1u);
+  EXPECT_EQ(u32(out[0].bytes, 4), 4u);
+  EXPECT_EQ(u32(out[0].bytes, 8), 4u);
+  EXPECT_EQ(u32(out[0].bytes, 12), 8u);
+  EXPECT_EQ(out[0].bytes.size(), kHeaderBytes + 4 * kPoseStride * sizeof(float));
+  float first;
+  std::memcpy(&first, out[0].bytes.data() + kHeaderBytes, 4);
+  EXPECT_EQ(first, data[4 * kPoseStride]);
+  EXPECT_EQ(u32(out[1].bytes, 4), 8u);
+  EXPECT_EQ(u32(out[1].bytes, 12), 10u);
+}
+
+TEST(WireFormat, UpToDatePageGetsNothingAndShrinkingTruncates) {
+  std::vector<WireMessage> out;
+  appendDelta(StreamKind::Points, std::vector<float>(4 * 3), 3, 3, 100, out);
+  EXPECT_TRUE(out.empty());
+  appendDelta(StreamKind::Points, std::vector<float>(4 * 2), 2, 3, 100, out);
+  ASSERT_EQ(out.size(), 1u);  // an empty message that only truncates to 2
+  EXPECT_EQ(u32(out[0].bytes, 8), 0u);
+  EXPECT_EQ(u32(out[0].bytes, 12), 2u);
+}
+
+TEST(WireFormat, ImageMessageLayout) {
+  ViewerImage img;
+  img.frame_index = 3;
+  img.width = 3;
+  img.height = 2;
+  img.pixels = {1, 2, 3, 4, 5, 6};
+  img.points = {1.5f, 0.5f};
+  const WireMessage m = encodeImage(img);
+  ASSERT_TRUE(m.binary);
+  EXPECT_EQ(u32(m.bytes, 0), kImageMessage);
+  EXPECT_EQ(u32(m.bytes, 4), 3u);
+  EXPECT_EQ(u32(m.bytes, 8), 2u);
+  EXPECT_EQ(u32(m.bytes, 12), 1u);
+  EXPECT_EQ(m.bytes[16 + 5], 6);
+  ASSERT_EQ(m.bytes.size(), 16u + 8u + 8u);  // pixels padded to 8
+  float x;
+  std::memcpy(&x, m.bytes.data() + 24, 4);
+  EXPECT_EQ(x, 1.5f);
+}
+
+TEST(WireFormat, FiguresAreJsonWithTheLists) {
+  ViewerSnapshot s;
+  s.figures.status = "tracking";
+  s.figures.fps = std::numeric_limits<double>::quiet_NaN();  // never NaN on the wire
+  s.loops = {{1, 2}, {3, 4}, {5, 6}};
+  const WireMessage m = encodeFigures(s, 2);
+  EXPECT_FALSE(m.binary);
+  EXPECT_NE(m.bytes.find("\"status\": \"tracking\""), std::string::npos) << m.bytes;
+  EXPECT_EQ(m.bytes.find("nan"), std::string::npos) << m.bytes;
+  EXPECT_EQ(m.bytes.find("[\n      1"), std::string::npos) << m.bytes;  // only the newest 2
+  EXPECT_NE(m.bytes.find("\"current\": null"), std::string::npos) << m.bytes;
+}
+
+}  // namespace
+}  // namespace ldsm::viewer
