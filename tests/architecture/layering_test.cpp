@@ -61,7 +61,7 @@ const std::map<std::string, std::set<std::string>>& allowedModules() {
       {"reuse", {"math", "config", "camera", "model", "features", "alignment", "map"}},
       {"pipeline",
        {"math", "concurrency", "config", "camera", "image", "features", "frontend", "backend",
-        "map", "loop", "reuse"}},
+        "map", "mapfile", "loop", "reuse"}},
   };
   return kAllowed;
 }

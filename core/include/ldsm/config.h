@@ -464,6 +464,20 @@ struct ReuseConfig {
   }
 };
 
+/// Maps across sessions (docs/map-file.md): how a loaded map is used.
+struct MapConfig {
+  /// Localise in a loaded map without changing it: keyframes that leave the window are dropped,
+  /// loop closure adds nothing, no new map is started (the camera stays lost until it is found
+  /// in the map), so memory stays flat however long it runs. Needs a loaded map.
+  bool localize_only = false;
+
+  template <typename V>
+  void visit(V& v) {
+    v.field("localize_only", localize_only,
+            "localise in the loaded map without changing it (needs a loaded map)");
+  }
+};
+
 struct Config {
   SystemConfig system;
   PhotometricConfig photometric;
@@ -475,6 +489,7 @@ struct Config {
   LoopConfig loop;
   CalibrationRefinementConfig calibration;
   ReuseConfig reuse;
+  MapConfig map;
 
   template <typename V>
   void visit(V& v) {
@@ -488,6 +503,7 @@ struct Config {
     v.section("loop", loop, "loop closure");
     v.section("calibration", calibration, "online refinement of the camera calibration");
     v.section("reuse", reuse, "map reuse: map keyframes brought back into the window");
+    v.section("map", map, "maps across sessions: a loaded map");
   }
 };
 

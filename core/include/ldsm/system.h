@@ -117,6 +117,17 @@ class System {
   /// Validates the configuration and the calibration (ConfigError / InputError naming the field).
   System(const Config& config, const GeometricCalibration& geometric,
          const PhotometricCalibration& photometric = {});
+  /// Starts from a saved map (the bytes of a map file, docs/map-file.md; e.g.
+  /// drivers::readMapFile()): the first frames are looked for in it and tracking goes on in its
+  /// frame and scale; when they are not found for reuse.relocalization_timeout_s, a new map
+  /// starts and is merged into the loaded one once a loop connects them (StampedPose::map says
+  /// which poses are not yet in its frame). With map.localize_only the map is never changed.
+  /// Throws InputError naming `where` and the part of the file that is wrong (truncated,
+  /// corrupted, another format version, made with another camera or image size) and
+  /// ConfigError when loop closure or reuse is off.
+  System(const Config& config, const GeometricCalibration& geometric,
+         const PhotometricCalibration& photometric, const std::vector<std::uint8_t>& map,
+         const std::string& where = "map");
   ~System();
   System(const System&) = delete;
   System& operator=(const System&) = delete;
@@ -157,10 +168,17 @@ class System {
   /// Every point of the map (active and marginalised), world coordinates.
   std::vector<MapPoint> mapPoints() const;
   SystemStats stats() const;
+  /// The map as a map file's bytes (docs/map-file.md; write them with drivers::writeMapFile()):
+  /// the keyframes, their points and features, the pose graph, the vocabulary and the
+  /// calibration, in the frame poses are reported in (the first map's; maps not merged into it
+  /// are left out). Waits like finish() for every submitted frame first.
+  std::vector<std::uint8_t> saveMap();
   /// The ideal pinhole the engine works in (after rectification).
   PinholeIntrinsics rectifiedCamera() const;
 
  private:
+  void start(const Config& config, const GeometricCalibration& geometric,
+             const PhotometricCalibration& photometric);
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

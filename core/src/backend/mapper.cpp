@@ -489,19 +489,23 @@ KeyframeInsertion Mapper::relocalize(std::unique_ptr<ImagePyramid> pyramid, cons
   return ins;
 }
 
+std::vector<MarginalizedKeyframe> Mapper::describeWindow() {
+  std::vector<MarginalizedKeyframe> out;
+  for (auto& kf : window_) {
+    std::vector<PatchPoint> points = kf->retired_points;
+    for (const auto& p : kf->points)
+      if (p->inlier_residuals >= 1 && p->hessian_idepth > 0.f) points.push_back(toPatchPoint(*p));
+    out.push_back(describeLeavingKeyframe(*kf, std::move(points)));
+  }
+  return out;
+}
+
 MapUpdate Mapper::reset() {
   MapUpdate out;
   out.keyframes = windowPoses();
   // The window's keyframes go to the map as if they had left it (reuse and relocalisation can
   // find them), with the points they host.
-  if (describe_leaving_) {
-    for (auto& kf : window_) {
-      std::vector<PatchPoint> points = std::move(kf->retired_points);
-      for (const auto& p : kf->points)
-        if (p->inlier_residuals >= 1 && p->hessian_idepth > 0.f) points.push_back(toPatchPoint(*p));
-      out.left.push_back(describeLeavingKeyframe(*kf, std::move(points)));
-    }
-  }
+  if (describe_leaving_) out.left = describeWindow();
   for (auto& kf : window_) pyramids_.release(kf->releasePyramid());
   window_.clear();
   reactivated_.clear();

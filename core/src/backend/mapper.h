@@ -99,6 +99,12 @@ class Mapper {
   KeyframeInsertion relocalize(std::unique_ptr<ImagePyramid> pyramid, const MapperFrame& info,
                                const MarginalizedKeyframe& anchor, const SE3d& anchor_T_w_c,
                                double anchor_scale);
+  /// The window's keyframes as they would leave it now (their points, corners with depths and,
+  /// when leaving keyframes are described, their images), the window unchanged: for a saved map.
+  std::vector<MarginalizedKeyframe> describeWindow();
+  /// Keyframe ids continue after `next` (a loaded map's keyframes keep theirs). Before the first
+  /// keyframe only.
+  void setNextKeyframeId(int next) { next_keyframe_id_ = next; }
   /// The window keyframes' current poses.
   std::vector<KeyframeRecord> windowPoses() const;
   /// World positions of the active points.

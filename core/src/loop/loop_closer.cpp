@@ -49,6 +49,66 @@ void LoopCloser::flush() {
   waitIdle();
 }
 
+LoopCloser::GraphExport LoopCloser::exportGraph(
+    const std::vector<int>& ids, const std::vector<std::pair<int, Sim3d>>& window) const {
+  GraphExport out;
+  const auto saved = [&](int id) { return std::find(ids.begin(), ids.end(), id) != ids.end(); };
+  for (const PoseGraphEdge& e : graph_.edges())
+    if (saved(e.from_id) && saved(e.to_id)) out.edges.push_back(e);
+  int prev = last_id_ >= 0 && saved(last_id_) ? last_id_ : -1;
+  Sim3d S_prev = prev >= 0 ? graph_.vertex(prev) : Sim3d();
+  for (const auto& [id, S_w_c] : window) {
+    if (prev >= 0 && !graph_.hasVertex(id)) {
+      const Sim3d S_prev_cur = S_prev.inverse() * S_w_c;
+      out.edges.push_back(PoseGraphEdge{prev, id, S_prev_cur, drift_.edgeInformation(S_prev_cur),
+                                        PoseGraphEdgeKind::kOdometry});
+    }
+    prev = id;
+    S_prev = S_w_c;
+  }
+  out.vocabulary = index_.sharedVocabulary();
+  return out;
+}
+
+void LoopCloser::importMap(const std::vector<std::pair<int, Sim3d>>& vertices,
+                           const std::vector<PoseGraphEdge>& edges,
+                           std::shared_ptr<const Vocabulary> vocabulary,
+                           const std::vector<std::shared_ptr<const MarginalizedKeyframe>>& data) {
+  ChainPosition chain;
+  Sim3d previous;
+  bool first = true;
+  for (const auto& [id, S_w_c] : vertices) {
+    graph_.addVertex(id, S_w_c);
+    if (!first) chain = {chain.step + 1, chain.path + (S_w_c.translation() - previous.translation()).norm()};
+    chain_[id] = chain;
+    map_of_[id] = 0;
+    previous = S_w_c;
+    first = false;
+  }
+  for (const PoseGraphEdge& e : edges)
+    if (graph_.hasVertex(e.from_id) && graph_.hasVertex(e.to_id)) graph_.addEdge(e);
+  if (vocabulary) index_.install(std::move(vocabulary), data.size());
+  for (const auto& kf : data) {
+    if (!kf || !graph_.hasVertex(kf->id)) continue;
+    KeyframeFeatures f;
+    f.keyframe_id = kf->id;
+    f.timestamp = kf->timestamp;
+    f.camera = camera_;
+    f.pixels = kf->corners;
+    f.idepth = kf->corner_idepth;
+    f.descriptors = kf->descriptors;
+    f.idepth.resize(f.pixels.size(), NAN);
+    index_.add(kf->id, f.descriptors);
+    features_[kf->id] = std::move(f);
+  }
+  // The session's first keyframe starts a chain of its own (no odometry edge to the saved map).
+  last_id_ = -1;
+  chain_base_ = chain.step;
+  if (!vertices.empty()) new_map_.store(false);
+  place_generation_ = 0;
+  publishPlaces(-1);
+}
+
 void LoopCloser::forget(int keyframe_id) {
   std::lock_guard<std::mutex> lock(forget_mutex_);
   forget_.push_back(keyframe_id);
@@ -101,7 +161,7 @@ int LoopCloser::addToGraph(const LoopJob& job, bool new_map) {
   // The vertex is the keyframe's pose in the window: the graph is in the window's frame (a
   // correction holds the newest vertex fixed and never moves the window).
   graph_.addVertex(id, Sim3d(job.T_w_c));
-  int significant = 0;
+  std::optional<PoseGraphEdge> odometry;
   if (last_id_ >= 0 && graph_.hasVertex(last_id_) && !new_map) {
     // Odometry edge from the window's relative pose, measured in one state of the window: when
     // the previous keyframe left (its link to this one). Without that link (this keyframe was
@@ -109,24 +169,27 @@ int LoopCloser::addToGraph(const LoopJob& job, bool new_map) {
     Sim3d S_prev_cur(last_T_w_c_.inverse() * job.T_w_c);
     for (const KeyframeLink& l : last_links_)
       if (l.other == id) S_prev_cur = Sim3d(l.T_this_other);
-    const PoseGraphEdge odometry{last_id_, id, S_prev_cur, drift_.edgeInformation(S_prev_cur),
-                                 PoseGraphEdgeKind::kOdometry};
-    graph_.addEdge(odometry);
+    odometry = PoseGraphEdge{last_id_, id, S_prev_cur, drift_.edgeInformation(S_prev_cur),
+                             PoseGraphEdgeKind::kOdometry};
+    graph_.addEdge(*odometry);
     const ChainPosition& prev = chain_.at(last_id_);
     chain_[id] = {prev.step + 1, prev.path + S_prev_cur.translation().norm()};
-    if (config_.reuse_constraints && addReuseConstraints(job, odometry)) ++significant;
   } else {
-    // A new map: not connected to the old chain by any odometry.
-    chain_[id] = {last_id_ >= 0 ? chain_.at(last_id_).step + kDisconnectedSteps : 0, 0.0};
+    // A new map, or the first keyframe after a saved map was loaded: not connected to the
+    // earlier chain by any odometry.
+    chain_[id] = {(last_id_ >= 0 ? chain_.at(last_id_).step : chain_base_) + kDisconnectedSteps,
+                  0.0};
   }
+  const bool significant =
+      config_.reuse_constraints && addReuseConstraints(job, odometry ? &*odometry : nullptr);
   for (const KeyframeLink& l : job.links) connectCovisible(id, l.other, l.shared_points);
   last_id_ = id;
   last_T_w_c_ = job.T_w_c;
   last_links_ = job.links;
-  return significant;
+  return significant ? 1 : 0;
 }
 
-bool LoopCloser::addReuseConstraints(const LoopJob& job, const PoseGraphEdge& odometry) {
+bool LoopCloser::addReuseConstraints(const LoopJob& job, const PoseGraphEdge* odometry) {
   bool any = false;
   for (const KeyframeLink& l : job.links) {
     if (!l.map_keyframe || !graph_.hasVertex(l.other) || l.other == job.id) continue;
@@ -137,12 +200,12 @@ bool LoopCloser::addReuseConstraints(const LoopJob& job, const PoseGraphEdge& od
                                  PoseGraphEdgeKind::kReuse});
     any = true;
   }
-  if (!any) return false;
+  if (!any || !odometry) return false;
   // The keyframe is where the map keyframe says (its vertex is its window pose); when the window
   // moved onto the map after the previous keyframe left, the odometry edge carries that jump:
   // the drift the revisit revealed, which the pose graph spreads over the keyframes in between.
-  const Vector7d r = graph_.edgeResidual(odometry);
-  const double chi2 = r.dot(windowEdgeInformation(odometry.S_from_to) * r);
+  const Vector7d r = graph_.edgeResidual(*odometry);
+  const double chi2 = r.dot(windowEdgeInformation(odometry->S_from_to) * r);
   spdlog::debug("loop closure: keyframe {} tied to the map, odometry disagreement chi2 {:.1f}",
                 job.id, chi2);
   return chi2 >= config_.correction_chi2;

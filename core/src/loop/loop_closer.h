@@ -53,6 +53,24 @@ class LoopCloser {
   std::uint64_t droppedKeyframes() const { return task_->dropped(); }
   /// A new map after tracking was lost: its keyframes are not chained to the old ones.
   void startNewMap() { new_map_.store(true); }
+  // ---- Saved maps (call while the task is idle: after waitIdle(), or before the first keyframe)
+  /// The pose graph's edges between keyframes of `ids`, plus odometry edges chaining `window`
+  /// (the window's keyframes with their poses, in order) to the newest vertex; and the
+  /// vocabulary (null before the first online training).
+  struct GraphExport {
+    std::vector<PoseGraphEdge> edges;
+    std::shared_ptr<const Vocabulary> vocabulary;
+  };
+  GraphExport exportGraph(const std::vector<int>& ids,
+                          const std::vector<std::pair<int, Sim3d>>& window) const;
+  /// Starts from a saved map (before the first keyframe): its vertices (by increasing id), edges,
+  /// vocabulary (may be null: trained online later) and the kept keyframes' features, all in
+  /// the first map; the next keyframes start a chain of their own, tied to the saved one by the
+  /// map keyframes brought back into their window and by loops.
+  void importMap(const std::vector<std::pair<int, Sim3d>>& vertices,
+                 const std::vector<PoseGraphEdge>& edges,
+                 std::shared_ptr<const Vocabulary> vocabulary,
+                 const std::vector<std::shared_ptr<const MarginalizedKeyframe>>& data);
   /// Mapping thread: the keyframe no longer keeps its features in the map (the map's budget): it
   /// stays in the pose graph but is no place to be found (taken out before the next keyframe).
   void forget(int keyframe_id);
@@ -67,7 +85,7 @@ class LoopCloser {
   int addToGraph(const LoopJob& job, bool new_map);
   /// Adds the relative-pose constraints of a map keyframe brought back into the window; returns
   /// whether they disagree with the graph beyond the odometry's uncertainty.
-  bool addReuseConstraints(const LoopJob& job, const PoseGraphEdge& odometry);
+  bool addReuseConstraints(const LoopJob& job, const PoseGraphEdge* odometry);
   std::optional<DetectedLoop> closeLoop(int id, std::optional<MapMerge>& merge);
   /// The map a keyframe's map was merged into (transitively).
   int mapRoot(int map) const;
@@ -121,6 +139,7 @@ class LoopCloser {
   int pending_first_ = -1;
   int pending_last_ = -1;
   int processed_ = 0;
+  int chain_base_ = 0;  ///< chain step of a loaded map's last keyframe
   // Maps (a new one after tracking was lost for good) and which were merged into which.
   std::map<int, int> map_of_;  ///< keyframe id -> the map it was made in
   std::vector<int> map_parent_{0};

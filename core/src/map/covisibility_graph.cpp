@@ -56,4 +56,12 @@ std::size_t CovisibilityGraph::edgeCount() const {
   return n / 2;
 }
 
+std::vector<std::array<int, 3>> CovisibilityGraph::edges() const {
+  std::vector<std::array<int, 3>> out;
+  for (const auto& [a, neighbours] : edges_)
+    for (const auto& [b, w] : neighbours)
+      if (a < b) out.push_back({a, b, w});
+  return out;
+}
+
 }  // namespace ldsm

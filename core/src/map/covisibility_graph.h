@@ -4,6 +4,7 @@
 // its neighbourhood for keyframes to bring back. Not thread-safe (the MapStore guards it).
 #pragma once
 
+#include <array>
 #include <map>
 #include <vector>
 
@@ -21,6 +22,8 @@ class CovisibilityGraph {
                                  std::size_t max_count) const;
   int weight(int a, int b) const;
   std::size_t edgeCount() const;
+  /// Every edge once (a < b), with its weight, in increasing (a, b) order.
+  std::vector<std::array<int, 3>> edges() const;
 
  private:
   std::map<int, std::map<int, int>> edges_;

@@ -198,6 +198,47 @@ std::vector<int> MapStore::keyframesNear(const Eigen::Vector3d& centre, double r
   return out;
 }
 
+StoredMap MapStore::firstMap() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  StoredMap out;
+  const auto first = [&](int id) {
+    return id >= 0 && id < static_cast<int>(keyframes_.size()) && keyframes_[id].id >= 0 &&
+           maps_.label(keyframes_[id].map) == 0;
+  };
+  for (const KeyframeRecord& kf : keyframes_)
+    if (kf.id >= 0 && first(kf.id)) out.keyframes.push_back(kf);
+  for (const auto& [id, data] : data_)
+    if (first(id)) out.data.push_back(data);
+  for (const auto& block : points_)
+    for (const HostedPoint& p : *block)
+      if (p.host < 0 || first(p.host)) out.points.push_back(p);
+  for (const auto& e : covisibility_.edges())
+    if (first(e[0]) && first(e[1])) out.covisibility.push_back(e);
+  out.S_report_world = maps_.reportFrame();
+  return out;
+}
+
+void MapStore::loadMap(const StoredMap& map) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (KeyframeRecord kf : map.keyframes) {
+    kf.map = 0;
+    setKeyframeLocked(kf);
+    keyframes_[kf.id].map = 0;
+  }
+  for (const auto& data : map.data) {
+    if (!data || data->id < 0 || data->id >= static_cast<int>(keyframes_.size())) continue;
+    data_bytes_ += bytesOf(*data);
+    data_[data->id] = data;
+    spatial_.set(data->id, keyframes_[data->id].T_w_c.translation());
+  }
+  if (!map.points.empty()) {
+    points_.push_back(std::make_shared<const MapSnapshot::PointBlock>(map.points));
+    point_count_ += map.points.size();
+  }
+  for (const auto& e : map.covisibility) covisibility_.connect(e[0], e[1], e[2]);
+  publishLocked(true);
+}
+
 int MapStore::mostRedundantKeyframe(double max_angle_rad, const std::vector<int>& exclude) const {
   std::lock_guard<std::mutex> lock(mutex_);
   struct View {

@@ -12,6 +12,7 @@
 // changes, so publishing costs a copy of the keyframe poses and of the block pointers.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -41,6 +42,17 @@ struct MapSnapshot {
   MapFrames maps;  ///< which map each keyframe's map belongs to, and the reported frame
 };
 
+/// The first map (with every map merged into it) as values: what a saved map holds of the store.
+/// Poses and points are in the store's internal frame; S_report_world maps them into the frame
+/// poses are reported in.
+struct StoredMap {
+  std::vector<KeyframeRecord> keyframes;  ///< by increasing id
+  std::vector<std::shared_ptr<const MarginalizedKeyframe>> data;  ///< by increasing id
+  std::vector<HostedPoint> points;
+  std::vector<std::array<int, 3>> covisibility;  ///< (a, b, weight), a < b
+  Sim3d S_report_world;
+};
+
 class MapStore {
  public:
   MapStore();
@@ -66,6 +78,11 @@ class MapStore {
   /// of keyframes moved.
   int mergeMaps(int from, int into, const Sim3d& S_into_from,
                 const std::map<int, Sim3d>& S_world_camera);
+  /// The first map as values (StoredMap).
+  StoredMap firstMap() const;
+  /// Starts from a saved map (an empty store only): its keyframes, data, points and covisibility
+  /// become the first map, in the frame poses are reported in.
+  void loadMap(const StoredMap& map);
   /// Whether a map is connected to the first map (its poses are reported in its frame).
   bool inFirstMap(int map) const;
   /// Whether a keyframe belongs to the current map (or one merged with it): only those share the

@@ -171,7 +171,7 @@ void MappingStage::relocalize(MappingJob& job) {
   publishMap(std::move(ins.map));
   keyframes_.fetch_add(1, std::memory_order_relaxed);
   ++reuse_stats_.reactivations;
-  store_.connect(mapper_.newestKeyframe().id(), job.anchor_keyframe);
+  if (!settings_.localize_only) store_.connect(mapper_.newestKeyframe().id(), job.anchor_keyframe);
   startWindow(job.info, ins.map_points_in_view, /*initialized=*/false);
 }
 
@@ -194,8 +194,10 @@ void MappingStage::reset() {
 }
 
 void MappingStage::publishMap(MapUpdate&& update) {
-  store_.addPoints(update.points);
   store_.setKeyframes(update.keyframes);
+  // Localising only: the loaded map is never changed (what leaves the window is dropped).
+  if (settings_.localize_only) return;
+  store_.addPoints(update.points);
   for (MarginalizedKeyframe& kf : update.left) {
     if (describe_) describeOrb(kf);
     // A keyframe an earlier visit's map keyframe already covers adds nothing the map lacks.
@@ -211,16 +213,7 @@ void MappingStage::publishMap(MapUpdate&& update) {
       store_.cullKeyframe(kf.id);
       ++reuse_stats_.culled_keyframes;
     } else if (reuse_) {
-      auto data = std::make_shared<MarginalizedKeyframe>(kf);
-      // Only points the window measured from several keyframes: a keyframe marginalised soon
-      // after it was made hosts many points seen once, whose depths are guesses.
-      auto& pts = data->points;
-      pts.erase(std::remove_if(pts.begin(), pts.end(),
-                               [&](const PatchPoint& p) {
-                                 return p.observations < settings_.reuse.min_point_observations;
-                               }),
-                pts.end());
-      store_.setKeyframeData(std::move(data));
+      store_.setKeyframeData(std::make_shared<MarginalizedKeyframe>(asMapKeyframe(kf)));
       if (last_left_id_ >= 0) store_.connect(last_left_id_, kf.id);
       last_left_id_ = kf.id;
     }
@@ -230,6 +223,30 @@ void MappingStage::publishMap(MapUpdate&& update) {
     }
   }
   if (reuse_ && settings_.reuse.max_map_keyframes > 0) keepMapBudget();
+}
+
+MarginalizedKeyframe MappingStage::asMapKeyframe(const MarginalizedKeyframe& kf) const {
+  MarginalizedKeyframe data = kf;
+  // Only points the window measured from several keyframes: a keyframe marginalised soon after
+  // it was made hosts many points seen once, whose depths are guesses.
+  auto& pts = data.points;
+  pts.erase(std::remove_if(pts.begin(), pts.end(),
+                           [&](const PatchPoint& p) {
+                             return p.observations < settings_.reuse.min_point_observations;
+                           }),
+            pts.end());
+  return data;
+}
+
+std::vector<MarginalizedKeyframe> MappingStage::windowForMap() {
+  std::vector<MarginalizedKeyframe> out;
+  if (!mapper_.initialized()) return out;
+  for (MarginalizedKeyframe& kf : mapper_.describeWindow()) {
+    if (describe_) describeOrb(kf);
+    kf.image = ImageF();
+    out.push_back(asMapKeyframe(kf));
+  }
+  return out;
 }
 
 void MappingStage::keepMapBudget() {

@@ -81,6 +81,8 @@ struct MappingStageSettings {
   int queue_capacity = 4;             ///< system.mapping_queue
   int loop_corners = 400;             ///< loop.corners_per_keyframe
   float loop_corner_min_score = 9.f;  ///< loop.corner_min_score
+  /// map.localize_only: keyframes that leave the window are dropped; the map never changes.
+  bool localize_only = false;
 };
 
 class MappingStage {
@@ -117,6 +119,12 @@ class MappingStage {
   /// How the last initialisation or relocalisation job ended (read after waitIdle()).
   const InitializationOutcome& lastInitialization() const { return init_outcome_; }
 
+  /// For a saved map (the stage idle, e.g. after finish()): the window's keyframes as the map
+  /// would keep them if they left it now; the window is unchanged.
+  std::vector<MarginalizedKeyframe> windowForMap();
+  /// A loaded map's keyframes keep their ids: the next keyframe is `next_keyframe_id`.
+  void continueAfterLoadedMap(int next_keyframe_id) { mapper_.setNextKeyframeId(next_keyframe_id); }
+
   /// End of a run: waits for the loop task, applies what it found and publishes the window.
   void finish();
 
@@ -139,6 +147,8 @@ class MappingStage {
   void reset();
   /// Hands the window's output to the map store and loop closure.
   void publishMap(MapUpdate&& update);
+  /// What the map keeps of a keyframe that leaves the window (its well-measured points).
+  MarginalizedKeyframe asMapKeyframe(const MarginalizedKeyframe& kf) const;
   /// reuse.max_map_keyframes: the most redundant kept keyframes keep only their poses.
   void keepMapBudget();
   /// The corrections loop closure has published so far (applyCorrections).

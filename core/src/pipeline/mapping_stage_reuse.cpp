@@ -29,7 +29,8 @@ void MappingStage::reuseMap(int newest_frame_index, double newest_timestamp) {
   if (settings_.reuse.trial_check) {
     confirmByTrial(event);
   } else {
-    for (const int id : event.reactivated) store_.connect(newest.id(), id);
+    if (!settings_.localize_only)
+      for (const int id : event.reactivated) store_.connect(newest.id(), id);
   }
   if (!event.reactivated.empty()) events_.reactivated(event);
 }
@@ -147,7 +148,7 @@ void MappingStage::confirmByTrial(ReuseEvent& event) {
     if (it == event.reactivated.end()) continue;  // reactivated earlier
     if (f.residuals > 0 &&
         f.inliers >= settings_.reuse.min_inlier_fraction * static_cast<double>(f.residuals)) {
-      store_.connect(newest_id, f.id);
+      if (!settings_.localize_only) store_.connect(newest_id, f.id);
       continue;
     }
     spdlog::debug("reuse: keyframe {} for {} rejected by the trial: {} of {} residuals fit", f.id,

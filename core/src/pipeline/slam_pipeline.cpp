@@ -1,5 +1,6 @@
 #include "pipeline/slam_pipeline.h"
 
+#include "pipeline/map_persistence.h"
 #include "pipeline/stage_settings.h"
 
 namespace ldsm {
@@ -38,7 +39,19 @@ SlamPipeline::SlamPipeline(const Config& config, const GeometricCalibration& geo
                stageMode(config) == concurrency::TaskMode::kInline),
       tracking_(
           trackingStageSettings(config, camera_.levels(), photometryKnown(preprocessor_, config)),
-          camera_, preprocessor_, pyramids_, store_, mapping_, events_) {}
+          camera_, preprocessor_, pyramids_, store_, mapping_, events_) {
+  map_calibration_ = mapCalibration(camera_[0], photometric, 0.0);
+}
+
+MapData SlamPipeline::exportMap() {
+  MapCalibration calibration = map_calibration_;
+  calibration.radial_k = mapping_.snapshot()->radial_applied;
+  return ldsm::exportMap(store_, mapping_, loop_closer_.get(), camera_[0], calibration);
+}
+
+void SlamPipeline::loadMap(const MapData& map, const std::string& where) {
+  ldsm::importMap(map, map_calibration_, where, store_, mapping_, loop_closer_.get(), tracking_);
+}
 
 SlamPipeline::~SlamPipeline() = default;
 

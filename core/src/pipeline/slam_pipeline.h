@@ -16,6 +16,7 @@
 #pragma once
 
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "camera/pyramid_camera.h"
@@ -25,6 +26,7 @@
 #include "ldsm/system.h"
 #include "loop/loop_closer.h"
 #include "map/map_store.h"
+#include "mapfile/map_data.h"
 #include "pipeline/event_sink.h"
 #include "pipeline/frame_preprocessor.h"
 #include "pipeline/mapping_stage.h"
@@ -59,8 +61,15 @@ class SlamPipeline {
   /// Fills the engine's part of the statistics (counts, stage timings, loops, calibration).
   void fillStats(SystemStats& stats) const;
 
+  /// The map as saved (pipeline/map_persistence.h); after finish().
+  MapData exportMap();
+  /// Starts from a saved map, before the first frame (InputError naming `where` for a map made
+  /// with another camera).
+  void loadMap(const MapData& map, const std::string& where);
+
  private:
   FramePreprocessor preprocessor_;
+  MapCalibration map_calibration_;  ///< the camera and photometric model a saved map records
   PyramidCamera camera_;
   PyramidPool pyramids_;
   MapStore store_;

@@ -81,6 +81,7 @@ TrackingStageSettings trackingStageSettings(const Config& config, int levels,
   s.initializer_hypotheses = config.initializer.hypotheses;
   s.tracker = frameTrackerSettings(config, photometry_known);
   s.reuse = config.reuse;
+  s.localize_only = config.map.localize_only;
   return s;
 }
 
@@ -92,6 +93,7 @@ MappingStageSettings mappingStageSettings(const Config& config, bool photometry_
   s.queue_capacity = config.system.mapping_queue;
   s.loop_corners = config.loop.corners_per_keyframe;
   s.loop_corner_min_score = static_cast<float>(config.loop.corner_min_score);
+  s.localize_only = config.map.localize_only;
   return s;
 }
 

@@ -8,6 +8,7 @@
 
 #include "concurrency/latest_value.h"
 #include "ldsm/error.h"
+#include "mapfile/map_codec.h"
 #include "pipeline/frame_worker.h"
 #include "pipeline/slam_pipeline.h"
 #include "pipeline/stage_settings.h"
@@ -126,6 +127,22 @@ struct System::Impl {
 
 System::System(const Config& config, const GeometricCalibration& geometric,
                const PhotometricCalibration& photometric) {
+  if (config.map.localize_only)
+    throw ConfigError("map.localize_only needs a loaded map (ldsm run --load-map FILE)");
+  start(config, geometric, photometric);
+}
+
+System::System(const Config& config, const GeometricCalibration& geometric,
+               const PhotometricCalibration& photometric, const std::vector<std::uint8_t>& map,
+               const std::string& where) {
+  if (!config.reuse.enabled)
+    throw ConfigError("a loaded map needs map reuse (reuse.enabled: true) to be used");
+  start(config, geometric, photometric);
+  impl_->pipeline.loadMap(decodeMap(map.data(), map.size(), where), where);
+}
+
+void System::start(const Config& config, const GeometricCalibration& geometric,
+                   const PhotometricCalibration& photometric) {
   validateConfig(config);
   impl_ = std::make_unique<Impl>(config, geometric, photometric);
   // The input stage runs in the mode every stage runs in (stageMode): a tracking thread of its
@@ -150,6 +167,11 @@ System::System(const Config& config, const GeometricCalibration& geometric,
         impl->process(f, submitted_ns);
       },
       options);
+}
+
+std::vector<std::uint8_t> System::saveMap() {
+  finish();
+  return encodeMap(impl_->pipeline.exportMap());
 }
 
 System::~System() {

@@ -3,6 +3,8 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
 namespace ldsm {
 
@@ -17,7 +19,9 @@ TrackingStage::TrackingStage(const TrackingStageSettings& settings, const Pyrami
       initializer_(camera, settings.initializer, settings.initializer_hypotheses),
       tracker_(settings.tracker, camera),
       timer_({"preprocess", "initialize", "track", "total"}, 20000),
-      relocalization_timeout_s_(settings.reuse.relocalization_timeout_s),
+      relocalization_timeout_s_(settings.localize_only
+                                    ? std::numeric_limits<double>::infinity()
+                                    : settings.reuse.relocalization_timeout_s),
       place_candidates_(settings.reuse.relocalization_place_candidates),
       resume_radius_(settings.reuse.relocalization_search_radius) {
   if (settings.reuse.enabled && relocalization_timeout_s_ > 0.0)
@@ -36,6 +40,7 @@ FrameEvent TrackingStage::process(ImageView<const std::uint8_t> image, std::int6
       StageTimer::Scope t(timer_, kPreprocess);
       preprocessor_.process(image, *pyr);
     }
+    if (relocalizing_ && std::isnan(lost_since_)) lost_since_ = timestamp;  // a loaded map
     if (relocalizing_ && timestamp - lost_since_ > relocalization_timeout_s_) startNewMap();
     if (status_ == TrackingStatus::Tracking) {
       trackStep(std::move(pyr), frame, exposure);
@@ -183,6 +188,14 @@ void TrackingStage::adoptNewestReference() {
   mapping_.references().recycle(std::move(ref.tracker));
   // The keyframe was the last tracked frame: continue from its optimised pose.
   if (ref.frame_index == last_tracked_index_) tracker_.refineLastPose(ref.T_c_w);
+}
+
+void TrackingStage::startInLoadedMap() {
+  if (!relocalizer_) return;
+  status_ = TrackingStatus::Lost;
+  relocalizing_ = true;
+  window_kept_ = false;
+  lost_since_ = std::numeric_limits<double>::quiet_NaN();
 }
 
 void TrackingStage::loseTracking(const FrameEvent& frame, const std::string& reason) {

@@ -37,6 +37,8 @@ struct TrackingStageSettings {
   int initializer_hypotheses = 7;  ///< initializer.hypotheses
   FrameTrackerSettings tracker;
   ReuseConfig reuse;  ///< relocalisation after a loss (reuse.enabled, relocalization_*)
+  /// map.localize_only: relocalisation never gives up for a new map.
+  bool localize_only = false;
 };
 
 class TrackingStage {
@@ -58,6 +60,10 @@ class TrackingStage {
   /// Tracked frames' images (half resolution) and tracked points are published to `out` from now
   /// on (null: not). Set before the first frame.
   void setImageOutput(concurrency::LatestValue<TrackedImage>* out) { image_out_ = out; }
+
+  /// A saved map was loaded: the first frames are looked for in it (relocalisation, as after a
+  /// loss); a new map starts only when that fails for reuse.relocalization_timeout_s.
+  void startInLoadedMap();
 
   TrackingStatus status() const { return status_; }
   std::int64_t initializations() const { return initializations_.load(std::memory_order_relaxed); }

@@ -1,0 +1,34 @@
+// Saved maps in the running engine (docs/map-file.md): what the stages hold of the first map, as
+// a MapData value (mapfile/map_data.h), and the stages started again from one. The codec
+// (mapfile/map_codec.h) turns the value into the file's bytes.
+#pragma once
+
+#include <string>
+
+#include "camera/pyramid_camera.h"
+#include "ldsm/camera/calibration.h"
+#include "loop/loop_closer.h"
+#include "map/map_store.h"
+#include "mapfile/map_data.h"
+#include "pipeline/mapping_stage.h"
+#include "pipeline/tracking_stage.h"
+
+namespace ldsm {
+
+/// The calibration the engine runs with, as a saved map records it.
+MapCalibration mapCalibration(const LevelCamera& camera, const PhotometricCalibration& photometric,
+                              double radial_k);
+
+/// The first map (with everything merged into it) and the window's keyframes as the map would
+/// keep them, in the frame poses are reported in. The stages must be idle (after finish()).
+MapData exportMap(const MapStore& store, MappingStage& mapping, const loop::LoopCloser* loop,
+                  const LevelCamera& camera, const MapCalibration& calibration);
+
+/// Starts the stages from a saved map (before the first frame): the store, loop closure (graph,
+/// vocabulary, place recognition), keyframe ids after the map's, and tracking that first looks
+/// for the camera in it. Throws InputError naming `where` for a map made with another camera.
+void importMap(const MapData& map, const MapCalibration& now, const std::string& where,
+               MapStore& store, MappingStage& mapping, loop::LoopCloser* loop,
+               TrackingStage& tracking);
+
+}  // namespace ldsm
