@@ -20,5 +20,6 @@ void addRunCommand(CLI::App& app, CommandResult& result);
 void addRecordCommand(CLI::App& app, CommandResult& result);
 void addCalibCommand(CLI::App& app, CommandResult& result);
 void addVocabCommand(CLI::App& app, CommandResult& result);
+void addMapCommand(CLI::App& app, CommandResult& result);
 
 }  // namespace ldsm::app

@@ -35,6 +35,7 @@ int main(int argc, char** argv) {
   ldsm::app::addRecordCommand(app, result);
   ldsm::app::addCalibCommand(app, result);
   ldsm::app::addVocabCommand(app, result);
+  ldsm::app::addMapCommand(app, result);
 
   try {
     app.parse(argc, argv);
