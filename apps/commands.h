@@ -21,5 +21,6 @@ void addRecordCommand(CLI::App& app, CommandResult& result);
 void addCalibCommand(CLI::App& app, CommandResult& result);
 void addVocabCommand(CLI::App& app, CommandResult& result);
 void addViewCommand(CLI::App& app, CommandResult& result);
+void addMapCommand(CLI::App& app, CommandResult& result);
 
 }  // namespace ldsm::app

@@ -36,6 +36,7 @@ int main(int argc, char** argv) {
   ldsm::app::addCalibCommand(app, result);
   ldsm::app::addVocabCommand(app, result);
   ldsm::app::addViewCommand(app, result);
+  ldsm::app::addMapCommand(app, result);
 
   try {
     app.parse(argc, argv);

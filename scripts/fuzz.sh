@@ -16,7 +16,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 seconds=${1:-60}
-targets=${FUZZ_TARGETS:-camera_txt kalibr_yaml kitti_calib pcalib vignette image_decode timestamps trajectory config_yaml vocabulary}
+targets=${FUZZ_TARGETS:-camera_txt kalibr_yaml kitti_calib pcalib vignette image_decode timestamps trajectory config_yaml vocabulary map_file}
 dir=${BUILD_DIR:-build-fuzz}
 JOBS=${JOBS:-$(nproc)}
 

@@ -31,10 +31,14 @@ int openTemporary(const std::string& path, std::string& tmp_path) {
 }  // namespace
 
 void writeFileAtomically(const std::string& path, const std::string& contents) {
+  writeFileAtomically(path, contents.data(), contents.size());
+}
+
+void writeFileAtomically(const std::string& path, const void* bytes, std::size_t size) {
   std::string tmp_path;
   const int fd = openTemporary(path, tmp_path);
-  const char* data = contents.data();
-  std::size_t left = contents.size();
+  const char* data = static_cast<const char*>(bytes);
+  std::size_t left = size;
   int err = 0;
   while (left > 0) {
     const ssize_t n = ::write(fd, data, left);

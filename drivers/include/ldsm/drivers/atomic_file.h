@@ -1,6 +1,7 @@
 // Writing files so that a crash or a full disk never leaves half a file behind.
 #pragma once
 
+#include <cstddef>
 #include <string>
 
 namespace ldsm::drivers {
@@ -9,5 +10,7 @@ namespace ldsm::drivers {
 /// `path` (atomic on POSIX file systems). Throws ldsm::Error naming the path when the directory
 /// is not writable or the write fails; the temporary file is removed then.
 void writeFileAtomically(const std::string& path, const std::string& contents);
+/// The same for `size` bytes at `data` (binary files, without a copy into a string).
+void writeFileAtomically(const std::string& path, const void* data, std::size_t size);
 
 }  // namespace ldsm::drivers
