@@ -21,6 +21,7 @@
 #include "ldsm/drivers/dataset_calibration.h"
 #include "ldsm/drivers/dataset_description.h"
 #include "ldsm/drivers/dataset_source.h"
+#include "ldsm/drivers/map_file_io.h"
 #include "ldsm/drivers/realtime_replay_source.h"
 #include "ldsm/drivers/trajectory_io.h"
 #include "ldsm/error.h"
@@ -62,6 +63,10 @@ struct RunOptions {
   double gain = -1.0;
   bool lock_exposure = false;
   int timeout_ms = 2000;
+  // Maps across sessions (docs/map-file.md).
+  std::string load_map;
+  std::string save_map;
+  bool localize_only = false;
   // Browser viewer (docs/viewer.md).
   std::string serve;  ///< "[ADDR:]PORT"; empty: no viewer
   bool serve_wait = false;
@@ -208,7 +213,15 @@ int run(const RunOptions& o) {
     config.system.deterministic = false;
     config.system.live = true;
   }
-  System system(config, in.geometric, in.photometric);
+  if (o.localize_only) config.map.localize_only = true;
+  std::unique_ptr<System> owned =
+      o.load_map.empty() ? std::make_unique<System>(config, in.geometric, in.photometric)
+                         : std::make_unique<System>(config, in.geometric, in.photometric,
+                                                    drivers::readMapFile(o.load_map), o.load_map);
+  System& system = *owned;
+  if (!o.load_map.empty())
+    std::fprintf(stderr, "%s: map loaded%s; looking for the camera in it\n", o.load_map.c_str(),
+                 o.localize_only ? " (localising only: it is not changed)" : "");
   ProgressListener listener;
   // The viewer exists only with --serve: without it nothing of it is in the process.
   std::unique_ptr<viewer::RunViewer> view;
@@ -308,6 +321,18 @@ int run(const RunOptions& o) {
     std::fprintf(stderr, "ldsm: error: %s\n", e.what());
     written = false;
   }
+  if (!o.save_map.empty()) {
+    // Also after Ctrl-C or a bad frame: the map so far is what there is.
+    try {
+      const std::vector<std::uint8_t> map = system.saveMap();
+      drivers::writeMapFile(o.save_map, map);
+      std::printf("map saved to %s (%.1f MB)\n", o.save_map.c_str(),
+                  static_cast<double>(map.size()) / 1e6);
+    } catch (const Error& e) {
+      std::fprintf(stderr, "ldsm: error: saving the map: %s\n", e.what());
+      written = false;
+    }
+  }
 
   std::printf("%s: %lld frames, %lld tracked, %lld keyframes, %.1f ms/frame, peak %.0f MB\n",
               status.c_str(), static_cast<long long>(stats.frames),
@@ -395,6 +420,17 @@ void addRunCommand(CLI::App& app, CommandResult& result) {
   cmd->add_option("--timeout-ms", o->timeout_ms, "Longest wait for a camera frame")
       ->capture_default_str()
       ->group(cam);
+  const char* maps = "Maps across sessions (docs/map-file.md)";
+  cmd->add_option("--load-map", o->load_map,
+                  "Start in a saved map: relocalise in it, continue in its frame")
+      ->group(maps);
+  cmd->add_option("--save-map", o->save_map,
+                  "Save the map at the end of the run (also after Ctrl-C)")
+      ->group(maps);
+  cmd->add_flag("--localize-only", o->localize_only,
+                "With --load-map: localise in the map without changing it (flat memory)")
+      ->needs("--load-map")
+      ->group(maps);
   const char* viewer = "Browser viewer (docs/viewer.md)";
   auto* serve = cmd->add_option("--serve", o->serve,
                                 "Serve a live 3D view of the run at [ADDR:]PORT (default address "

@@ -66,6 +66,7 @@ bool Mapper::initialize(const InitializationResult& result, const MapperFrame& r
   MapUpdate before = reset();
   WindowKeyframe& kf0 = insertKeyframe(std::move(reference_pyramid), reference);
   kf0.is_gauge_anchor = true;
+  chain_start_id_ = kf0.id();
   // Keep about the configured number of active points, spread evenly over the result.
   std::vector<const InitializedPoint*> usable;
   for (const auto& p : result.points)
@@ -475,10 +476,12 @@ KeyframeInsertion Mapper::relocalize(std::unique_ptr<ImagePyramid> pyramid, cons
   KeyframeInsertion ins;
   ins.map = reset();
   WindowKeyframe& kf = insertKeyframe(std::move(pyramid), info);
+  chain_start_id_ = kf.id();
   // Held near where relocalisation found it (the reactivated keyframe fixes the gauge; this keeps
   // it once that one leaves), not fixed: its pose is a measurement from one map keyframe, and the
   // window corrects it (on vamr_desk_loop by up to half a degree).
   kf.anchor_weight = kRelocalizationAnchorWeight;
+  kf.anchor_affine_weight = settings_.optimizer.gauge_anchor_weight;
   ins.keyframe_id = kf.id();
   reactivate(anchor, anchor_T_w_c, anchor_scale);
   for (auto& p : reactivated_.back()->points) p->verified = true;  // relocalisation aligned them

@@ -105,6 +105,9 @@ class Mapper {
   /// Keyframe ids continue after `next` (a loaded map's keyframes keep theirs). Before the first
   /// keyframe only.
   void setNextKeyframeId(int next) { next_keyframe_id_ = next; }
+  /// The first keyframe of the window's chain (the window started at initialisation or
+  /// relocalisation with it): keyframes with smaller ids came from earlier chains or sessions.
+  int chainStartId() const { return chain_start_id_; }
   /// The window keyframes' current poses.
   std::vector<KeyframeRecord> windowPoses() const;
   /// World positions of the active points.
@@ -207,6 +210,7 @@ class Mapper {
   std::vector<float> energies_;                               // scratch of adaptOutlierThreshold()
   std::vector<SelectedPixel> selected_;
   int next_keyframe_id_ = 0;
+  int chain_start_id_ = 0;
   std::uint64_t next_point_id_ = 0;
   float min_activation_distance_ = 2.f;
   MapUpdate update_;  ///< collected during the current operation

@@ -81,6 +81,10 @@ class WindowKeyframe {
   /// A soft anchor of pose and affine brightness to the first estimate (weight per parameter;
   /// 0: none): a relocalised keyframe is held near where it was found, not fixed there.
   double anchor_weight = 0.0;
+  /// The soft anchor's weight on the affine brightness (a, b), when > 0 (else anchor_weight): a
+  /// relocalised keyframe holds the brightness gauge firmly (with the map keyframes gone from the
+  /// window nothing else does) while its pose stays free to be corrected.
+  double anchor_affine_weight = 0.0;
   /// A map keyframe brought back into the window (reuse): pose, brightness and its points' depths
   /// stay as the map has them; it has no image.
   bool is_reactivated = false;

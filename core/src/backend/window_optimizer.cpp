@@ -99,6 +99,13 @@ void WindowOptimizer::precalcPairs(const std::vector<WindowKeyframe*>& window) {
     }
 }
 
+FrameVector WindowOptimizer::anchorWeights(const WindowKeyframe& kf, double anchor) {
+  FrameVector w = FrameVector::Constant(anchor);
+  if (!kf.is_gauge_anchor && !kf.is_reactivated && kf.anchor_affine_weight > 0.0)
+    w.tail<2>().setConstant(kf.anchor_affine_weight);
+  return w;
+}
+
 double WindowOptimizer::addPriors(const std::vector<WindowKeyframe*>& window,
                                   const MarginalizationPrior& prior, Eigen::MatrixXd* H,
                                   Eigen::VectorXd* b) const {
@@ -126,11 +133,12 @@ double WindowOptimizer::addPriors(const std::vector<WindowKeyframe*>& window,
       // every b moves by the same amount; on kitti00_200 by -500 grey levels in 200 frames), away
       // from the first estimates their Jacobians are taken at. A reactivated map keyframe is held
       // the same way: the map's estimate.
+      const FrameVector w = anchorWeights(kf, anchor);
       const FrameVector d = kf.delta();
-      energy += 0.5 * anchor * d.squaredNorm();
+      energy += 0.5 * d.dot(w.cwiseProduct(d));
       if (H) {
-        H->block<k, k>(k * i, k * i).diagonal().array() += anchor;
-        b->segment<k>(k * i) += anchor * d;
+        H->block<k, k>(k * i, k * i).diagonal() += w;
+        b->segment<k>(k * i) += w.cwiseProduct(d);
       }
     }
   }
@@ -409,8 +417,9 @@ void WindowOptimizer::marginalizeFrame(const std::vector<WindowKeyframe*>& windo
   b[7] = settings_.affine_prior_b * frame.aff.b;
   const double anchor = frame.is_gauge_anchor ? settings_.gauge_anchor_weight : frame.anchor_weight;
   if (anchor > 0.0) {
-    H.diagonal().array() += anchor;
-    b += anchor * frame.delta();
+    const FrameVector w = anchorWeights(frame, anchor);
+    H.diagonal() += w;
+    b += w.cwiseProduct(frame.delta());
   }
   prior.add({frame.id()}, H, b, frame.delta());
   for (const auto* kf : window) prior.ensureFrame(kf->id());

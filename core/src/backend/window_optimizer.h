@@ -86,6 +86,8 @@ class WindowOptimizer {
   const WindowOptimizerSettings& settings() const { return settings_; }
 
  private:
+  /// Per-parameter weights of a keyframe's anchor of weight `anchor` (pose, then a and b).
+  static FrameVector anchorWeights(const WindowKeyframe& kf, double anchor);
   struct System {
     Eigen::MatrixXd H;  ///< frames (8n x 8n), residuals + priors
     Eigen::VectorXd b;

@@ -6,7 +6,7 @@
 
 #include "camera/radial_distortion.h"
 #include "ldsm/error.h"
-#include "mapfile/map_codec.h"
+#include "mapfile/map_calibration.h"
 
 namespace ldsm {
 namespace {

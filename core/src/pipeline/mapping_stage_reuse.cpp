@@ -76,6 +76,7 @@ ReuseView MappingStage::reuseView(const WindowKeyframe& newest) {
   view.camera = camera_[0];
   view.radial_k = mapper_.radialK();
   view.path_length = newest.path_length;
+  view.chain_start_id = mapper_.chainStartId();
   const std::vector<Eigen::Vector2f> corners = mapper_.newestDescribableCorners();
   orb_->compute(newest.pyramid().intensity(0), corners, view.descriptors, orb_kept_);
   for (const std::uint32_t i : orb_kept_) view.corners.push_back(corners[i]);

@@ -78,8 +78,9 @@ ReuseCheck ReactivationSearch::check(const ReuseView& view, const MarginalizedKe
   // The camera came back: a long way round, or (nearly) the same place.
   const double chord = (pose.T_w_c.translation() - view.T_c_w.inverse().translation()).norm();
   const double travelled = view.path_length - keyframe.path_length;
-  if (!(chord < config_.same_place_distance * view.median_depth ||
-        travelled > config_.revisit_ratio * chord)) {
+  const bool earlier_chain = keyframe.id < view.chain_start_id;
+  if (!earlier_chain && !(chord < config_.same_place_distance * view.median_depth ||
+                          travelled > config_.revisit_ratio * chord)) {
     c.reason = "not a revisit (travelled " + std::to_string(travelled) + ", " +
                std::to_string(chord) + " away)";
     return c;

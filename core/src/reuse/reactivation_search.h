@@ -37,6 +37,10 @@ struct ReuseView {
   std::vector<OrbDescriptor> descriptors;
   double median_depth = 1.0;    ///< of the window's points seen from it
   double path_length = 0.0;     ///< distance travelled up to it (map units)
+  /// The first keyframe of the window's chain: keyframes with smaller ids were made before the
+  /// window last started (before a relocalisation, or in a loaded map's session), so the
+  /// distance travelled since them is unknown and any of them is a revisit.
+  int chain_start_id = 0;
   std::vector<int> window_ids;  ///< the active keyframes (searched from, never candidates)
 };
 
