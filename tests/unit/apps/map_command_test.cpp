@@ -46,7 +46,7 @@ TEST(MapCommand, InfoPrintsWhatTheMapHolds) {
   std::string log;
   ASSERT_EQ(test::runCommand(std::string(LDSM_EXE) + " map info " + path, &log), 0) << log;
   expectLine(log, path + ": ldsm map, format version 1, checked in ");
-  expectLine(log, "keyframes:    20 (10 with points and features, 0 of them culled)");
+  expectLine(log, "keyframes:    20 (10 with points and features, 1 of them culled)");
   expectLine(log, "points:       300 in the cloud; 300 patch points, 100 corners, 100 descriptors");
   expectLine(log, "area:         8.00 x 3.");
   expectLine(log, "calibration:  752x480, fx 458.500 fy 457.250 cx 367.200 cy 248.400, radial k "
