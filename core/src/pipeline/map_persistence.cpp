@@ -60,31 +60,38 @@ MapCalibration mapCalibration(const LevelCamera& camera, const PhotometricCalibr
       hashFloats(photometric.inverse_response.data(), photometric.inverse_response.size(), h);
     if (c.has_vignette)
       for (int y = 0; y < photometric.vignette.height(); ++y)
-        hashFloats(&photometric.vignette(0, y), static_cast<std::size_t>(photometric.vignette.width()),
-                   h);
+        hashFloats(&photometric.vignette(0, y),
+                   static_cast<std::size_t>(photometric.vignette.width()), h);
     c.photometric_hash = h;
   }
   return c;
 }
 
 MapData exportMap(const MapStore& store, MappingStage& mapping, const loop::LoopCloser* loop,
-                  const LevelCamera& camera, const MapCalibration& calibration) {
+                  const LevelCamera& camera, const MapCalibration& calibration,
+                  const MapExportScope& scope) {
   MapData out;
   out.calibration = calibration;
   const StoredMap stored = store.firstMap();
   const Sim3d& S = stored.S_report_world;
   std::vector<int> ids;
   for (const KeyframeRecord& r : stored.keyframes) {
+    if (r.id >= scope.keyframes_below) continue;
     out.keyframes.push_back(moved(r, S));
     ids.push_back(r.id);
   }
   const auto saved = [&](int id) { return std::binary_search(ids.begin(), ids.end(), id); };
+  // Only a limited scope drops what hangs on keyframes it leaves out.
+  const bool limited = scope.keyframes_below != MapExportScope{}.keyframes_below;
+  const auto kept = [&](int id) { return !limited || saved(id); };
   const auto record = [&](int id) {
     return *std::lower_bound(out.keyframes.begin(), out.keyframes.end(), id,
                              [](const KeyframeRecord& r, int k) { return r.id < k; });
   };
-  for (const auto& data : stored.data) out.data.push_back(*data);
+  for (const auto& data : stored.data)
+    if (kept(data->id)) out.data.push_back(*data);
   for (const HostedPoint& p : stored.points) {
+    if (!kept(p.host)) continue;
     HostedPoint q = p;
     q.point.position = S * p.point.position;
     q.point.map = 0;
@@ -92,7 +99,9 @@ MapData exportMap(const MapStore& store, MappingStage& mapping, const loop::Loop
   }
   // The window's keyframes join the map as they would if they left it now, with their points.
   std::vector<std::pair<int, Sim3d>> window;
-  for (MarginalizedKeyframe& kf : mapping.windowForMap()) {
+  std::vector<MarginalizedKeyframe> window_keyframes;
+  if (scope.window) window_keyframes = mapping.windowForMap();
+  for (MarginalizedKeyframe& kf : window_keyframes) {
     if (!saved(kf.id) || store.keyframeData(kf.id)) continue;
     const KeyframeRecord r = record(kf.id);
     window.emplace_back(kf.id, S.inverse() * sim3Of(r));
@@ -112,9 +121,11 @@ MapData exportMap(const MapStore& store, MappingStage& mapping, const loop::Loop
     kf.T_w_c = r.T_w_c;
     kf.image = ImageF();
   }
-  std::sort(out.data.begin(), out.data.end(),
-            [](const MarginalizedKeyframe& a, const MarginalizedKeyframe& b) { return a.id < b.id; });
-  for (const auto& e : stored.covisibility) out.covisibility.push_back({e[0], e[1], e[2]});
+  std::sort(
+      out.data.begin(), out.data.end(),
+      [](const MarginalizedKeyframe& a, const MarginalizedKeyframe& b) { return a.id < b.id; });
+  for (const auto& e : stored.covisibility)
+    if (kept(e[0]) && kept(e[1])) out.covisibility.push_back({e[0], e[1], e[2]});
   if (loop) {
     const loop::LoopCloser::GraphExport g = loop->exportGraph(ids, window);
     for (const loop::PoseGraphEdge& e : g.edges) out.graph.push_back(toSaved(e));
@@ -133,7 +144,8 @@ void importMap(const MapData& map, const MapCalibration& now, const std::string&
   for (const MarginalizedKeyframe& kf : map.data)
     stored.data.push_back(std::make_shared<const MarginalizedKeyframe>(kf));
   stored.points = map.points;
-  for (const MapCovisibility& c : map.covisibility) stored.covisibility.push_back({c.a, c.b, c.weight});
+  for (const MapCovisibility& c : map.covisibility)
+    stored.covisibility.push_back({c.a, c.b, c.weight});
   store.loadMap(stored);
   if (loop) {
     std::vector<std::pair<int, Sim3d>> vertices;

@@ -3,6 +3,7 @@
 // (mapfile/map_codec.h) turns the value into the file's bytes.
 #pragma once
 
+#include <limits>
 #include <string>
 
 #include "camera/pyramid_camera.h"
@@ -19,10 +20,21 @@ namespace ldsm {
 MapCalibration mapCalibration(const LevelCamera& camera, const PhotometricCalibration& photometric,
                               double radial_k);
 
-/// The first map (with everything merged into it) and the window's keyframes as the map would
-/// keep them, in the frame poses are reported in. The stages must be idle (after finish()).
+/// What of the map is saved.
+struct MapExportScope {
+  /// Keyframes with ids from this one on are left out (a loaded map's keyframes have smaller
+  /// ids): localising only, the map saved is the map loaded, whatever the run made meanwhile.
+  int keyframes_below = std::numeric_limits<int>::max();
+  /// The window's keyframes join the map as they would if they left it now.
+  bool window = true;
+};
+
+/// The first map (with everything merged into it) and, with scope.window, the window's keyframes
+/// as the map would keep them, in the frame poses are reported in. The stages must be idle (after
+/// finish()).
 MapData exportMap(const MapStore& store, MappingStage& mapping, const loop::LoopCloser* loop,
-                  const LevelCamera& camera, const MapCalibration& calibration);
+                  const LevelCamera& camera, const MapCalibration& calibration,
+                  const MapExportScope& scope = {});
 
 /// Starts the stages from a saved map (before the first frame): the store, loop closure (graph,
 /// vocabulary, place recognition), keyframe ids after the map's, and tracking that first looks

@@ -1,5 +1,7 @@
 #include "pipeline/slam_pipeline.h"
 
+#include <algorithm>
+
 #include "pipeline/map_persistence.h"
 #include "pipeline/stage_settings.h"
 
@@ -41,16 +43,27 @@ SlamPipeline::SlamPipeline(const Config& config, const GeometricCalibration& geo
           trackingStageSettings(config, camera_.levels(), photometryKnown(preprocessor_, config)),
           camera_, preprocessor_, pyramids_, store_, mapping_, events_) {
   map_calibration_ = mapCalibration(camera_[0], photometric, 0.0);
+  localize_only_ = config.map.localize_only;
 }
 
 MapData SlamPipeline::exportMap() {
   MapCalibration calibration = map_calibration_;
   calibration.radial_k = mapping_.snapshot()->radial_applied;
-  return ldsm::exportMap(store_, mapping_, loop_closer_.get(), camera_[0], calibration);
+  MapExportScope scope;
+  if (localize_only_) {
+    scope.keyframes_below = loaded_keyframes_end_;
+    scope.window = false;
+    calibration.radial_k = loaded_radial_k_;
+  }
+  return ldsm::exportMap(store_, mapping_, loop_closer_.get(), camera_[0], calibration, scope);
 }
 
 void SlamPipeline::loadMap(const MapData& map, const std::string& where) {
   ldsm::importMap(map, map_calibration_, where, store_, mapping_, loop_closer_.get(), tracking_);
+  loaded_keyframes_end_ = 0;
+  for (const KeyframeRecord& r : map.keyframes)
+    loaded_keyframes_end_ = std::max(loaded_keyframes_end_, r.id + 1);
+  loaded_radial_k_ = map.calibration.radial_k;
 }
 
 SlamPipeline::~SlamPipeline() = default;

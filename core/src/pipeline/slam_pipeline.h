@@ -70,6 +70,10 @@ class SlamPipeline {
  private:
   FramePreprocessor preprocessor_;
   MapCalibration map_calibration_;  ///< the camera and photometric model a saved map records
+  bool localize_only_ = false;      ///< map.localize_only: the map saved is the map loaded
+  /// Localising only: the loaded map's keyframes end here, and its calibration (radial_k) stays.
+  int loaded_keyframes_end_ = 0;
+  double loaded_radial_k_ = 0.0;
   PyramidCamera camera_;
   PyramidPool pyramids_;
   MapStore store_;
