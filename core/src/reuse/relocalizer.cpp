@@ -182,13 +182,58 @@ RelocalizationResult Relocalizer::relocalize(const ImagePyramid& frame, double e
     best.direct_inliers = direct.inliers;
     best.direct_points = direct.in_image;
     best.T_c_w = direct.T_target_host * pose.T_w_c.inverse();
-    // The frame's own affine brightness from the transfer keyframe -> frame
-    // (scale e^a = e^(a_f - a_k) t_f / t_k, offset b = b_f - scale b_k).
-    best.aff.a = direct.a - std::log(exposure / kf->exposure) + kf->aff.a;
-    best.aff.b = direct.b + std::exp(direct.a) * kf->aff.b;
+    best.aff = frameBrightness(direct, *kf, exposure);
   }
   if (!best.success && best.failure.empty()) best.failure = out.failure;
+  if (best.success) refineFromNearer(frame, exposure, map, median_depth, best);
   return best;
+}
+
+AffineLight Relocalizer::frameBrightness(const DirectAlignmentResult& direct,
+                                         const MarginalizedKeyframe& kf, double exposure) {
+  // The frame's own affine brightness from the transfer keyframe -> frame
+  // (scale e^a = e^(a_f - a_k) t_f / t_k, offset b = b_f - scale b_k).
+  AffineLight aff;
+  aff.a = direct.a - std::log(exposure / kf.exposure) + kf.aff.a;
+  aff.b = direct.b + std::exp(direct.a) * kf.aff.b;
+  return aff;
+}
+
+void Relocalizer::refineFromNearer(const ImagePyramid& frame, double exposure, const MapStore& map,
+                                   double median_depth, RelocalizationResult& best) const {
+  constexpr int kTriedNearer = 3;
+  const Eigen::Vector3d centre = best.T_c_w.inverse().translation();
+  const auto distance = [&](const KeyframeRecord& r) {
+    return (r.T_w_c.translation() - centre).norm();
+  };
+  const KeyframeRecord found = map.keyframe(best.keyframe_id);
+  const double found_distance = distance(found);
+  std::vector<std::pair<double, int>> nearer;  // (distance, id)
+  for (const int id : candidates(map, best.T_c_w, {best.keyframe_id}, median_depth)) {
+    if (id == best.keyframe_id) continue;
+    const KeyframeRecord r = map.keyframe(id);
+    const std::shared_ptr<const MarginalizedKeyframe> kf = map.keyframeData(id);
+    if (r.id < 0 || !kf || kf->points.empty()) continue;
+    const double d = distance(r);
+    if (d < found_distance) nearer.emplace_back(d, id);
+  }
+  std::sort(nearer.begin(), nearer.end());
+  for (int k = 0; k < kTriedNearer && k < static_cast<int>(nearer.size()); ++k) {
+    const int id = nearer[static_cast<std::size_t>(k)].second;
+    const std::shared_ptr<const MarginalizedKeyframe> kf = map.keyframeData(id);
+    const KeyframeRecord pose = map.keyframe(id);
+    const DirectAlignmentResult direct =
+        alignDirectly(*kf, pose, frame, exposure, best.T_c_w * pose.T_w_c);
+    if (!direct.success) continue;
+    spdlog::debug("relocalisation: refined against keyframe {} ({:.3f} away, keyframe {}: {:.3f})",
+                  id, nearer[static_cast<std::size_t>(k)].first, best.keyframe_id, found_distance);
+    best.keyframe_id = id;
+    best.direct_inliers = direct.inliers;
+    best.direct_points = direct.in_image;
+    best.T_c_w = direct.T_target_host * pose.T_w_c.inverse();
+    best.aff = frameBrightness(direct, *kf, exposure);
+    return;
+  }
 }
 
 }  // namespace ldsm

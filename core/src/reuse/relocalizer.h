@@ -71,6 +71,15 @@ class Relocalizer {
   DirectAlignmentResult alignDirectly(const MarginalizedKeyframe& kf, const KeyframeRecord& pose,
                                       const ImagePyramid& frame, double exposure,
                                       const SE3d& T_start) const;
+  /// 6. From the pose found, direct alignment to the map keyframes seen from nearer (within the
+  /// search radius, or covisible with the one found): the nearest that holds gives the pose. A
+  /// match found by place recognition may be a keyframe far from the frame, and the direct fit to
+  /// a far view is the least accurate one (on vamr_desk_loop 1.6 cm off from 12 cm away).
+  void refineFromNearer(const ImagePyramid& frame, double exposure, const MapStore& map,
+                        double median_depth, RelocalizationResult& best) const;
+  /// The frame's affine brightness from a direct fit to `kf`.
+  static AffineLight frameBrightness(const DirectAlignmentResult& direct,
+                                     const MarginalizedKeyframe& kf, double exposure);
 
   ReuseConfig config_;
   PyramidCamera camera_;
