@@ -170,26 +170,28 @@ const char* traceStatusName(TraceStatus status) {
 ImmaturePoint::ImmaturePoint(ImageView<const GradientPixel> host, float u, float v,
                              float idepth_min, float idepth_max, float gradient_weight_c)
     : u_(u), v_(v), idepth_min_(idepth_min), idepth_max_(idepth_max) {
-  const std::string where =
-      "ImmaturePoint at (" + std::to_string(u) + ", " + std::to_string(v) + ")";
+  // Built only when a check fails: this constructor runs for every selected pixel of a keyframe.
+  const auto where = [u, v] {
+    return "ImmaturePoint at (" + std::to_string(u) + ", " + std::to_string(v) + ")";
+  };
   if (!(idepth_min >= 0.f) || !std::isfinite(idepth_min) || !(idepth_max >= idepth_min)) {
-    throw InputError(where + ": bad inverse depth interval [" + std::to_string(idepth_min) + ", " +
-                     std::to_string(idepth_max) + "]");
+    throw InputError(where() + ": bad inverse depth interval [" + std::to_string(idepth_min) +
+                     ", " + std::to_string(idepth_max) + "]");
   }
   if (!(gradient_weight_c > 0.f)) {
-    throw InputError(where + ": gradient weight constant must be > 0");
+    throw InputError(where() + ": gradient weight constant must be > 0");
   }
   const float c2 = gradient_weight_c * gradient_weight_c;
   for (int k = 0; k < kPatternSize; ++k) {
     const float x = u + static_cast<float>(kPatternOffsets[k][0]);
     const float y = v + static_cast<float>(kPatternOffsets[k][1]);
     if (!isInsideForBilinear(host, x, y)) {
-      throw InputError(where + ": the pattern leaves the " + std::to_string(host.width) + "x" +
+      throw InputError(where() + ": the pattern leaves the " + std::to_string(host.width) + "x" +
                        std::to_string(host.height) + " host image");
     }
     const GradientPixel p = interpolateBilinear(host, x, y);
     if (!std::isfinite(p.intensity) || !std::isfinite(p.dx) || !std::isfinite(p.dy)) {
-      throw InputError(where + ": non-finite host intensity or gradient");
+      throw InputError(where() + ": non-finite host intensity or gradient");
     }
     colors_[k] = p.intensity;
     weights_[k] = c2 / (c2 + p.dx * p.dx + p.dy * p.dy);
