@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "kernels/pattern_energy.h"
 #include "ldsm/error.h"
 #include "ldsm/image/interpolation.h"
 
@@ -11,19 +12,6 @@ namespace ldsm {
 namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
-
-/// Bilinear intensity of a packed level (no gradient). Requires isInsideForBilinear.
-inline float intensityAt(ImageView<const GradientPixel> img, float x, float y) {
-  const int ix = static_cast<int>(x);
-  const int iy = static_cast<int>(y);
-  const float fx = x - static_cast<float>(ix);
-  const float fy = y - static_cast<float>(iy);
-  const GradientPixel* p = img.data + iy * img.stride + ix;
-  const GradientPixel* q = p + img.stride;
-  const float top = p[0].intensity + fx * (p[1].intensity - p[0].intensity);
-  const float bottom = q[0].intensity + fx * (q[1].intensity - q[0].intensity);
-  return top + fy * (bottom - top);
-}
 
 /// The pattern compared at positions of the target image: offsets already mapped into the
 /// target, host intensities already mapped through the affine brightness transfer.
@@ -33,17 +21,10 @@ struct PatternMatcher {
   float expected[kPatternSize];
   const float* weights;
   float huber;
+  simd::PatternEnergyParams simd;  ///< the above as the energy kernel takes them
 
   /// Sum of w_k * 2 huber(r_k) (r^2 inside the threshold k, 2k|r| - k^2 beyond).
-  float energy(float x, float y) const {
-    float e = 0.f;
-    for (int k = 0; k < kPatternSize; ++k) {
-      const float r = intensityAt(image, x + ox[k], y + oy[k]) - expected[k];
-      const float a = std::abs(r);
-      e += weights[k] * (a <= huber ? r * r : huber * (2.f * a - huber));
-    }
-    return e;
-  }
+  float energy(float x, float y) const { return simd::patternEnergy<simd::Vec4>(simd, x, y); }
 
   /// Energy and the 1-D Gauss-Newton terms (IRLS weights) for a shift along (dx, dy).
   void linearize(float x, float y, float dx, float dy, float& e, float& gradient,
@@ -93,7 +74,13 @@ PatternMatcher orientedMatcher(ImageView<const GradientPixel> target, const Eige
     m.oy[k] = o.y();
     *radius = std::max({*radius, std::abs(o.x()), std::abs(o.y())});
     m.expected[k] = affine.x() * colors[k] + affine.y();
+    m.simd.ox[k] = m.ox[k];
+    m.simd.oy[k] = m.oy[k];
+    m.simd.expected[k] = m.expected[k];
+    m.simd.weights[k] = weights[k];
   }
+  m.simd.image = target;
+  m.simd.huber = huber;
   return m;
 }
 
