@@ -130,6 +130,9 @@ struct WindowConfig {
   int max_keyframes = 7;            ///< hard upper bound of the optimisation window
   int active_points = 2000;         ///< target number of active points in the whole window
   int max_iterations = 6;           ///< Levenberg-Marquardt iterations per new keyframe
+  /// The iterations stop once a step changes the window energy by less than this fraction
+  /// (either way): past it, steps only move points at the noise floor of the residuals.
+  double min_relative_decrease = 3e-4;
   double outlier_threshold = 12.0;  ///< RMS pattern residual (grey levels) of an outlier
   /// Each keyframe's outlier threshold follows its own residual level after its first
   /// optimisation (DSO's rule); outlier_threshold then only applies before that and to the
@@ -148,6 +151,9 @@ struct WindowConfig {
             "target number of active points in the window");
     v.field("max_iterations", max_iterations, Range<int>{1, 50},
             "Levenberg-Marquardt iterations of the window per new keyframe");
+    v.field("min_relative_decrease", min_relative_decrease, Range<double>{0.0, 1.0},
+            "the window iterations stop once a step changes the energy by less than this "
+            "fraction");
     v.field("outlier_threshold", outlier_threshold, Range<double>{1.0, 255.0},
             "RMS pattern residual (grey levels) above which a residual is an outlier");
     v.field("adaptive_outlier_threshold", adaptive_outlier_threshold,

@@ -7,25 +7,13 @@
 #include <utility>
 
 #include "image/interpolation.h"
+#include "kernels/pattern_energy.h"
 #include "ldsm/error.h"
 
 namespace ldsm {
 namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
-
-/// Bilinear intensity of a packed level (no gradient). Requires isInsideForBilinear.
-inline float intensityAt(ImageView<const GradientPixel> img, float x, float y) {
-  const int ix = static_cast<int>(x);
-  const int iy = static_cast<int>(y);
-  const float fx = x - static_cast<float>(ix);
-  const float fy = y - static_cast<float>(iy);
-  const GradientPixel* p = img.data + iy * img.stride + ix;
-  const GradientPixel* q = p + img.stride;
-  const float top = p[0].intensity + fx * (p[1].intensity - p[0].intensity);
-  const float bottom = q[0].intensity + fx * (q[1].intensity - q[0].intensity);
-  return top + fy * (bottom - top);
-}
 
 /// The pattern compared at positions of the target image: offsets already mapped into the
 /// target, host intensities already mapped through the affine brightness transfer.
@@ -35,17 +23,10 @@ struct PatternMatcher {
   float expected[kPatternSize];
   const float* weights;
   float huber;
+  simd::PatternEnergyParams simd;  ///< the above as the energy kernel takes them
 
   /// Sum of w_k * 2 huber(r_k) (r^2 inside the threshold k, 2k|r| - k^2 beyond).
-  float energy(float x, float y) const {
-    float e = 0.f;
-    for (int k = 0; k < kPatternSize; ++k) {
-      const float r = intensityAt(image, x + ox[k], y + oy[k]) - expected[k];
-      const float a = std::abs(r);
-      e += weights[k] * (a <= huber ? r * r : huber * (2.f * a - huber));
-    }
-    return e;
-  }
+  float energy(float x, float y) const { return simd::patternEnergy<simd::Vec4>(simd, x, y); }
 
   /// Energy and the 1-D Gauss-Newton terms (IRLS weights) for a shift along (dx, dy).
   void linearize(float x, float y, float dx, float dy, float& e, float& gradient,
@@ -95,7 +76,13 @@ PatternMatcher orientedMatcher(ImageView<const GradientPixel> target, const Eige
     m.oy[k] = o.y();
     *radius = std::max({*radius, std::abs(o.x()), std::abs(o.y())});
     m.expected[k] = affine.x() * colors[k] + affine.y();
+    m.simd.ox[k] = m.ox[k];
+    m.simd.oy[k] = m.oy[k];
+    m.simd.expected[k] = m.expected[k];
+    m.simd.weights[k] = weights[k];
   }
+  m.simd.image = target;
+  m.simd.huber = huber;
   return m;
 }
 
@@ -231,26 +218,28 @@ const char* traceStatusName(TraceStatus status) {
 ImmaturePoint::ImmaturePoint(ImageView<const GradientPixel> host, float u, float v,
                              float idepth_min, float idepth_max, float gradient_weight_c)
     : u_(u), v_(v), idepth_min_(idepth_min), idepth_max_(idepth_max) {
-  const std::string where =
-      "ImmaturePoint at (" + std::to_string(u) + ", " + std::to_string(v) + ")";
+  // Built only when a check fails: this constructor runs for every selected pixel of a keyframe.
+  const auto where = [u, v] {
+    return "ImmaturePoint at (" + std::to_string(u) + ", " + std::to_string(v) + ")";
+  };
   if (!(idepth_min >= 0.f) || !std::isfinite(idepth_min) || !(idepth_max >= idepth_min)) {
-    throw InputError(where + ": bad inverse depth interval [" + std::to_string(idepth_min) + ", " +
-                     std::to_string(idepth_max) + "]");
+    throw InputError(where() + ": bad inverse depth interval [" + std::to_string(idepth_min) +
+                     ", " + std::to_string(idepth_max) + "]");
   }
   if (!(gradient_weight_c > 0.f)) {
-    throw InputError(where + ": gradient weight constant must be > 0");
+    throw InputError(where() + ": gradient weight constant must be > 0");
   }
   const float c2 = gradient_weight_c * gradient_weight_c;
   for (int k = 0; k < kPatternSize; ++k) {
     const float x = u + static_cast<float>(kPatternOffsets[k][0]);
     const float y = v + static_cast<float>(kPatternOffsets[k][1]);
     if (!isInsideForBilinear(host, x, y)) {
-      throw InputError(where + ": the pattern leaves the " + std::to_string(host.width) + "x" +
+      throw InputError(where() + ": the pattern leaves the " + std::to_string(host.width) + "x" +
                        std::to_string(host.height) + " host image");
     }
     const GradientPixel p = interpolateBilinear(host, x, y);
     if (!std::isfinite(p.intensity) || !std::isfinite(p.dx) || !std::isfinite(p.dy)) {
-      throw InputError(where + ": non-finite host intensity or gradient");
+      throw InputError(where() + ": non-finite host intensity or gradient");
     }
     colors_[k] = p.intensity;
     weights_[k] = c2 / (c2 + p.dx * p.dx + p.dy * p.dy);

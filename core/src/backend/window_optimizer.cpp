@@ -279,6 +279,26 @@ void WindowOptimizer::solve(const System& sys, double lambda, Eigen::VectorXd& f
     point_step[i] = -(sys.b_d[i] + sys.coupling.col(i).dot(frame_step)) * inv_dd[i];
 }
 
+void WindowOptimizer::saveResidualStates(const std::vector<ActivePoint*>& points) {
+  saved_points_.clear();
+  saved_residuals_.clear();
+  for (const ActivePoint* p : points) {
+    saved_points_.push_back({p->hessian_idepth, p->gradient_idepth, p->inlier_residuals});
+    saved_residuals_.insert(saved_residuals_.end(), p->residuals.begin(), p->residuals.end());
+  }
+}
+
+void WindowOptimizer::restoreResidualStates(const std::vector<ActivePoint*>& points) {
+  std::size_t r = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    ActivePoint& p = *points[i];
+    p.hessian_idepth = saved_points_[i].hessian_idepth;
+    p.gradient_idepth = saved_points_[i].gradient_idepth;
+    p.inlier_residuals = saved_points_[i].inlier_residuals;
+    for (PointResidual& res : p.residuals) res = saved_residuals_[r++];
+  }
+}
+
 double WindowOptimizer::evaluate(const std::vector<WindowKeyframe*>& window,
                                  const MarginalizationPrior& prior) {
   precalcPairs(window);
@@ -323,21 +343,24 @@ WindowOptimizationResult WindowOptimizer::optimize(const std::vector<WindowKeyfr
       // Keep depths positive: a point cannot jump behind its host.
       p.idepth = static_cast<float>(nd > 0.25 * p.idepth ? nd : 0.25 * p.idepth);
     }
+    saveResidualStates(sys.points);
     precalcPairs(window);
     linearize(window, prior, trial);
     ++result.iterations;
+    const double change = (sys.energy - trial.energy) / std::max(sys.energy, 1e-12);
     if (trial.energy <= sys.energy) {
-      const double decrease = (sys.energy - trial.energy) / std::max(sys.energy, 1e-12);
       std::swap(sys, trial);
       lambda = std::max(lambda * 0.5, 1e-8);
-      if (decrease < settings_.min_relative_decrease) break;
+      if (change < settings_.min_relative_decrease) break;
     } else {
       for (auto* kf : window) kf->restore();
       for (auto* p : sys.points) p->idepth = p->idepth_backup;
       lambda *= 8.0;
       precalcPairs(window);
-      linearize(window, prior, sys);  // restores residual states of the kept state
-      if (lambda > 1e4) break;
+      restoreResidualStates(sys.points);  // as the kept state's linearisation left them
+      // A step that changes the energy this little either way is at the noise floor of the
+      // residuals (outliers flipping, points at the edge of the view): converged.
+      if (-change < settings_.min_relative_decrease || lambda > 1e4) break;
     }
   }
   result.final_energy = sys.energy;

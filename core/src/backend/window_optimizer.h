@@ -19,7 +19,8 @@ namespace ldsm {
 struct WindowOptimizerSettings {
   int max_iterations = 6;
   double initial_lambda = 1e-4;
-  double min_relative_decrease = 1e-4;  ///< stop when energy falls by less than this fraction
+  /// Stop when a step changes the energy by less than this fraction (either way).
+  double min_relative_decrease = 3e-4;
   double affine_prior_a = 1e-3;         ///< prior weight on a (towards 0)
   double affine_prior_b = 1e-3;         ///< prior weight on b (towards 0)
   /// Weight anchoring the gauge keyframe (pose and affine brightness) to its first estimate.
@@ -114,8 +115,19 @@ class WindowOptimizer {
   void solve(const System& sys, double lambda, Eigen::VectorXd& frame_step,
              std::vector<double>& point_step) const;
 
+  /// What a linearisation changes of the points (besides the system): kept before a trial step
+  /// and put back when the step is rejected, instead of linearising the kept state again.
+  struct SavedPoint {
+    float hessian_idepth, gradient_idepth;
+    int inlier_residuals;
+  };
+  void saveResidualStates(const std::vector<ActivePoint*>& points);
+  void restoreResidualStates(const std::vector<ActivePoint*>& points);
+
   WindowOptimizerSettings settings_;
   LevelCamera camera_;
+  std::vector<SavedPoint> saved_points_;
+  std::vector<PointResidual> saved_residuals_;
   double radial_k_ = 0.0;
   /// Per (host, target) pair: sum over its residuals of w J_rel^T J_k.
   std::vector<RelVector, Eigen::aligned_allocator<RelVector>> radial_pair_;

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "ldsm/error.h"
+#include "math/simd/vec4f.h"
 
 namespace ldsm {
 namespace {
@@ -27,8 +28,8 @@ CornerDetector::CornerDetector(int width, int height) : width_(width), height_(h
     throw InputError("CornerDetector: image size must be positive (got " + std::to_string(width) +
                      "x" + std::to_string(height) + ")");
   }
-  row_sums_.resize(width, height);
-  column_acc_.resize(static_cast<std::size_t>(width));
+  ring_.resize(static_cast<std::size_t>(kRingRows) * 3 * width);
+  column_acc_.resize(static_cast<std::size_t>(3) * width);
   score_.resize(width, height);
   score_.fill(0.f);
   // Strict 3x3 local maxima are at most one per 2x2 pixels.
@@ -53,6 +54,37 @@ int CornerDetector::detect(ImageView<const GradientPixel> gradients, const Corne
   return static_cast<int>(out.size());
 }
 
+void CornerDetector::rowSums(ImageView<const GradientPixel> g, int y, int x_lo, int x_hi) {
+  const int r = kWindowRadius;
+  const GradientPixel* in = g.row(y);
+  float* out_xx = ringRow(y, 0);
+  float* out_xy = ringRow(y, 1);
+  float* out_yy = ringRow(y, 2);
+  float xx = 0.f, xy = 0.f, yy = 0.f;
+  for (int x = x_lo - r; x <= x_lo + r; ++x) {
+    const float p_xx = in[x].dx * in[x].dx, p_xy = in[x].dx * in[x].dy, p_yy = in[x].dy * in[x].dy;
+    xx += p_xx;
+    xy += p_xy;
+    yy += p_yy;
+  }
+  out_xx[x_lo] = xx;
+  out_xy[x_lo] = xy;
+  out_yy[x_lo] = yy;
+  // Running sums: three independent chains per pixel.
+  for (int x = x_lo + 1; x <= x_hi; ++x) {
+    const GradientPixel& a = in[x + r];
+    const GradientPixel& s = in[x - r - 1];
+    const float a_xx = a.dx * a.dx, a_xy = a.dx * a.dy, a_yy = a.dy * a.dy;
+    const float s_xx = s.dx * s.dx, s_xy = s.dx * s.dy, s_yy = s.dy * s.dy;
+    xx += a_xx - s_xx;
+    xy += a_xy - s_xy;
+    yy += a_yy - s_yy;
+    out_xx[x] = xx;
+    out_xy[x] = xy;
+    out_yy[x] = yy;
+  }
+}
+
 void CornerDetector::computeScores(ImageView<const GradientPixel> g, int border) {
   // Scores are needed on [border - 1, size - border] (local maxima and their sub-pixel parabola);
   // the 5x5 window must stay inside the image.
@@ -63,57 +95,56 @@ void CornerDetector::computeScores(ImageView<const GradientPixel> g, int border)
   const int y_hi = std::min(height_ - border, height_ - 1 - r);
   if (x_lo > x_hi || y_lo > y_hi) return;
 
-  auto product = [](const GradientPixel& p) {
-    return Tensor{p.dx * p.dx, p.dx * p.dy, p.dy * p.dy};
-  };
-  // Horizontal running 5-sums for the rows the vertical sums will read.
-  for (int y = y_lo - r; y <= y_hi + r; ++y) {
-    const GradientPixel* in = g.row(y);
-    Tensor* out = row_sums_.row(y);
-    Tensor acc{0.f, 0.f, 0.f};
-    for (int x = x_lo - r; x <= x_lo + r; ++x) {
-      const Tensor t = product(in[x]);
-      acc.xx += t.xx;
-      acc.xy += t.xy;
-      acc.yy += t.yy;
-    }
-    out[x_lo] = acc;
-    for (int x = x_lo + 1; x <= x_hi; ++x) {
-      const Tensor add = product(in[x + r]);
-      const Tensor sub = product(in[x - r - 1]);
-      acc.xx += add.xx - sub.xx;
-      acc.xy += add.xy - sub.xy;
-      acc.yy += add.yy - sub.yy;
-      out[x] = acc;
-    }
-  }
-  // Vertical running sums, row by row, and the smaller eigenvalue of the mean tensor.
-  std::fill(column_acc_.begin(), column_acc_.end(), Tensor{0.f, 0.f, 0.f});
+  // Vertical running sums of the horizontal sums (struct of arrays: the loops over x are
+  // vector loops), row by row, and the smaller eigenvalue of the mean tensor.
+  float* c_xx = column_acc_.data();
+  float* c_xy = c_xx + width_;
+  float* c_yy = c_xy + width_;
+  std::fill(column_acc_.begin(), column_acc_.end(), 0.f);
   for (int y = y_lo - r; y <= y_lo + r; ++y) {
-    const Tensor* in = row_sums_.row(y);
+    rowSums(g, y, x_lo, x_hi);
+    const float* in_xx = ringRow(y, 0);
+    const float* in_xy = ringRow(y, 1);
+    const float* in_yy = ringRow(y, 2);
     for (int x = x_lo; x <= x_hi; ++x) {
-      column_acc_[x].xx += in[x].xx;
-      column_acc_[x].xy += in[x].xy;
-      column_acc_[x].yy += in[x].yy;
+      c_xx[x] += in_xx[x];
+      c_xy[x] += in_xy[x];
+      c_yy[x] += in_yy[x];
     }
   }
+  using V = simd::Vec4;
+  const V inv_area = V::set1(kInvWindowArea);
+  const V half = V::set1(0.5f);
   for (int y = y_lo;; ++y) {
     float* s = score_.row(y);
-    for (int x = x_lo; x <= x_hi; ++x) {
-      const Tensor& t = column_acc_[x];
-      const float a = t.xx * kInvWindowArea;
-      const float b = t.xy * kInvWindowArea;
-      const float c = t.yy * kInvWindowArea;
+    int x = x_lo;
+    for (; x + 4 <= x_hi + 1; x += 4) {
+      const V a = V::loadu(c_xx + x) * inv_area;
+      const V b = V::loadu(c_xy + x) * inv_area;
+      const V c = V::loadu(c_yy + x) * inv_area;
+      const V half_diff = half * (a - c);
+      const V v = half * (a + c) - squareRoot(half_diff * half_diff + b * b);
+      select(v > V::zero(), v, V::zero()).storeu(s + x);
+    }
+    for (; x <= x_hi; ++x) {
+      const float a = c_xx[x] * kInvWindowArea;
+      const float b = c_xy[x] * kInvWindowArea;
+      const float c = c_yy[x] * kInvWindowArea;
       const float half_diff = 0.5f * (a - c);
       s[x] = std::max(0.5f * (a + c) - std::sqrt(half_diff * half_diff + b * b), 0.f);
     }
     if (y == y_hi) break;
-    const Tensor* add = row_sums_.row(y + r + 1);
-    const Tensor* sub = row_sums_.row(y - r);
-    for (int x = x_lo; x <= x_hi; ++x) {
-      column_acc_[x].xx += add[x].xx - sub[x].xx;
-      column_acc_[x].xy += add[x].xy - sub[x].xy;
-      column_acc_[x].yy += add[x].yy - sub[x].yy;
+    rowSums(g, y + r + 1, x_lo, x_hi);
+    const float* add_xx = ringRow(y + r + 1, 0);
+    const float* add_xy = ringRow(y + r + 1, 1);
+    const float* add_yy = ringRow(y + r + 1, 2);
+    const float* sub_xx = ringRow(y - r, 0);
+    const float* sub_xy = ringRow(y - r, 1);
+    const float* sub_yy = ringRow(y - r, 2);
+    for (int xx = x_lo; xx <= x_hi; ++xx) {
+      c_xx[xx] += add_xx[xx] - sub_xx[xx];
+      c_xy[xx] += add_xy[xx] - sub_xy[xx];
+      c_yy[xx] += add_yy[xx] - sub_yy[xx];
     }
   }
 }

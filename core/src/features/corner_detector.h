@@ -42,9 +42,6 @@ class CornerDetector {
   ImageView<const float> scores() const { return score_.view(); }
 
  private:
-  struct Tensor {
-    float xx, xy, yy;
-  };
   struct Candidate {
     float score;
     std::int32_t x, y;
@@ -56,8 +53,16 @@ class CornerDetector {
 
   int width_;
   int height_;
-  Image<Tensor> row_sums_;  ///< horizontal 5-sums of the per-pixel tensor
-  std::vector<Tensor> column_acc_;
+  /// Horizontal 5-sums of the per-pixel tensor for the last kRingRows rows, per row the xx, xy
+  /// and yy planes of width_ floats (row y in slot y % kRingRows).
+  static constexpr int kRingRows = 2 * kWindowRadius + 2;
+  /// Horizontal sums of row y into its ring slot.
+  void rowSums(ImageView<const GradientPixel> g, int y, int x_lo, int x_hi);
+  float* ringRow(int y, int plane) {
+    return ring_.data() + (static_cast<std::size_t>(y % kRingRows) * 3 + plane) * width_;
+  }
+  std::vector<float> ring_;
+  std::vector<float> column_acc_;  ///< vertical sums: xx, xy and yy planes of width_ floats
   Image<float> score_;
   std::vector<Candidate> candidates_;
 };

@@ -55,7 +55,7 @@ PixelSelector::PixelSelector(int width, int height, const PointSelectionConfig& 
   blocked_.resize(width, height);
   near_clipped_row_.resize(width, height);
   near_clipped_.resize(width, height);
-  last_clipped_.resize(static_cast<std::size_t>(std::max(width, 0)));
+  last_clipped_.resize(static_cast<std::size_t>(std::max(height, 0)));
   for (int i = 0; i < kDirections; ++i) {
     // Half-turn is enough: the score uses the squared component.
     const double angle = 3.14159265358979323846 * i / kDirections;
@@ -163,40 +163,31 @@ int PixelSelector::select(const ImagePyramid& pyramid, float density_factor,
 
 void PixelSelector::markNearClipped(ImageView<const std::uint8_t> clipped) {
   const int r = config_.clipped_margin;
-  constexpr int kFar = 1 << 20;
-  // Horizontal pass: a pixel is near when a clipped pixel of its row lies within r.
+  // A pixel is near when a clipped pixel lies within r in x and in y: the union of the shifted
+  // masks, first along the rows, then along the columns (byte loops the compiler vectorises).
+  // Most rows have no clipped pixel at all (last_clipped_[y] < 0 marks them).
   for (int y = 0; y < height_; ++y) {
     const std::uint8_t* in = clipped.row(y);
     std::uint8_t* out = near_clipped_row_.row(y);
-    int last = -kFar;
-    for (int x = 0; x < width_; ++x) {
-      if (in[x]) last = x;
-      out[x] = x - last <= r ? 1 : 0;
-    }
-    int next = kFar;
-    for (int x = width_ - 1; x >= 0; --x) {
-      if (in[x]) next = x;
-      if (next - x <= r) out[x] = 1;
+    std::uint8_t any = 0;
+    for (int x = 0; x < width_; ++x) any |= in[x];
+    last_clipped_[y] = any != 0 ? y : -1;
+    std::fill(out, out + width_, std::uint8_t{0});
+    if (any == 0) continue;
+    for (int d = -r; d <= r; ++d) {
+      const int x0 = std::max(0, -d), x1 = std::min(width_, width_ - d);
+      for (int x = x0; x < x1; ++x) out[x] |= in[x + d];
     }
   }
-  // Vertical pass over the horizontal result, top-down then bottom-up, row by row.
-  std::fill(last_clipped_.begin(), last_clipped_.end(), -kFar);
   for (int y = 0; y < height_; ++y) {
-    const std::uint8_t* in = near_clipped_row_.row(y);
     std::uint8_t* out = near_clipped_.row(y);
-    for (int x = 0; x < width_; ++x) {
-      if (in[x]) last_clipped_[x] = y;
-      out[x] = y - last_clipped_[x] <= r ? 1 : 0;
+    std::fill(out, out + width_, std::uint8_t{0});
+    for (int yy = std::max(0, y - r); yy <= std::min(height_ - 1, y + r); ++yy) {
+      if (last_clipped_[yy] < 0) continue;
+      const std::uint8_t* in = near_clipped_row_.row(yy);
+      for (int x = 0; x < width_; ++x) out[x] |= in[x];
     }
-  }
-  std::fill(last_clipped_.begin(), last_clipped_.end(), kFar);
-  for (int y = height_ - 1; y >= 0; --y) {
-    const std::uint8_t* in = near_clipped_row_.row(y);
-    std::uint8_t* out = near_clipped_.row(y);
-    for (int x = 0; x < width_; ++x) {
-      if (in[x]) last_clipped_[x] = y;
-      if (last_clipped_[x] - y <= r) out[x] = 1;
-    }
+    for (int x = 0; x < width_; ++x) out[x] = out[x] != 0 ? 1 : 0;
   }
 }
 

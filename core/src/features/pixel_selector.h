@@ -104,7 +104,7 @@ class PixelSelector {
   /// gradient comes from the clipping (the next best one in the cell mostly too).
   Image<std::uint8_t> near_clipped_;
   Image<std::uint8_t> near_clipped_row_;  ///< horizontal pass of blockNearClipped()
-  std::vector<int> last_clipped_;         ///< per column, for the vertical pass
+  std::vector<int> last_clipped_;         ///< per row: -1 when it has no clipped pixel
   std::array<LevelGrid, 3> levels_{};
   int num_levels_ = 0;
   std::array<float, 16> dir_x_{};  ///< the fixed set of score directions

@@ -36,8 +36,7 @@ DepthMapPyramid::DepthMapPyramid(int width, int height, int levels, float max_id
   idepth_sum_.resize(static_cast<std::size_t>(levels));
   weight_sum_.resize(static_cast<std::size_t>(levels));
   points_.resize(static_cast<std::size_t>(levels));
-  scratch_idepth_.resize(width, height);
-  scratch_weight_.resize(width, height);
+  known_.resize(static_cast<std::size_t>(levels));
   for (int l = 0; l < levels; ++l) {
     idepth_sum_[l].resize(width, height);
     weight_sum_[l].resize(width, height);
@@ -59,9 +58,12 @@ int DepthMapPyramid::build(const DepthPoint* points, std::size_t count,
                      sizeString(width(0), height(0)) + " with at least " +
                      std::to_string(levels()) + " levels");
   }
+  // Only the pixels the last build filled are non-zero.
   for (int l = 0; l < levels(); ++l) {
-    clear(idepth_sum_[l]);
-    clear(weight_sum_[l]);
+    float* sum = idepth_sum_[l].data();
+    float* weight = weight_sum_[l].data();
+    for (const int i : known_[l]) sum[i] = weight[i] = 0.f;
+    known_[l].clear();
   }
   splat(points, count);
   for (int l = 1; l < levels(); ++l) downsample(l);
@@ -81,6 +83,7 @@ void DepthMapPyramid::splat(const DepthPoint* points, std::size_t count) {
   rejected_ = 0;
   ImageF& sum = idepth_sum_[0];
   ImageF& weight = weight_sum_[0];
+  std::vector<int>& known = known_[0];
   for (std::size_t i = 0; i < count; ++i) {
     const DepthPoint& p = points[i];
     const bool valid = std::isfinite(p.u) && std::isfinite(p.v) && std::isfinite(p.idepth) &&
@@ -94,6 +97,7 @@ void DepthMapPyramid::splat(const DepthPoint* points, std::size_t count) {
     }
     const int x = static_cast<int>(fx);
     const int y = static_cast<int>(fy);
+    if (weight(x, y) == 0.f) known.push_back(y * sum.width() + x);
     sum(x, y) += p.weight * p.idepth;
     weight(x, y) += p.weight;
   }
@@ -104,17 +108,21 @@ void DepthMapPyramid::downsample(int level) {
   const ImageF& src_weight = weight_sum_[level - 1];
   ImageF& sum = idepth_sum_[level];
   ImageF& weight = weight_sum_[level];
-  for (int y = 0; y < sum.height(); ++y) {
+  const int src_width = src_sum.width();
+  std::vector<int>& known = known_[level];
+  // Every parent of a known child, once; its sums gathered from its 2x2 children in a fixed
+  // order (the value does not depend on which child found it).
+  for (const int i : known_[level - 1]) {
+    const int x = (i % src_width) / 2;
+    const int y = (i / src_width) / 2;
+    if (x >= sum.width() || y >= sum.height() || weight(x, y) > 0.f) continue;
     const float* s0 = src_sum.row(2 * y);
     const float* s1 = src_sum.row(2 * y + 1);
     const float* w0 = src_weight.row(2 * y);
     const float* w1 = src_weight.row(2 * y + 1);
-    float* s = sum.row(y);
-    float* w = weight.row(y);
-    for (int x = 0; x < sum.width(); ++x) {
-      s[x] = s0[2 * x] + s0[2 * x + 1] + s1[2 * x] + s1[2 * x + 1];
-      w[x] = w0[2 * x] + w0[2 * x + 1] + w1[2 * x] + w1[2 * x + 1];
-    }
+    sum(x, y) = s0[2 * x] + s0[2 * x + 1] + s1[2 * x] + s1[2 * x + 1];
+    weight(x, y) = w0[2 * x] + w0[2 * x + 1] + w1[2 * x] + w1[2 * x + 1];
+    known.push_back(y * sum.width() + x);
   }
 }
 
@@ -123,37 +131,52 @@ void DepthMapPyramid::dilate(int level, bool diagonal) {
   ImageF& weight = weight_sum_[level];
   const int w = sum.width();
   const int h = sum.height();
-  // Read neighbours from a copy so that pixels filled in this pass do not spread further.
-  scratch_idepth_.copyFrom(sum.view());
-  scratch_weight_.copyFrom(weight.view());
   static constexpr int kDiagonal[4][2] = {{-1, -1}, {1, -1}, {-1, 1}, {1, 1}};
   static constexpr int kCross[4][2] = {{0, -1}, {-1, 0}, {1, 0}, {0, 1}};
   const int(*offsets)[2] = diagonal ? kDiagonal : kCross;
-  for (int y = 0; y < h; ++y) {
-    for (int x = 0; x < w; ++x) {
-      if (scratch_weight_(x, y) > 0.f) continue;
-      float s = 0.f;
-      float ws = 0.f;
-      float lo = std::numeric_limits<float>::infinity();
-      float hi = 0.f;
-      for (int k = 0; k < 4; ++k) {
-        const int nx = x + offsets[k][0];
-        const int ny = y + offsets[k][1];
-        if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
-        const float wn = scratch_weight_(nx, ny);
-        if (!(wn > 0.f)) continue;
-        const float sn = scratch_idepth_(nx, ny);
-        s += sn;
-        ws += wn;
-        lo = std::min(lo, sn / wn);
-        hi = std::max(hi, sn / wn);
-      }
-      // Neighbours on both sides of a depth discontinuity: an average would be a phantom depth.
-      if (ws > 0.f && hi <= max_idepth_ratio_ * lo) {
-        sum(x, y) = s;
-        weight(x, y) = ws;
-      }
+  // The empty pixels next to a known one (the offsets are symmetric), each once: marked with a
+  // negative weight, which reads as unknown below.
+  constexpr float kCandidate = -1.f;
+  fills_.clear();
+  for (const int i : known_[level]) {
+    const int x = i % w, y = i / w;
+    for (int k = 0; k < 4; ++k) {
+      const int nx = x + offsets[k][0];
+      const int ny = y + offsets[k][1];
+      if (nx < 0 || ny < 0 || nx >= w || ny >= h || weight(nx, ny) != 0.f) continue;
+      weight(nx, ny) = kCandidate;
+      fills_.push_back({ny * w + nx, 0.f, 0.f});
     }
+  }
+  // Each from the known neighbours before this pass, so that filled pixels do not spread further.
+  for (Fill& f : fills_) {
+    const int x = f.index % w, y = f.index / w;
+    float s = 0.f;
+    float ws = 0.f;
+    float lo = std::numeric_limits<float>::infinity();
+    float hi = 0.f;
+    for (int k = 0; k < 4; ++k) {
+      const int nx = x + offsets[k][0];
+      const int ny = y + offsets[k][1];
+      if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
+      const float wn = weight(nx, ny);
+      if (!(wn > 0.f)) continue;
+      const float sn = sum(nx, ny);
+      s += sn;
+      ws += wn;
+      lo = std::min(lo, sn / wn);
+      hi = std::max(hi, sn / wn);
+    }
+    // Neighbours on both sides of a depth discontinuity: an average would be a phantom depth.
+    const bool fill = ws > 0.f && hi <= max_idepth_ratio_ * lo;
+    f.sum = fill ? s : 0.f;
+    f.weight = fill ? ws : 0.f;
+  }
+  std::vector<int>& known = known_[level];
+  for (const Fill& f : fills_) {
+    sum.data()[f.index] = f.sum;
+    weight.data()[f.index] = f.weight;
+    if (f.weight > 0.f) known.push_back(f.index);
   }
 }
 
@@ -162,34 +185,29 @@ void DepthMapPyramid::extract(int level, const ImagePyramid& reference) {
   const ImageF& weight = weight_sum_[level];
   const ImageView<const GradientPixel> grad = reference.gradients(level);
   LevelPoints& out = points_[level];
+  // Row by row, as a scan of the level would list them.
+  std::vector<int>& known = known_[level];
+  std::sort(known.begin(), known.end());
   // The point lists grow to the largest count seen (with a quarter of slack) instead of being
   // sized for every pixel: a window's points cover a few percent of a level-0 image, and a
   // 1232x368 pyramid of full-size lists would take 12 MB.
-  std::size_t known = 0;
-  for (int y = 0; y < weight.height(); ++y) {
-    const float* w = weight.row(y);
-    for (int x = 0; x < weight.width(); ++x) known += w[x] > 0.f ? 1 : 0;
-  }
-  if (out.x.size() < known) {
-    const std::size_t capacity =
-        std::min(known + known / 4, static_cast<std::size_t>(sum.width()) * sum.height());
+  if (out.x.size() < known.size()) {
+    const std::size_t capacity = std::min(known.size() + known.size() / 4,
+                                          static_cast<std::size_t>(sum.width()) * sum.height());
     for (std::vector<float>* v : {&out.x, &out.y, &out.idepth, &out.intensity, &out.grad_sq})
       v->resize(capacity);
   }
+  const int w = sum.width();
   int n = 0;
-  for (int y = 0; y < sum.height(); ++y) {
-    const float* s = sum.row(y);
-    const float* w = weight.row(y);
-    for (int x = 0; x < sum.width(); ++x) {
-      if (!(w[x] > 0.f)) continue;
-      const GradientPixel& g = grad(x, y);
-      out.x[n] = static_cast<float>(x);
-      out.y[n] = static_cast<float>(y);
-      out.idepth[n] = s[x] / w[x];
-      out.intensity[n] = g.intensity;
-      out.grad_sq[n] = g.dx * g.dx + g.dy * g.dy;
-      ++n;
-    }
+  for (const int i : known) {
+    const int x = i % w, y = i / w;
+    const GradientPixel& g = grad(x, y);
+    out.x[n] = static_cast<float>(x);
+    out.y[n] = static_cast<float>(y);
+    out.idepth[n] = sum.data()[i] / weight.data()[i];
+    out.intensity[n] = g.intensity;
+    out.grad_sq[n] = g.dx * g.dx + g.dy * g.dy;
+    ++n;
   }
   out.count = n;
 }

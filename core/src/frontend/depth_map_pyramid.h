@@ -60,11 +60,20 @@ class DepthMapPyramid {
   void dilate(int level, bool diagonal);
   void extract(int level, const ImagePyramid& reference);
 
+  /// A pixel the dilation fills (or, rejected, leaves empty) and its neighbours' sums.
+  struct Fill {
+    int index;
+    float sum, weight;
+  };
+
   // Weighted sums: idepth_sum = sum(w * idepth), weight_sum = sum(w); 0 weight = unknown.
   std::vector<ImageF> idepth_sum_;
   std::vector<ImageF> weight_sum_;
-  ImageF scratch_idepth_;  ///< copy of a level read while dilating it
-  ImageF scratch_weight_;
+  /// Per level, the pixels (y * width + x) of non-zero weight: a window's points cover a few
+  /// percent of the image, so clearing, downsampling, dilating and extracting visit only these
+  /// and their neighbours, never the whole level.
+  std::vector<std::vector<int>> known_;
+  std::vector<Fill> fills_;  ///< scratch of dilate()
   std::vector<LevelPoints> points_;
   float max_idepth_ratio_;
   int rejected_ = 0;

@@ -26,6 +26,7 @@ MappingStage::MappingStage(const MappingStageSettings& settings, const PyramidCa
       }),
       timer_({"trace", "mapping"}, 20000),
       describe_(loop_closer != nullptr || settings.reuse.enabled),
+      inline_mode_(inline_mode),
       snapshot_(std::make_shared<const MappingSnapshot>()) {
   mapper_.setDescribeLeavingKeyframes(describe_);
   if (describe_) {
@@ -51,6 +52,14 @@ MappingStage::~MappingStage() {
 }
 
 void MappingStage::submit(MappingJob job) {
+  // The tracking thread never waits for room for an ordinary frame: its tracing is skipped when
+  // the queue is full (as trace() skips it when the mapping thread is behind).
+  if (job.kind == MappingJob::Kind::kTrace &&
+      task_->backlog() >= static_cast<std::size_t>(std::max(settings_.queue_capacity, 1)) &&
+      !inline_mode_) {
+    pyramids_.release(std::move(job.pyramid));
+    return;
+  }
   task_->submit(std::move(job));
 }
 

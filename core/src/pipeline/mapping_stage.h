@@ -97,7 +97,8 @@ class MappingStage {
   MappingStage(const MappingStage&) = delete;
   MappingStage& operator=(const MappingStage&) = delete;
 
-  /// Queues a job (waits while the queue is full) or runs it now (deterministic mode).
+  /// Queues a job or runs it now (deterministic mode). A full queue drops an ordinary frame's
+  /// tracing job; the other jobs wait for room.
   void submit(MappingJob job);
   /// Waits until every submitted job is done.
   void waitIdle();
@@ -192,6 +193,7 @@ class MappingStage {
   StageTimer timer_;
   std::vector<DepthPoint> depth_points_;
   bool describe_;  ///< keyframes leaving the window are described (loop closure or reuse)
+  bool inline_mode_;  ///< deterministic: jobs run in the submitting thread
   std::unique_ptr<OrbExtractor> orb_;
   std::unique_ptr<CornerDetector> loop_corner_detector_;
   std::vector<Corner> loop_corner_scratch_;

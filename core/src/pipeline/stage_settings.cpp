@@ -8,6 +8,7 @@ namespace {
 WindowOptimizerSettings optimizerSettings(const Config& c, bool photometry_known) {
   WindowOptimizerSettings s;
   s.max_iterations = c.window.max_iterations;
+  s.min_relative_decrease = c.window.min_relative_decrease;
   const double w = photometry_known ? c.photometric.affine_prior_weight_known
                                     : c.photometric.affine_prior_weight_unknown;
   s.affine_prior_a = w;

@@ -117,14 +117,24 @@ void TrackingStage::trackStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent& fra
     StageTimer::Scope t(timer_, kTrack);
     outcome = tracker_.track(*pyr, exposure);
   }
-  if ((!outcome.success || outcome.wants_keyframe) && mapping_.keyframeInFlight()) {
-    // Tracked against the reference before the keyframe the mapping stage is integrating, and
-    // not good enough (the camera moves fast): wait for the new reference and track again.
-    mapping_.waitForKeyframe();
-    adoptNewestReference();
-    tracker_.restoreMotion(motion);
-    StageTimer::Scope t(timer_, kTrack);
-    outcome = tracker_.track(*pyr, exposure);
+  if (mapping_.keyframeInFlight()) {
+    // Tracked against the reference before the keyframe the mapping stage is integrating. Never
+    // wait for it: a failed frame is tracked again against a reference published meanwhile, if
+    // any, or else goes without a pose (the next frame has the new reference); a frame that
+    // wants a keyframe does not make another one (the next frame decides against the new one).
+    if (!outcome.success && adoptNewestReference()) {
+      tracker_.restoreMotion(motion);
+      StageTimer::Scope t(timer_, kTrack);
+      outcome = tracker_.track(*pyr, exposure);
+    }
+    if (!outcome.success && mapping_.keyframeInFlight()) {
+      spdlog::debug("frame {}: not tracked while a keyframe is mapped ({})", frame.frame_index,
+                    outcome.failure);
+      tracker_.restoreMotion(motion);
+      pyramids_.release(std::move(pyr));
+      return;
+    }
+    if (outcome.success && mapping_.keyframeInFlight()) outcome.wants_keyframe = false;
   }
   if (!outcome.success) {
     pyramids_.release(std::move(pyr));
@@ -181,13 +191,14 @@ void TrackingStage::publishImage(const ImagePyramid& pyr, const FrameEvent& fram
   image_out_->publish(out);
 }
 
-void TrackingStage::adoptNewestReference() {
+bool TrackingStage::adoptNewestReference() {
   PreparedReference ref;
-  if (!mapping_.references().takeNewest(ref)) return;
+  if (!mapping_.references().takeNewest(ref)) return false;
   tracker_.adoptReference(ref.tracker, ref.keyframe_id, ref.T_c_w);
   mapping_.references().recycle(std::move(ref.tracker));
   // The keyframe was the last tracked frame: continue from its optimised pose.
   if (ref.frame_index == last_tracked_index_) tracker_.refineLastPose(ref.T_c_w);
+  return true;
 }
 
 void TrackingStage::startInLoadedMap() {

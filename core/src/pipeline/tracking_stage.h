@@ -79,8 +79,9 @@ class TrackingStage {
  private:
   void initializeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent& frame, double exposure);
   void trackStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent& frame, double exposure);
-  /// Tracks from now on against the newest reference the mapping stage published, if any.
-  void adoptNewestReference();
+  /// Tracks from now on against the newest reference the mapping stage published, if any
+  /// (true); never waits for one.
+  bool adoptNewestReference();
   void loseTracking(const FrameEvent& frame, const std::string& reason);
   /// While lost: looks for the frame in the map; found, tracking resumes there.
   void relocalizeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent& frame, double exposure);
