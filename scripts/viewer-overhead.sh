@@ -11,7 +11,9 @@ DATA=${1:-../shared/data/kitti00_200}
 BUILD_DIR=${2:-build}
 LDSM="$BUILD_DIR/apps/ldsm"
 WORK=$(mktemp -d)
-trap 'rm -rf "$WORK"; [ -n "${BROWSER:-}" ] && kill "$BROWSER" 2>/dev/null || true' EXIT
+# The browser first (it still writes its profile into $WORK), then the scratch folder.
+trap 'if [ -n "${BROWSER:-}" ]; then kill "$BROWSER" 2>/dev/null || true; wait "$BROWSER" || true; fi
+      rm -rf "$WORK"' EXIT
 PORT=${PORT:-18080}
 
 report() {  # name stats.json
