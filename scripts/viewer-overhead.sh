@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # What the browser viewer costs the engine: `ldsm run --realtime` on a sequence without --serve,
-# with --serve and no page, with a page on "another machine" (a WebSocket client that receives
-# every update and draws nothing), and with the page open in headless Chromium on the same
-# machine (its software WebGL competes for the same cores: the worst case). Prints the
+# with --serve and no page, with a page on "another machine" (an HTTP client that reads the update
+# stream, GET /stream, and draws nothing), and with the page open in headless Chromium on the
+# same machine (its software WebGL competes for the same cores: the worst case). Prints the
 # submit->tracked latency (mean, p50, p99), the tracking stage's p99 and the drops of each run.
 # Usage: scripts/viewer-overhead.sh [DATASET] [BUILD_DIR]   (default ../shared/data/kitti00_200)
 set -euo pipefail
@@ -11,7 +11,9 @@ DATA=${1:-../shared/data/kitti00_200}
 BUILD_DIR=${2:-build}
 LDSM="$BUILD_DIR/apps/ldsm"
 WORK=$(mktemp -d)
-trap 'rm -rf "$WORK"; [ -n "${BROWSER:-}" ] && kill "$BROWSER" 2>/dev/null || true' EXIT
+# The browser first (it still writes its profile into $WORK), then the scratch folder.
+trap 'if [ -n "${BROWSER:-}" ]; then kill "$BROWSER" 2>/dev/null || true; wait "$BROWSER" || true; fi
+      rm -rf "$WORK"' EXIT
 PORT=${PORT:-18080}
 
 report() {  # name stats.json
@@ -31,39 +33,31 @@ report "no --serve" "$WORK/plain/stats.json"
 "$LDSM" run --dataset "$DATA" --realtime --serve "127.0.0.1:$PORT" --out "$WORK/idle" \
   --no-eval >/dev/null 2>&1
 report "--serve, no page" "$WORK/idle/stats.json"
-# A page on another machine: a WebSocket client that receives every update and draws nothing.
+# A page on another machine: an HTTP client that reads every update (GET /stream), draws nothing.
 "$LDSM" run --dataset "$DATA" --realtime --serve "127.0.0.1:$PORT" --out "$WORK/remote" \
   --no-eval >/dev/null 2>&1 &
 RUN=$!
 python3 - "$PORT" >"$WORK/remote.log" 2>&1 <<'PY' &
-import base64, os, socket, sys, time
+import http.client, sys, time
 port = int(sys.argv[1])
 for _ in range(100):  # until the server is up
     try:
-        s = socket.create_connection(("127.0.0.1", port)); break
+        conn = http.client.HTTPConnection("127.0.0.1", port, timeout=60)
+        conn.request("GET", "/stream")
+        response = conn.getresponse()
+        break
     except OSError:
         time.sleep(0.05)
-key = base64.b64encode(os.urandom(16)).decode()
-s.sendall((f"GET /ws HTTP/1.1\r\nHost: 127.0.0.1\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
-           f"Sec-WebSocket-Key: {key}\r\nSec-WebSocket-Version: 13\r\n\r\n").encode())
-buf = b""
-while b"\r\n\r\n" not in buf:
-    buf += s.recv(4096)
-buf = buf.split(b"\r\n\r\n", 1)[1]
-def need(n):
-    global buf
-    while len(buf) < n:
-        chunk = s.recv(1 << 16)
-        if not chunk: raise EOFError
-        buf += chunk
+# The stream's records (apps/viewer/wire_format.h): u32 length, then the message.
 messages = received = 0
 try:
     while True:
-        need(2); n = buf[1] & 0x7F; head = 2
-        if n == 126: need(4); n = int.from_bytes(buf[2:4], "big"); head = 4
-        elif n == 127: need(10); n = int.from_bytes(buf[2:10], "big"); head = 10
-        need(head + n); buf = buf[head + n:]; messages += 1; received += head + n
-except (EOFError, OSError):
+        head = response.read(4)
+        if len(head) < 4: break
+        n = int.from_bytes(head, "little")
+        if len(response.read(n)) < n: break
+        messages += 1; received += 4 + n
+except (OSError, http.client.HTTPException):
     pass
 print(f"remote page: {messages} messages, {received / 1e6:.1f} MB")
 PY

@@ -2,17 +2,7 @@
 
 #include <utility>
 
-#include "thread_priority.h"
-
 namespace ldsm::viewer {
-
-ClientChannel::ClientChannel(Writer write) : write_(std::move(write)) {
-  thread_ = std::thread([this] { run(); });
-}
-
-ClientChannel::~ClientChannel() {
-  stop();
-}
 
 bool ClientChannel::offer(std::vector<WireMessage> batch) {
   {
@@ -31,7 +21,6 @@ void ClientChannel::stop() {
     stop_ = true;
   }
   cv_.notify_one();
-  if (thread_.joinable()) thread_.join();
 }
 
 bool ClientChannel::failed() const {
@@ -44,18 +33,17 @@ std::size_t ClientChannel::sentBytes() const {
   return sent_bytes_;
 }
 
-void ClientChannel::run() {
-  lowerThisThreadPriority();
+bool ClientChannel::serve(const Writer& write) {
   std::unique_lock<std::mutex> lock(mutex_);
   for (;;) {
     cv_.wait(lock, [this] { return stop_ || busy_; });
-    if (stop_) return;
+    if (!busy_) return true;  // stopped; a batch offered before stop() is still written
     std::vector<WireMessage> batch = std::move(pending_);
     lock.unlock();
     bool ok = true;
     std::size_t bytes = 0;
     for (const WireMessage& m : batch) {
-      ok = write_(m);
+      ok = write(m);
       if (!ok) break;
       bytes += m.bytes.size();
     }
@@ -64,7 +52,7 @@ void ClientChannel::run() {
     busy_ = false;
     if (!ok) {
       failed_ = true;
-      return;
+      return false;
     }
   }
 }

@@ -1,7 +1,9 @@
-// One connected page: a sender thread of its own writes the publisher's messages to the page's
-// WebSocket, so a slow page (or network) only ever delays itself. The channel holds at most one
-// batch: while a batch is still being written, offer() refuses the next one and the publisher
-// sends that page a catch-up delta later (the page misses intermediate states, never data).
+// One connected page: what the publisher hands it and what it holds. The page's own connection
+// thread (a civetweb worker, at the lowest priority) runs serve(), which writes each batch the
+// publisher offers to the page's HTTP stream, so a slow page (or network) only ever delays
+// itself. The channel holds at most one batch: while a batch is still being written, offer()
+// refuses the next one and the publisher sends that page a catch-up delta later (the page misses
+// intermediate states, never data).
 #pragma once
 
 #include <condition_variable>
@@ -9,7 +11,6 @@
 #include <cstdint>
 #include <functional>
 #include <mutex>
-#include <thread>
 #include <vector>
 
 #include "stream_delta.h"
@@ -21,15 +22,18 @@ class ClientChannel {
  public:
   /// `write(message)` sends one message and returns false when the connection failed.
   using Writer = std::function<bool(const WireMessage&)>;
-  explicit ClientChannel(Writer write);
-  ~ClientChannel();
+  ClientChannel() = default;
   ClientChannel(const ClientChannel&) = delete;
   ClientChannel& operator=(const ClientChannel&) = delete;
 
-  /// Hands a batch to the sender thread; false (batch not taken) while the previous one is
-  /// still being sent or after the connection failed.
+  /// Hands a batch to serve(); false (batch not taken) while the previous one is still being
+  /// sent, after the connection failed or after stop().
   bool offer(std::vector<WireMessage> batch);
-  /// Stops the sender thread (the message being written is finished first).
+  /// Writes the batches offered, in order, on the calling thread until stop() is called (true)
+  /// or a write fails (false).
+  bool serve(const Writer& write);
+  /// No more batches are taken; serve() returns once the one offered before is written. Does not
+  /// wait for that.
   void stop();
   bool failed() const;
   std::size_t sentBytes() const;
@@ -39,9 +43,6 @@ class ClientChannel {
   std::int64_t image_frame = -2;  ///< frame index of the image the page has
 
  private:
-  void run();
-
-  Writer write_;
   mutable std::mutex mutex_;
   std::condition_variable cv_;
   std::vector<WireMessage> pending_;
@@ -49,7 +50,6 @@ class ClientChannel {
   bool stop_ = false;
   bool failed_ = false;
   std::size_t sent_bytes_ = 0;
-  std::thread thread_;
 };
 
 }  // namespace ldsm::viewer

@@ -5,13 +5,17 @@
 
 #include <algorithm>
 #include <atomic>
-#include <cerrno>
+#include <chrono>
+#include <condition_variable>
 #include <cstdlib>
 #include <mutex>
 #include <utility>
 #include <vector>
 
+#include "http_reply.h"
 #include "ldsm/error.h"
+#include "request_policy.h"
+#include "thread_priority.h"
 #include "web_files.h"
 
 namespace ldsm::viewer {
@@ -23,7 +27,7 @@ int g_library_users = 0;
 
 void acquireLibrary() {
   std::lock_guard<std::mutex> lock(g_library_mutex);
-  if (g_library_users++ == 0) mg_init_library(MG_FEATURES_WEBSOCKET);
+  if (g_library_users++ == 0) mg_init_library(MG_FEATURES_DEFAULT);  // no TLS, no Lua
 }
 
 void releaseLibrary() {
@@ -61,94 +65,98 @@ struct ViewerServer::Impl {
   Impl(SnapshotSource& source, const ViewerOptions& o)
       : options(o), files(findWebRoot(o.web_root)), publisher(source, o.publisher) {}
 
-  /// A complete response. (Not mg_send_http_error: Debian's civetweb 1.15 crashed in it on a
-  /// browser's favicon request.)
-  static int respond(mg_connection* conn, int status, const char* reason, const char* type,
-                     const std::string& body, bool with_body) {
-    mg_printf(conn,
-              "HTTP/1.1 %d %s\r\nContent-Type: %s\r\nContent-Length: %zu\r\n"
-              "Cache-Control: no-cache\r\nX-Content-Type-Options: nosniff\r\n"
-              "Connection: close\r\n\r\n",
-              status, reason, type, body.size());
-    if (with_body) mg_write(conn, body.data(), body.size());
-    return status;
+  static Impl* of(const mg_connection* conn) {
+    return static_cast<Impl*>(mg_get_user_data(mg_get_context(conn)));
   }
 
-  static int onHttp(mg_connection* conn, void* data) {
-    auto* self = static_cast<Impl*>(data);
+  /// civetweb's begin_request: every request is answered here, so civetweb's own routing (files,
+  /// scripts, WebSocket handshakes) never runs. A positive return is the status for civetweb's
+  /// log; -1 makes civetweb 1.15 close the connection without reading further (it would
+  /// otherwise read and discard the announced body).
+  static int onRequest(mg_connection* conn) {
+    Impl* self = of(conn);
     const mg_request_info* ri = mg_get_request_info(conn);
-    const std::string method = ri->request_method ? ri->request_method : "";
-    if (method != "GET" && method != "HEAD")
-      return respond(conn, 405, "Method Not Allowed", "text/plain", "only GET and HEAD\n", true);
-    const std::string path = ri->local_uri_raw ? ri->local_uri_raw : "";
-    const WebFile* f = self->files.find(path);
-    if (f == nullptr) return respond(conn, 404, "Not Found", "text/plain", "not found\n", true);
-    return respond(conn, 200, "OK", f->content_type.c_str(), f->body, method == "GET");
+    RequestFacts facts;
+    facts.method = ri->request_method ? ri->request_method : "";
+    facts.path = ri->local_uri_raw ? ri->local_uri_raw : "";
+    facts.upgrade = mg_get_header(conn, "Upgrade") != nullptr;
+    facts.has_body = announcesBody(mg_get_header(conn, "Content-Length"),
+                                   mg_get_header(conn, "Transfer-Encoding"));
+    const RequestVerdict verdict = judgeRequest(facts);
+    switch (verdict.route) {
+      case Route::Stream:
+        return self->stream(conn);
+      case Route::File: {
+        const WebFile* f = self->files.find(facts.path);
+        if (f == nullptr) return writeResponse(conn, 404, "text/plain", "not found\n", true);
+        return writeResponse(conn, 200, f->content_type.c_str(), f->body, facts.method == "GET");
+      }
+      case Route::Refuse:
+        break;
+    }
+    self->refused_requests.fetch_add(1);
+    writeResponse(conn, verdict.status, "text/plain", verdict.message, true);
+    return verdict.read_nothing_more ? -1 : verdict.status;
   }
 
-  static int onWsConnect(const mg_connection*, void* data) {
-    auto* self = static_cast<Impl*>(data);
-    // Admitted here, counted until its close handler runs.
-    int now = self->admitted.load();
-    do {
-      if (now >= self->options.max_clients) {
-        self->refused.fetch_add(1);
-        spdlog::info("viewer: page refused ({} connected, the limit)", now);
-        return 1;
-      }
-    } while (!self->admitted.compare_exchange_weak(now, now + 1));
+  /// civetweb's http_error: its own errors (a malformed, oversized or incomplete request header)
+  /// are answered by ldsm too; the connection is closed afterwards.
+  static int onHttpError(mg_connection* conn, int status, const char*) {
+    of(conn)->refused_requests.fetch_add(1);
+    writeResponse(conn, status, "text/plain", std::string(reasonPhrase(status)) + "\n", true);
     return 0;
   }
 
-  static void onWsReady(mg_connection* conn, void* data) {
-    auto* self = static_cast<Impl*>(data);
-    auto channel = std::make_shared<ClientChannel>([conn](const WireMessage& m) {
-      const int op = m.binary ? MG_WEBSOCKET_OPCODE_BINARY : MG_WEBSOCKET_OPCODE_TEXT;
-      // mg_websocket_write locks the connection itself (civetweb's read loop writes too).
-      return mg_websocket_write(conn, op, m.bytes.data(), m.bytes.size()) > 0;
-    });
-    mg_set_user_connection_data(conn, channel.get());
-    {
-      std::lock_guard<std::mutex> lock(self->channels_mutex);
-      self->channels.emplace_back(conn, channel);
-    }
-    self->accepted.fetch_add(1);
-    self->publisher.add(channel);
-    spdlog::info("viewer: page connected from {}", mg_get_request_info(conn)->remote_addr);
-  }
-
-  static int onWsData(mg_connection* conn, int bits, char*, std::size_t len, void* data) {
-    auto* self = static_cast<Impl*>(data);
-    const int opcode = bits & 0x0f;
-    if (opcode == MG_WEBSOCKET_OPCODE_CONNECTION_CLOSE) return 0;
-    if (len > self->options.max_incoming_bytes) {
-      self->closed_for_input.fetch_add(1);
-      spdlog::info("viewer: page sent a {}-byte message, closing it", len);
-      (void)conn;
-      return 0;
-    }
-    return 1;  // the page only sends keep-alives: anything else is ignored
-  }
-
-  static void onWsClose(const mg_connection* conn, void* data) {
-    auto* self = static_cast<Impl*>(data);
-    auto* channel = static_cast<ClientChannel*>(mg_get_user_connection_data(conn));
-    if (channel != nullptr) {
-      self->publisher.remove(channel);
-      std::shared_ptr<ClientChannel> owned;
-      {
-        std::lock_guard<std::mutex> lock(self->channels_mutex);
-        for (auto it = self->channels.begin(); it != self->channels.end(); ++it)
-          if (it->second.get() == channel) {
-            owned = it->second;
-            self->channels.erase(it);
-            break;
-          }
+  /// GET /stream on the page's connection thread: admitted, it is sent the publisher's batches
+  /// as chunks until the server stops or a write fails (the page went away, or stopped reading
+  /// for request_timeout_ms).
+  int stream(mg_connection* conn) {
+    int now = admitted.load();
+    do {
+      if (now >= options.max_clients) {
+        refused.fetch_add(1);
+        spdlog::info("viewer: page refused ({} connected, the limit)", now);
+        return writeResponse(conn, 503, "text/plain", "too many pages open\n", true);
       }
-      if (owned) owned->stop();  // no more writes to this connection after this returns
+    } while (!admitted.compare_exchange_weak(now, now + 1));
+    auto channel = std::make_shared<ClientChannel>();
+    {
+      std::lock_guard<std::mutex> lock(channels_mutex);
+      if (stopping) {
+        admitted.fetch_sub(1);
+        return writeResponse(conn, 503, "text/plain", "the viewer is stopping\n", true);
+      }
+      channels.push_back(channel);
     }
-    self->admitted.fetch_sub(1);
-    spdlog::info("viewer: page disconnected");
+    bool ended_by_server = false;
+    if (writeStreamHead(conn)) {
+      accepted.fetch_add(1);
+      spdlog::info("viewer: page connected from {}", mg_get_request_info(conn)->remote_addr);
+      publisher.add(channel);
+      ended_by_server = channel->serve([conn](const WireMessage& m) {
+        return mg_send_chunk(conn, m.bytes.data(), static_cast<unsigned>(m.bytes.size())) > 0;
+      });
+      publisher.remove(channel.get());
+      spdlog::info("viewer: page disconnected");
+    }
+    if (ended_by_server) mg_send_chunk(conn, "", 0);  // the last chunk: a complete response
+    {
+      std::lock_guard<std::mutex> lock(channels_mutex);
+      channels.erase(std::remove(channels.begin(), channels.end(), channel), channels.end());
+    }
+    channels_cv.notify_all();
+    admitted.fetch_sub(1);
+    return 200;
+  }
+
+  /// Admits no more pages and ends every stream after the batch it was offered last (the final
+  /// state), waiting up to `limit` for them: a page that stopped reading is then cut off by
+  /// mg_stop, which ends any write.
+  void stopStreams(std::chrono::milliseconds limit) {
+    std::unique_lock<std::mutex> lock(channels_mutex);
+    stopping = true;
+    for (const auto& c : channels) c->stop();
+    channels_cv.wait_for(lock, limit, [this] { return channels.empty(); });
   }
 
   ViewerOptions options;
@@ -157,9 +165,11 @@ struct ViewerServer::Impl {
   mg_context* ctx = nullptr;
   int bound_port = 0;
   std::mutex channels_mutex;
-  std::vector<std::pair<mg_connection*, std::shared_ptr<ClientChannel>>> channels;
+  std::condition_variable channels_cv;
+  std::vector<std::shared_ptr<ClientChannel>> channels;
+  bool stopping = false;
   std::atomic<int> admitted{0};
-  std::atomic<std::int64_t> accepted{0}, refused{0}, closed_for_input{0};
+  std::atomic<std::int64_t> accepted{0}, refused{0}, refused_requests{0};
 };
 
 ViewerServer::ViewerServer(SnapshotSource& source, const ViewerOptions& options) {
@@ -168,34 +178,32 @@ ViewerServer::ViewerServer(SnapshotSource& source, const ViewerOptions& options)
   const std::string ports = options.address + ":" + std::to_string(options.port);
   // One thread per open page plus two for page loads.
   const std::string threads = std::to_string(std::max(options.max_clients, 1) + 2);
-  const char* config[] = {"listening_ports",
-                          ports.c_str(),
-                          "num_threads",
-                          threads.c_str(),
-                          "request_timeout_ms",
-                          "10000",
-                          "websocket_timeout_ms",
-                          "3600000",
-                          "max_request_size",
-                          "16384",
-                          "enable_keep_alive",
-                          "no",
-                          nullptr};
+  const std::string timeout = std::to_string(std::max(options.timeout_ms, 100));
+  const char* config[] = {"listening_ports", ports.c_str(), "num_threads", threads.c_str(),
+                          "request_timeout_ms", timeout.c_str(), "max_request_size", "16384",
+                          "enable_keep_alive", "no",
+                          // Paths are looked up as they were sent (web_files.h).
+                          "decode_url", "no",
+                          // Chunks go out at once (a chunk is three writes).
+                          "tcp_nodelay", "1", nullptr};
   mg_callbacks callbacks{};
+  callbacks.begin_request = &Impl::onRequest;
+  callbacks.http_error = &Impl::onHttpError;
+  callbacks.init_thread = [](const mg_context*, int) -> void* {
+    lowerThisThreadPriority();  // civetweb's threads, the pages' senders among them
+    return nullptr;
+  };
   callbacks.log_message = [](const mg_connection*, const char* message) {
     spdlog::debug("viewer (civetweb): {}", message);
     return 1;
   };
-  impl_->ctx = mg_start(&callbacks, nullptr, config);
+  impl_->ctx = mg_start(&callbacks, impl_.get(), config);
   if (impl_->ctx == nullptr) {
     impl_->publisher.stop();
     releaseLibrary();
     throw ConfigError("--serve: cannot listen on " + ports +
                       " (address not on this machine, or port in use)");
   }
-  mg_set_request_handler(impl_->ctx, "/", &Impl::onHttp, impl_.get());
-  mg_set_websocket_handler(impl_->ctx, "/ws", &Impl::onWsConnect, &Impl::onWsReady, &Impl::onWsData,
-                           &Impl::onWsClose, impl_.get());
   mg_server_port bound[4]{};
   const int n = mg_get_server_ports(impl_->ctx, 4, bound);
   impl_->bound_port = n > 0 ? bound[0].port : options.port;
@@ -205,14 +213,8 @@ ViewerServer::ViewerServer(SnapshotSource& source, const ViewerOptions& options)
 
 ViewerServer::~ViewerServer() {
   impl_->publisher.stop();
-  {
-    // Pages are told to close (civetweb would otherwise wait up to 10 s for their next read to
-    // time out); held under the lock, no connection can go away meanwhile.
-    std::lock_guard<std::mutex> lock(impl_->channels_mutex);
-    for (const auto& entry : impl_->channels)
-      mg_websocket_write(entry.first, MG_WEBSOCKET_OPCODE_CONNECTION_CLOSE, "", 0);
-  }
-  mg_stop(impl_->ctx);  // closes every page (their close handlers stop their channels)
+  impl_->stopStreams(std::chrono::seconds(1));
+  mg_stop(impl_->ctx);
   releaseLibrary();
 }
 
@@ -235,7 +237,7 @@ ViewerCounters ViewerServer::counters() const {
   c.pages_connected = impl_->admitted.load();
   c.pages_accepted = impl_->accepted.load();
   c.pages_refused = impl_->refused.load();
-  c.pages_closed_for_input = impl_->closed_for_input.load();
+  c.requests_refused = impl_->refused_requests.load();
   c.publisher = impl_->publisher.counters();
   return c;
 }

@@ -1,10 +1,11 @@
-// The browser viewer's server: an HTTP and WebSocket server (civetweb) serving the page's files
-// (web_files.h) and, on /ws, the live updates of a Publisher. Safe by default: it binds 127.0.0.1
-// unless told otherwise, serves only its own files, accepts at most `max_clients` pages and
-// closes a page that sends more than `max_incoming_bytes` in one message.
+// The browser viewer's server: an HTTP server (civetweb) serving the page's files (web_files.h)
+// and, on GET /stream, the live updates of a Publisher as one chunked response per page
+// (wire_format.h). Data only flows to the page: nothing a client sends after its request header
+// is read, and civetweb's WebSocket support is never reached (every request is answered by ldsm
+// before civetweb's own routing; request_policy.h). Safe by default: it binds 127.0.0.1 unless
+// told otherwise, serves only its own files and accepts at most `max_clients` pages.
 #pragma once
 
-#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -19,7 +20,9 @@ struct ViewerOptions {
   int port = 8080;       ///< 0: any free port (see ViewerServer::port())
   std::string web_root;  ///< empty: findWebRoot()
   int max_clients = 4;
-  std::size_t max_incoming_bytes = 1024;
+  /// A request header not complete after this long, or a write to a page that makes no progress
+  /// for this long (a page that stopped reading), closes that connection.
+  int timeout_ms = 10000;
   PublisherOptions publisher;
 };
 
@@ -28,10 +31,10 @@ struct ViewerOptions {
 void parseServeAddress(const std::string& text, ViewerOptions& options);
 
 struct ViewerCounters {
-  std::int64_t pages_connected = 0;         ///< now
-  std::int64_t pages_accepted = 0;          ///< since start
-  std::int64_t pages_refused = 0;           ///< over max_clients
-  std::int64_t pages_closed_for_input = 0;  ///< sent an oversized message
+  std::int64_t pages_connected = 0;   ///< now
+  std::int64_t pages_accepted = 0;    ///< since start
+  std::int64_t pages_refused = 0;     ///< over max_clients
+  std::int64_t requests_refused = 0;  ///< malformed, upgrades, bodies, methods other than GET/HEAD
   PublisherCounters publisher;
 };
 

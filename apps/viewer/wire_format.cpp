@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <utility>
 
 #include "ldsm/drivers/json_writer.h"
 
@@ -19,6 +20,21 @@ void putFloats(std::string& s, const float* data, std::size_t n) {
   // The page reads float32 little-endian; every platform ldsm builds for stores floats so.
   static_assert(sizeof(float) == 4, "float32 expected");
   s.append(reinterpret_cast<const char*>(data), n * sizeof(float));
+}
+
+/// A record with its length prefix still to be filled in (finish()).
+std::string startRecord(std::uint32_t kind, std::size_t capacity) {
+  std::string s;
+  s.reserve(kLengthBytes + capacity);
+  putU32(s, 0);
+  putU32(s, kind);
+  return s;
+}
+
+WireMessage finish(std::string s) {
+  const auto n = static_cast<std::uint32_t>(s.size() - kLengthBytes);
+  for (std::size_t i = 0; i < kLengthBytes; ++i) s[i] = static_cast<char>((n >> (8 * i)) & 0xff);
+  return WireMessage{std::move(s)};
 }
 
 double finiteOr(double v, double fallback) {
@@ -41,31 +57,29 @@ void appendDelta(StreamKind kind, const std::vector<float>& data, std::size_t fr
   std::size_t start = from;
   do {
     const std::size_t count = std::min(max_elements, total - start);
-    WireMessage m;
-    m.bytes.reserve(kHeaderBytes + count * stride * sizeof(float));
-    putU32(m.bytes, static_cast<std::uint32_t>(kind));
-    putU32(m.bytes, static_cast<std::uint32_t>(start));
-    putU32(m.bytes, static_cast<std::uint32_t>(count));
-    putU32(m.bytes, static_cast<std::uint32_t>(start + count));
-    putFloats(m.bytes, data.data() + start * stride, count * stride);
-    out.push_back(std::move(m));
+    std::string m = startRecord(static_cast<std::uint32_t>(kind),
+                                kHeaderBytes + count * stride * sizeof(float));
+    putU32(m, static_cast<std::uint32_t>(start));
+    putU32(m, static_cast<std::uint32_t>(count));
+    putU32(m, static_cast<std::uint32_t>(start + count));
+    putFloats(m, data.data() + start * stride, count * stride);
+    out.push_back(finish(std::move(m)));
     start += count;
   } while (start < total);
 }
 
 WireMessage encodeImage(const ViewerImage& image) {
-  WireMessage m;
   const std::size_t pixels = static_cast<std::size_t>(image.width) * image.height;
   const std::size_t n = std::min(pixels, image.pixels.size());
   const std::size_t points = image.points.size() / 2;
-  putU32(m.bytes, kImageMessage);
-  putU32(m.bytes, static_cast<std::uint32_t>(image.width));
-  putU32(m.bytes, static_cast<std::uint32_t>(n == pixels ? image.height : 0));
-  putU32(m.bytes, static_cast<std::uint32_t>(points));
-  if (n == pixels) m.bytes.append(reinterpret_cast<const char*>(image.pixels.data()), n);
-  m.bytes.resize((m.bytes.size() + 3) / 4 * 4, '\0');
-  putFloats(m.bytes, image.points.data(), points * 2);
-  return m;
+  std::string m = startRecord(kImageMessage, kHeaderBytes + pixels + 3 + points * 8);
+  putU32(m, static_cast<std::uint32_t>(image.width));
+  putU32(m, static_cast<std::uint32_t>(n == pixels ? image.height : 0));
+  putU32(m, static_cast<std::uint32_t>(points));
+  if (n == pixels) m.append(reinterpret_cast<const char*>(image.pixels.data()), n);
+  m.resize((m.size() + 3) / 4 * 4, '\0');  // the prefix is 4 bytes: the message is aligned too
+  putFloats(m, image.points.data(), points * 2);
+  return finish(std::move(m));
 }
 
 WireMessage encodeFigures(const ViewerSnapshot& s, std::size_t max_list) {
@@ -109,10 +123,10 @@ WireMessage encodeFigures(const ViewerSnapshot& s, std::size_t max_list) {
   for (std::size_t i = first_re; i < s.reactivated.size(); ++i) j.value(s.reactivated[i]);
   j.endArray();
   j.endObject();
-  WireMessage m;
-  m.binary = false;
-  m.bytes = j.str();
-  return m;
+  const std::string json = j.str();
+  std::string m = startRecord(kFiguresMessage, 4 + json.size());
+  m += json;
+  return finish(std::move(m));
 }
 
 }  // namespace ldsm::viewer

@@ -1,10 +1,68 @@
-// The viewer's side of the wire format (apps/viewer/wire_format.h): arrays arrive as prefix
-// deltas ("keep your first `from` elements, append these"), the image as one binary message, the
-// figures as JSON text.
+// The viewer's side of the wire format (apps/viewer/wire_format.h): the response to GET /stream
+// is a sequence of records (u32 length, then the message); arrays arrive as prefix deltas ("keep
+// your first `from` elements, append these"), the image as one message, the figures as JSON.
 'use strict';
 
 const LdsmProtocol = (() => {
   const KIND_TRAJECTORY = 1, KIND_KEYFRAMES = 2, KIND_POINTS = 3, KIND_IMAGE = 4;
+  const KIND_FIGURES = 5;
+  const MAX_MESSAGE_BYTES = 64 << 20;  // far above the largest the server sends (about 2 MB)
+
+  // Cuts the bytes of the stream, as they arrive in pieces of any size, into messages: each an
+  // ArrayBuffer of its own (so that typed arrays over it are aligned). Throws on a length over
+  // MAX_MESSAGE_BYTES (the page then reconnects).
+  class RecordReader {
+    constructor() {
+      this.pieces = [];  // Uint8Arrays not yet consumed
+      this.buffered = 0;
+    }
+    // Appends a piece; returns the messages completed by it.
+    push(piece) {
+      if (piece.byteLength > 0) {
+        this.pieces.push(piece);
+        this.buffered += piece.byteLength;
+      }
+      const out = [];
+      for (;;) {
+        if (this.buffered < 4) return out;
+        const head = this.peek(4);
+        const length = new DataView(head.buffer).getUint32(0, true);
+        if (length > MAX_MESSAGE_BYTES) throw new Error(`message of ${length} bytes`);
+        if (this.buffered < 4 + length) return out;
+        this.take(4);
+        out.push(this.take(length).buffer);
+      }
+    }
+    // The first n buffered bytes, copied (n <= buffered).
+    peek(n) {
+      const out = new Uint8Array(n);
+      let at = 0;
+      for (const p of this.pieces) {
+        const k = Math.min(n - at, p.byteLength);
+        out.set(p.subarray(0, k), at);
+        at += k;
+        if (at === n) break;
+      }
+      return out;
+    }
+    // Removes and returns the first n buffered bytes, in a new buffer.
+    take(n) {
+      const out = this.peek(n);
+      let left = n;
+      while (left > 0) {
+        const p = this.pieces[0];
+        if (p.byteLength <= left) {
+          left -= p.byteLength;
+          this.pieces.shift();
+        } else {
+          this.pieces[0] = p.subarray(left);
+          left = 0;
+        }
+      }
+      this.buffered -= n;
+      return out;
+    }
+  }
 
   // A growable float array of `stride` floats per element.
   class Stream {
@@ -34,11 +92,22 @@ const LdsmProtocol = (() => {
     }
   }
 
-  // Decodes one binary message into {kind, from, total, floats} or {kind: 4, image}.
-  function decodeBinary(buffer) {
-    if (buffer.byteLength < 16) return null;
+  const utf8 = new TextDecoder();
+
+  // Decodes one message into {kind, from, total, floats}, {kind: 4, image} or
+  // {kind: 5, figures}; null when it is not one.
+  function decodeMessage(buffer) {
+    if (buffer.byteLength < 4) return null;
     const h = new DataView(buffer);
     const kind = h.getUint32(0, true);
+    if (kind === KIND_FIGURES) {
+      try {
+        return { kind, figures: JSON.parse(utf8.decode(new Uint8Array(buffer, 4))) };
+      } catch (e) {
+        return null;
+      }
+    }
+    if (buffer.byteLength < 16) return null;
     if (kind === KIND_IMAGE) {
       const width = h.getUint32(4, true), height = h.getUint32(8, true);
       const count = h.getUint32(12, true);
@@ -60,5 +129,6 @@ const LdsmProtocol = (() => {
     return { kind, from, total, floats: new Float32Array(buffer, 16, count * stride) };
   }
 
-  return { Stream, decodeBinary, KIND_TRAJECTORY, KIND_KEYFRAMES, KIND_POINTS, KIND_IMAGE };
+  return { Stream, RecordReader, decodeMessage, KIND_TRAJECTORY, KIND_KEYFRAMES, KIND_POINTS,
+    KIND_IMAGE, KIND_FIGURES };
 })();

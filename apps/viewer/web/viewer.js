@@ -1,7 +1,8 @@
-// The page's main loop: connects to the server's WebSocket (/ws), applies its messages to the
-// streams, updates the scene and the panel, and reconnects after a drop (the server then sends
-// everything again). window.ldsmViewer.counts tells what has arrived (the browser test reads it);
-// the title repeats it.
+// The page's main loop: reads the server's update stream (GET /stream, one long chunked
+// response; the page never sends anything else), applies its messages to the streams, updates
+// the scene and the panel, and reconnects after a drop (the server then sends everything again).
+// window.ldsmViewer.counts tells what has arrived (the browser test reads it); the title repeats
+// it.
 'use strict';
 
 (() => {
@@ -30,10 +31,7 @@
     scene.points.visible = e.target.checked;
   });
 
-  function onBinary(buffer) {
-    const m = P.decodeBinary(buffer);
-    if (!m) { ++counts.rejected; return; }
-    if (m.kind === P.KIND_IMAGE) { pendingImage = m.image; ++counts.images; return; }
+  function onArray(m) {
     const s = streams[m.kind];
     if (!s || !s.apply(m.from, m.floats, m.total)) { ++counts.rejected; return; }
     counts.poses = streams[P.KIND_TRAJECTORY].length;
@@ -44,9 +42,7 @@
     if (m.kind === P.KIND_POINTS) dirty.points = true;
   }
 
-  function onText(text) {
-    let f;
-    try { f = JSON.parse(text); } catch (e) { ++counts.rejected; return; }
+  function onFigures(f) {
     if (f.type !== 'figures') return;
     if (f.finished && !counts.finished) fitPending = true;
     figures = f;
@@ -58,26 +54,43 @@
     dirty.keyframes = true;  // reactivated keyframes and loop edges may have changed
   }
 
-  function connect() {
-    const ws = new WebSocket(`ws://${location.host}/ws`);
-    ws.binaryType = 'arraybuffer';
-    let keepAlive = null;
-    ws.onopen = () => {
-      for (const s of Object.values(streams)) s.reset();
-      counts.connected = true;
-      panel.setConnection('on');
-      keepAlive = setInterval(() => ws.readyState === 1 && ws.send('ping'), 10000);
-    };
-    ws.onmessage = (e) => {
-      ++counts.messages;
-      if (typeof e.data === 'string') onText(e.data); else onBinary(e.data);
-    };
-    ws.onclose = () => {
-      counts.connected = false;
-      clearInterval(keepAlive);
-      panel.setConnection(counts.finished ? 'done' : 'off');
-      setTimeout(connect, counts.finished ? 10000 : 2000);
-    };
+  function onMessage(buffer) {
+    ++counts.messages;
+    const m = P.decodeMessage(buffer);
+    if (!m) ++counts.rejected;
+    else if (m.kind === P.KIND_FIGURES) onFigures(m.figures);
+    else if (m.kind === P.KIND_IMAGE) { pendingImage = m.image; ++counts.images; }
+    else onArray(m);
+  }
+
+  async function readStream() {
+    const response = await fetch('stream', { cache: 'no-store' });
+    if (!response.ok || !response.body) return;  // e.g. 503: too many pages open
+    for (const s of Object.values(streams)) s.reset();
+    counts.connected = true;
+    panel.setConnection('on');
+    const reader = response.body.getReader();
+    const records = new P.RecordReader();
+    try {
+      for (;;) {
+        const { done, value } = await reader.read();
+        if (done) return;
+        for (const message of records.push(value)) onMessage(message);
+      }
+    } finally {
+      reader.cancel().catch(() => {});
+    }
+  }
+
+  async function connect() {
+    try {
+      await readStream();
+    } catch (e) {
+      console.warn('ldsm viewer: stream ended:', e.message);
+    }
+    counts.connected = false;
+    panel.setConnection(counts.finished ? 'done' : 'off');
+    setTimeout(connect, counts.finished ? 10000 : 2000);
   }
 
   function frame() {
