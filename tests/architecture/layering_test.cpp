@@ -50,7 +50,7 @@ const std::map<std::string, std::set<std::string>>& allowedModules() {
       {"eval", {}},
       {"model", {"math", "image"}},
       {"kernels", {"math", "image", "model"}},
-      {"features", {"config", "image", "model"}},
+      {"features", {"math", "config", "image", "model"}},
       {"alignment", {"math", "camera", "image", "model"}},
       {"mapfile", {"math", "camera", "model"}},
       {"frontend", {"math", "config", "camera", "image", "model", "kernels", "features"}},
