@@ -16,10 +16,18 @@
 #include "ldsm/error.h"
 #include "request_policy.h"
 #include "thread_priority.h"
+#include "thread_stack_floor.h"
 #include "web_files.h"
 
 namespace ldsm::viewer {
 namespace {
+
+/// civetweb's last message while the server starts (mg_start reports failures only there), of
+/// the starting thread.
+std::string& lastStartMessage() {
+  thread_local std::string message;
+  return message;
+}
 
 // civetweb's library initialisation is process-wide: counted here.
 std::mutex g_library_mutex;
@@ -195,14 +203,20 @@ ViewerServer::ViewerServer(SnapshotSource& source, const ViewerOptions& options)
   };
   callbacks.log_message = [](const mg_connection*, const char* message) {
     spdlog::debug("viewer (civetweb): {}", message);
+    lastStartMessage() = message;
     return 1;
   };
+  if (!threadStackFloorActive())
+    spdlog::warn("viewer: the thread stack floor is not in effect (thread_stack_floor.h)");
+  lastStartMessage().clear();
   impl_->ctx = mg_start(&callbacks, impl_.get(), config);
   if (impl_->ctx == nullptr) {
     impl_->publisher.stop();
     releaseLibrary();
-    throw ConfigError("--serve: cannot listen on " + ports +
-                      " (address not on this machine, or port in use)");
+    const std::string why = lastStartMessage();
+    throw ConfigError("--serve: cannot serve at " + ports + ": " +
+                      (why.empty() ? std::string("address not on this machine, or port in use")
+                                   : "civetweb: " + why));
   }
   mg_server_port bound[4]{};
   const int n = mg_get_server_ports(impl_->ctx, 4, bound);
