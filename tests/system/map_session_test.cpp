@@ -168,7 +168,7 @@ TEST_F(MapSessions, LocalizeOnlyNeverChangesTheMap) {
 class MapSessionInput : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    map_ = new std::vector<std::uint8_t>(runSession(sessionConfig(), 0, 120, {}).map_after);
+    map_ = new std::vector<std::uint8_t>(runSession(sessionConfig(), 0, 40, {}).map_after);
   }
   static void TearDownTestSuite() {
     delete map_;
