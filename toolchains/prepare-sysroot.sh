@@ -50,12 +50,14 @@ HOST_PACKAGES=(cmake ninja-build pkg-config ccache mmdebstrap debian-archive-key
 # Target packages: what scripts/install-deps.sh installs for the host build, minus the tools
 # (zipcmp, zipmerge and ziptool only because libzip's CMake package checks that they exist).
 # libblas3, liblapack3 and their -dev pin the reference BLAS (otherwise the resolver may pick ATLAS).
+# libcivetweb-dev and libjs-three: the browser viewer (apps/viewer), built for the target too (a
+# headless board is where it is used). The Python module is not cross-built (scripts/cross-test.sh).
 TARGET_PACKAGES=(libc6-dev libstdc++-12-dev
   libeigen3-dev libopencv-dev libceres-dev libsuitesparse-dev libblas3 liblapack3
   libblas-dev liblapack-dev
   libspdlog-dev libfmt-dev libyaml-cpp-dev libcli11-dev
   libzip-dev zipcmp zipmerge ziptool zlib1g-dev libpng-dev libjpeg62-turbo-dev
-  libv4l-dev libcamera-dev
+  libv4l-dev libcamera-dev libcivetweb-dev libjs-three
   libgtest-dev libgmock-dev libbenchmark-dev)
 
 SUDO=""
