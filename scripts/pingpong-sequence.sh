@@ -20,26 +20,32 @@ ext=$(ls "$src/images" | head -n 1 | sed 's/.*\.//')
 : > "$out/times.txt"
 gt_out="$out/groundtruth.txt"
 echo "# timestamp tx ty tz qx qy qz qw (camera-to-world), $passes forward+backward passes" > "$gt_out"
-# ground truth by source timestamp
-declare -A gt
-while read -r t rest; do gt[$t]=$rest; done < <(awk '!/^#/ && NF >= 8' "$src/groundtruth.txt")
-k=0
-for ((p = 0; p < passes; ++p)); do
-  for dir in fwd bwd; do
-    for ((i = 0; i < n; ++i)); do
-      j=$i
-      [ "$dir" = bwd ] && j=$((n - 1 - i))
-      # no repeated frame at the turning points
-      { [ "$dir" = bwd ] && [ "$i" -eq 0 ]; } && continue
-      { [ "$dir" = fwd ] && [ "$p" -gt 0 ] && [ "$i" -eq 0 ]; } && continue
-      name=$(printf "%06d" "$k")
-      ln -sf "$src/images/${frames[$j]}.$ext" "$out/images/$name.$ext"
-      t=$(awk -v k="$k" -v dt="$dt" 'BEGIN {printf "%.6f", k * dt}')
-      echo "$name $t" >> "$out/times.txt"
-      key=$(printf "%.6f" "${stamps[$j]}")
-      [ -n "${gt[$key]:-}" ] && echo "$t ${gt[$key]}" >> "$gt_out"
-      k=$((k + 1))
-    done
-  done
-done
+# One awk pass writes times.txt, the ground truth (by source timestamp) and the list of links; perl
+# makes the links (an hour-long soak has over 100 000 frames: no process per frame).
+awk -v passes="$passes" -v dt="$dt" -v ext="$ext" -v src="$src/images" \
+    -v times="$out/times.txt" -v gt_out="$gt_out" '
+  BEGIN { n = 0 }
+  FNR == 1 { file++ }
+  file == 1 && !/^#/ && NF >= 8 { key = $1; $1 = ""; gt[key] = substr($0, 2); next }
+  file == 2 && !/^#/ && NF >= 2 { frame[n] = $1; stamp[n] = $2; n++; next }
+  END {
+    k = 0
+    for (p = 0; p < passes; ++p)
+      for (d = 0; d < 2; ++d)
+        for (i = 0; i < n; ++i) {
+          # no repeated frame at the turning points
+          if (d == 1 && i == 0) continue
+          if (d == 0 && p > 0 && i == 0) continue
+          j = d == 1 ? n - 1 - i : i
+          name = sprintf("%06d", k)
+          t = sprintf("%.6f", k * dt)
+          print name " " t > times
+          key = sprintf("%.6f", stamp[j])
+          if (key in gt) print t " " gt[key] >> gt_out
+          print src "/" frame[j] "." ext "\t" name "." ext
+          k++
+        }
+  }' "$src/groundtruth.txt" "$src/times.txt" |
+  (cd "$out/images" && perl -ne 'chomp; my ($t, $l) = split /\t/; unlink $l; symlink($t, $l) or die "$l: $!\n"')
+k=$(grep -c . "$out/times.txt")
 echo "pingpong-sequence.sh: $k frames ($passes passes of $n) in $out"
