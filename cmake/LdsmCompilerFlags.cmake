@@ -13,6 +13,14 @@ endif()
 if(LDSM_NATIVE)
   target_compile_options(ldsm_build_flags INTERFACE -march=native)
 endif()
+# No fused multiply-adds the source does not write: GCC contracts a + b * c into one instruction
+# where the processor has it (always on ARM, on x86-64 only with -march=native), which rounds once
+# instead of twice. ldsm's SIMD kernels must equal their scalar references exactly (the depth
+# search's best match must not depend on the instruction set), and results should agree across
+# machines as far as the libraries allow (docs/determinism.md). The x86-64 baseline has no FMA, so
+# this changes nothing there.
+target_compile_options(ldsm_build_flags INTERFACE
+  $<$<CXX_COMPILER_ID:GNU,Clang>:-ffp-contract=off>)
 
 # Resolve LDSM_SIMD=auto to the instruction set of the target processor.
 set(LDSM_SIMD_RESOLVED ${LDSM_SIMD})
