@@ -126,10 +126,10 @@ struct TrackingConfig {
 };
 
 struct WindowConfig {
-  int min_keyframes = 5;            ///< keyframes kept before marginalisation starts
-  int max_keyframes = 7;            ///< hard upper bound of the optimisation window
-  int active_points = 2000;         ///< target number of active points in the whole window
-  int max_iterations = 6;           ///< Levenberg-Marquardt iterations per new keyframe
+  int min_keyframes = 5;     ///< keyframes kept before marginalisation starts
+  int max_keyframes = 7;     ///< hard upper bound of the optimisation window
+  int active_points = 2000;  ///< target number of active points in the whole window
+  int max_iterations = 6;    ///< Levenberg-Marquardt iterations per new keyframe
   /// The iterations stop once a step changes the window energy by less than this fraction
   /// (either way): past it, steps only move points at the noise floor of the residuals.
   double min_relative_decrease = 3e-4;
@@ -303,29 +303,61 @@ struct LoopConfig {
 /// Online refinement of the camera calibration. Rectified images that still carry a little radial
 /// distortion (a calibration fitted on other data, a lens that moved) bend every ray by a few
 /// pixels towards the image border; the photometric error then drives rotation and scale wrong
-/// (kitti00_200 with its given calibration: 1.07 m ATE, 0.29 m with k1 = 0.02).
+/// (kitti00_200 with its given calibration: 1.07 m ATE, 0.29 m with k1 = 0.02). A wrong focal
+/// length or principal point does the same. The window estimates a correction of the radial
+/// distortion k, the focal length and the principal point together (backend/
+/// calibration_refinement.h); each part is applied once its estimate leaves its dead band.
 struct CalibrationRefinementConfig {
   /// Estimate a residual radial distortion k (x_image = x (1 + k |x|^2) in the output camera's
   /// normalized coordinates) from the window's photometric error and apply it in the window.
   bool refine_radial = true;
+  /// Estimate a common scale of the focal lengths (fx, fy) and apply it. Off by default: in a
+  /// window of forward motion a focal error is absorbed by poses and depths (kitti00_200 with fx
+  /// 3 % short: the estimate stays at 0), and on vamr_desk_loop the window settles on +0.8 %
+  /// whose correction costs accuracy (ATE 0.0009 -> 0.0012 m); docs/engine.md.
+  bool refine_focal = false;
+  /// Estimate a shift of the principal point (cx, cy) and apply it. Off by default: a shift is
+  /// almost a rotation of every keyframe, so windows see little of it.
+  bool refine_principal_point = false;
   /// Weight kept by older keyframes' estimates per new keyframe (1: never forget).
-  double radial_memory = 0.95;
-  /// The correction is applied only once the estimate exceeds this (and dropped again below half
-  /// of it): a small correction costs more consistency in the window than it gains.
+  double memory = 0.95;
+  /// The radial correction is applied only once the estimate exceeds this (and dropped again
+  /// below half of it): a small correction costs more consistency in the window than it gains.
   double radial_dead_band = 0.003;
   /// Largest correction |k| ever applied.
   double radial_max = 0.1;
+  /// The focal correction (relative, log scale) is applied once it exceeds this.
+  double focal_dead_band = 0.005;
+  /// Largest relative focal correction.
+  double focal_max = 0.3;
+  /// The principal point correction (pixels of the full-resolution rectified image, each axis)
+  /// is applied once it exceeds this.
+  double principal_point_dead_band = 1.5;
+  /// Largest principal point correction (pixels, each axis).
+  double principal_point_max = 60.0;
 
   template <typename V>
   void visit(V& v) {
     v.field("refine_radial", refine_radial,
             "estimate and apply a residual radial distortion of the rectified images");
-    v.field("radial_memory", radial_memory, Range<double>{0.5, 1.0},
-            "weight kept by older keyframes' radial estimates per new keyframe");
+    v.field("refine_focal", refine_focal,
+            "estimate and apply a common correction of the focal lengths");
+    v.field("refine_principal_point", refine_principal_point,
+            "estimate and apply a correction of the principal point");
+    v.field("memory", memory, Range<double>{0.5, 1.0},
+            "weight kept by older keyframes' calibration estimates per new keyframe");
     v.field("radial_dead_band", radial_dead_band, Range<double>{0.0, 0.1},
             "radial correction applied only once its estimate exceeds this");
     v.field("radial_max", radial_max, Range<double>{0.001, 0.5},
             "largest radial correction |k| applied");
+    v.field("focal_dead_band", focal_dead_band, Range<double>{0.0, 0.1},
+            "focal correction (relative) applied only once its estimate exceeds this");
+    v.field("focal_max", focal_max, Range<double>{0.001, 0.7},
+            "largest relative focal correction applied");
+    v.field("principal_point_dead_band", principal_point_dead_band, Range<double>{0.0, 50.0},
+            "principal point correction (pixels) applied only once its estimate exceeds this");
+    v.field("principal_point_max", principal_point_max, Range<double>{0.1, 500.0},
+            "largest principal point correction (pixels, each axis) applied");
   }
 };
 

@@ -65,6 +65,24 @@ struct MapStats {
   double bytes_per_keyframe = 0.0;  ///< bytes / data_keyframes
 };
 
+/// The online calibration refinement (config section calibration): the rectified pinhole the
+/// engine works with and the correction it estimates. Parameters not refined stay at the
+/// configured camera (estimate 0, sigma 0).
+struct CalibrationStats {
+  PinholeIntrinsics configured;  ///< the rectified pinhole of the calibration given
+  PinholeIntrinsics applied;     ///< with the focal and principal point corrections applied
+  double radial_applied = 0.0;   ///< residual radial k applied (see radial_estimate)
+  /// The estimate, applied or not (each part is applied only outside its dead band):
+  double radial_estimate = 0.0;
+  double focal_scale_estimate = 1.0;  ///< fx, fy times this
+  double cx_shift_estimate = 0.0;     ///< pixels
+  double cy_shift_estimate = 0.0;     ///< pixels
+  /// 1-sigma of the estimates from the fused window curvatures (relative: the curvatures are
+  /// energies in grey levels squared; compare between parameters and runs, not as metres).
+  double radial_sigma = 0.0, focal_scale_sigma = 0.0, cx_sigma = 0.0, cy_sigma = 0.0;
+  int windows = 0;  ///< window estimates fused
+};
+
 struct SystemStats {
   std::int64_t frames = 0;
   std::int64_t tracked_frames = 0;
@@ -79,6 +97,8 @@ struct SystemStats {
   /// normalized coordinates, as estimated and as applied (0 while inside the dead band).
   double radial_estimate = 0.0;
   double radial_applied = 0.0;
+  /// The whole online calibration refinement (radial k, focal scale, principal point).
+  CalibrationStats calibration;
   ReuseStats reuse;
   MapStats map;
 

@@ -13,10 +13,11 @@ namespace ldsm {
 
 Mapper::Mapper(const MapperSettings& settings, const PyramidCamera& camera, PyramidPool& pyramids)
     : settings_(settings),
+      base_camera_(camera),
       camera_(camera),
       pyramids_(pyramids),
       optimizer_(settings.optimizer, camera[0]),
-      radial_(settings.calibration),
+      calibration_(settings.calibration),
       selector_(camera[0].width, camera[0].height, settings.points) {
   trace_settings_.huber_threshold = settings.trace_huber_threshold;
   trace_settings_.outlier_threshold = settings.trace_outlier_threshold;
@@ -123,18 +124,34 @@ void Mapper::traceFrame(const ImagePyramid& frame, const MapperFrame& info) {
   }
 }
 
-void Mapper::refineRadialCorrection(const WindowOptimizationResult& opt) {
-  // Only full windows: the first keyframes' short baselines say little about k.
-  if (!opt.radial_valid || static_cast<int>(window_.size()) <= settings_.window.max_keyframes)
+void Mapper::refineCalibration(const WindowOptimizationResult& opt) {
+  // Only full windows: the first keyframes' short baselines say little about the calibration.
+  if (!opt.calibration_valid || static_cast<int>(window_.size()) <= settings_.window.max_keyframes)
     return;
-  const bool was_engaged = radial_.engaged();
-  radial_.addWindowStep(opt.radial_step, opt.radial_curvature);
-  optimizer_.setRadialCorrection(radial_.applied());
-  if (radial_.engaged() != was_engaged)
-    spdlog::info("calibration: radial correction {} (k = {:.4f} after {} windows)",
-                 radial_.engaged() ? "applied" : "dropped", radial_.estimate(), radial_.windows());
-  spdlog::debug("calibration: radial step {:.5f}, estimate {:.5f}, applied {:.5f}", opt.radial_step,
-                radial_.estimate(), radial_.applied());
+  std::array<bool, kCalibParams> was_engaged{};
+  for (int p = 0; p < kCalibParams; ++p)
+    was_engaged[static_cast<size_t>(p)] = calibration_.engaged(p);
+  calibration_.addWindowStep(opt.calibration_step, opt.calibration_curvature);
+  const CalibVector& c = calibration_.applied();
+  if (c[kCalibFocal] != 0.0 || c[kCalibCx] != 0.0 || c[kCalibCy] != 0.0 ||
+      camera_[0].fx != base_camera_[0].fx || camera_[0].cx != base_camera_[0].cx ||
+      camera_[0].cy != base_camera_[0].cy)
+    camera_ =
+        PyramidCamera(correctedIntrinsics(base_camera_.intrinsics(), c), base_camera_.levels());
+  optimizer_.setCamera(camera_[0], c[kCalibRadial]);
+  static constexpr const char* kNames[kCalibParams] = {"radial k", "focal scale", "cx", "cy"};
+  const CalibVector& e = calibration_.estimate();
+  for (int p = 0; p < kCalibParams; ++p)
+    if (calibration_.engaged(p) != was_engaged[static_cast<size_t>(p)])
+      spdlog::info("calibration: {} correction {} ({:.4f} after {} windows)", kNames[p],
+                   calibration_.engaged(p) ? "applied" : "dropped", e[p], calibration_.windows());
+  const CalibMatrix& C = opt.calibration_curvature;
+  spdlog::debug(
+      "calibration: step [{:.5f} {:.5f} {:.3f} {:.3f}], curvature [{:.4g} {:.4g} {:.4g} "
+      "{:.4g}], rmse {:.2f}, estimate [{:.5f} {:.5f} {:.3f} {:.3f}]",
+      opt.calibration_step[0], opt.calibration_step[1], opt.calibration_step[2],
+      opt.calibration_step[3], C(0, 0), C(1, 1), C(2, 2), C(3, 3), opt.rmse, e[0], e[1], e[2],
+      e[3]);
 }
 
 void Mapper::addResidualsToNewest() {
@@ -157,7 +174,7 @@ KeyframeInsertion Mapper::addKeyframe(std::unique_ptr<ImagePyramid> pyramid,
   ins.activated_points = activatePoints();
   const auto t1 = Clock::now();
   ins.optimization = optimizer_.optimize(windowView(), prior_);
-  refineRadialCorrection(ins.optimization);
+  refineCalibration(ins.optimization);
   adaptOutlierThreshold(*window_.back());
   reactivated_fit_ = measureReactivatedFit();
   for (auto& host : reactivated_)

@@ -4,6 +4,7 @@
 // keyframes that left it) comes out of every operation as values (MapUpdate).
 #pragma once
 
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -155,10 +156,17 @@ class Mapper {
   /// depths, the level-0 image in MapUpdate::left); off, they carry pose and points only.
   void setDescribeLeavingKeyframes(bool on) { describe_leaving_ = on; }
 
-  /// The radial correction the window applies (radial_correction.h).
-  float radialK() const { return static_cast<float>(radial_.applied()); }
+  /// The radial correction the window applies (calibration_refinement.h).
+  float radialK() const { return static_cast<float>(calibration_.applied()[kCalibRadial]); }
   /// The current estimate of the radial correction (applied or not).
-  double radialEstimate() const { return radial_.estimate(); }
+  double radialEstimate() const { return calibration_.estimate()[kCalibRadial]; }
+  /// The calibration refinement: the correction applied, its estimate and uncertainty.
+  const CalibrationRefinement& calibration() const { return calibration_; }
+  /// The camera the window works with: the configured pinhole with the focal length and
+  /// principal point corrections applied (the radial one is radialK()).
+  const PyramidCamera& camera() const { return camera_; }
+  /// The camera as configured.
+  const PyramidCamera& baseCamera() const { return base_camera_; }
 
  private:
   /// The optimisation window: the active keyframes, then the reactivated ones.
@@ -171,8 +179,8 @@ class Mapper {
   void markMapCoverage(const WindowKeyframe& kf);
   WindowKeyframe& insertKeyframe(std::unique_ptr<ImagePyramid> pyramid, const MapperFrame& info);
   void addResidualsToNewest();
-  /// Fuses the window's radial step and hands the resulting correction to the optimiser.
-  void refineRadialCorrection(const WindowOptimizationResult& opt);
+  /// Fuses the window's calibration step and hands the resulting correction to the optimiser.
+  void refineCalibration(const WindowOptimizationResult& opt);
   int activatePoints();
   bool optimizeNewPointDepth(ActivePoint& point, const std::vector<FramePairPrecalc>& pairs);
   /// Sets the keyframe's outlier threshold from the energies of the residuals aimed at it.
@@ -198,10 +206,11 @@ class Mapper {
   /// are 1e5-1e8 on its pose's diagonal).
   static constexpr double kRelocalizationAnchorWeight = 1e3;
   MapperSettings settings_;
-  PyramidCamera camera_;
+  PyramidCamera base_camera_;  ///< as configured
+  PyramidCamera camera_;       ///< with the calibration correction applied
   PyramidPool& pyramids_;
   WindowOptimizer optimizer_;
-  RadialRefinement radial_;
+  CalibrationRefinement calibration_;
   MarginalizationPrior prior_;
   PixelSelector selector_;
   TraceSettings trace_settings_;

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "backend/radial_correction.h"
 #include "image/interpolation.h"
 
 namespace ldsm {
@@ -69,12 +68,15 @@ Eigen::Matrix2f radialJacobian(float k, float x, float y) {
   return J;
 }
 
+using CalibJacobian = Eigen::Matrix<float, 2, kCalibParams>;
+
 /// d(pixel) / d(eps) and d(pixel) / d(inverse depth) of the point's centre at the linearisation
 /// point (first estimates), for the host ray through pinhole pixel (u, v).
-/// With `dpx_dk`, also d(pixel) / d(radial k): the correction at the target plus the host ray's
-/// move through the projection.
+/// With `dpx_dc`, also d(pixel) / d(calibration correction c) at the pair's camera: the host ray's
+/// move through the projection (the host pixel stays, its ray turns) plus the change of the
+/// target's projection itself.
 void centreJacobian(float u, float v, float d, const FramePairPrecalc& pair,
-                    simd::PatternJacobian& jac, Eigen::Vector2f* dpx_dk) {
+                    simd::PatternJacobian& jac, CalibJacobian* dpx_dc) {
   const LevelCamera& cam = pair.cam;
   const Eigen::Vector3f ray = cam.unproject(u, v);
   const Eigen::Vector3f R_ray = pair.R0 * ray;
@@ -104,14 +106,31 @@ void centreJacobian(float u, float v, float d, const FramePairPrecalc& pair,
   jac.dpx_didepth[0] = cam.fx * qzi * (pair.t0.x() - q.x() * qzi * pair.t0.z());
   jac.dpx_didepth[1] = cam.fy * qzi * (pair.t0.y() - q.y() * qzi * pair.t0.z());
   const float k = pair.radial_k;
-  Eigen::Vector2f host_move = Eigen::Vector2f::Zero();
-  if (dpx_dk != nullptr) {
-    // Along the host ray's radial direction |x_img| = r (1 + k r^2), so dr/dk = -r^3/(1 + 3kr^2):
-    // the pinhole ray moves by s (x, y, 0) with s = -r^2 / (1 + 3 k r^2).
+  CalibJacobian host_move = CalibJacobian::Zero();
+  if (dpx_dc != nullptr) {
+    // The pinhole ray x_h moves by dx (z fixed): p moves by R0 (dx, 0) / d.
+    const auto through = [&](float dx, float dy) {
+      const Eigen::Vector3f dp = (pair.R0.col(0) * dx + pair.R0.col(1) * dy) / d;
+      return Eigen::Vector2f(a * dp.x() - b * dp.z(), c * dp.y() - e * dp.z());
+    };
+    // k: along the host ray's radial direction |x_img| = r (1 + k r^2), so
+    // dr/dk = -r^3/(1 + 3kr^2): the pinhole ray moves by s (x, y, 0), s = -r^2 / (1 + 3 k r^2).
     const float rh2 = ray.x() * ray.x() + ray.y() * ray.y();
     const float s = -rh2 / (1.f + 3.f * k * rh2);
     const Eigen::Vector3f dp = (s / d) * (R_ray - pair.R0.col(2));
-    host_move = {a * dp.x() - b * dp.z(), c * dp.y() - e * dp.z()};
+    host_move.col(kCalibRadial) = Eigen::Vector2f(a * dp.x() - b * dp.z(), c * dp.y() - e * dp.z());
+    // Focal scale and principal point: the image normalized coordinates m = K^-1 (u, v) of the
+    // host pixel move by dm (dm/ds = -m, dm/dcx = (-1/fx, 0), dm/dcy = (0, -1/fy)), the pinhole
+    // ray by J_D^-1 dm.
+    const Eigen::Vector2f m = applyRadial(k, ray.x(), ray.y());
+    Eigen::Matrix2f Jh = Eigen::Matrix2f::Identity();
+    if (k != 0.f) Jh = radialJacobian(k, ray.x(), ray.y()).inverse();
+    const Eigen::Vector2f ds = Jh * (-m);
+    const Eigen::Vector2f dcx = Jh.col(0) * (-cam.fxi);
+    const Eigen::Vector2f dcy = Jh.col(1) * (-cam.fyi);
+    host_move.col(kCalibFocal) = through(ds.x(), ds.y());
+    host_move.col(kCalibCx) = through(dcx.x(), dcx.y());
+    host_move.col(kCalibCy) = through(dcy.x(), dcy.y());
   }
   const float xt = p.x() * zi, yt = p.y() * zi;
   if (k != 0.f) {
@@ -127,20 +146,28 @@ void centreJacobian(float u, float v, float d, const FramePairPrecalc& pair,
     const float d0 = jac.dpx_didepth[0], d1 = jac.dpx_didepth[1];
     jac.dpx_didepth[0] = J(0, 0) * d0 + J(0, 1) * d1;
     jac.dpx_didepth[1] = J(1, 0) * d0 + J(1, 1) * d1;
-    host_move = J * host_move;
+    if (dpx_dc != nullptr) host_move = J * host_move;
   }
-  if (dpx_dk != nullptr) {
+  if (dpx_dc != nullptr) {
+    // The target's own projection pixel = K D(x_t): d/dk = K (x r^2), d/ds = K D(x_t) - c,
+    // d/dc = identity.
     const float rt2 = xt * xt + yt * yt;
-    *dpx_dk = host_move + Eigen::Vector2f(cam.fx * xt * rt2, cam.fy * yt * rt2);
+    const Eigen::Vector2f Dt = applyRadial(k, xt, yt);
+    *dpx_dc = host_move;
+    dpx_dc->col(kCalibRadial) += Eigen::Vector2f(cam.fx * xt * rt2, cam.fy * yt * rt2);
+    dpx_dc->col(kCalibFocal) += Eigen::Vector2f(cam.fx * Dt.x(), cam.fy * Dt.y());
+    (*dpx_dc)(0, kCalibCx) += 1.f;
+    (*dpx_dc)(1, kCalibCy) += 1.f;
   }
 }
 
-/// The k terms of the residual's pattern (samples at the current estimate). Every pixel's k, eps
-/// and depth Jacobians are the image gradient times a 2-vector shared by the pattern, so the
-/// pattern needs only the gradient moments sum w g g^T, sum w g r and sum w g (affine rows).
-void radialTerms(const simd::PatternSamples& samples, const simd::PatternJacobian& jac,
-                 const Eigen::Vector2f& dk, const FramePairPrecalc& pair,
-                 RadialResidualTerms& out) {
+/// The calibration terms of the residual's pattern (samples at the current estimate). Every
+/// pixel's c, eps and depth Jacobians are the image gradient times a 2-vector shared by the
+/// pattern, so the pattern needs only the gradient moments sum w g g^T, sum w g r and
+/// sum w g (affine rows).
+void calibrationTerms(const simd::PatternSamples& samples, const simd::PatternJacobian& jac,
+                      const CalibJacobian& dc, const FramePairPrecalc& pair,
+                      CalibrationResidualTerms& out) {
   float sxx = 0.f, sxy = 0.f, syy = 0.f, sxr = 0.f, syr = 0.f, sxa = 0.f, sya = 0.f, sx = 0.f,
         sy = 0.f;
   for (int i = 0; i < kPatternSize; ++i) {
@@ -156,19 +183,23 @@ void radialTerms(const simd::PatternSamples& samples, const simd::PatternJacobia
     sx += wx;
     sy += wy;
   }
-  // sum w J_k (g . a) for a pixel displacement a: dk^T S a with S the gradient moment matrix.
-  const double kx = static_cast<double>(dk.x()) * sxx + static_cast<double>(dk.y()) * sxy;
-  const double ky = static_cast<double>(dk.x()) * sxy + static_cast<double>(dk.y()) * syy;
-  out.H_kk = kx * dk.x() + ky * dk.y();
-  out.b_k = static_cast<double>(dk.x()) * sxr + static_cast<double>(dk.y()) * syr;
-  out.H_dk = kx * jac.dpx_didepth[0] + ky * jac.dpx_didepth[1];
-  for (int j = 0; j < 6; ++j) out.coupling[j] = kx * jac.dpx_deps[0][j] + ky * jac.dpx_deps[1][j];
-  const double ka = static_cast<double>(dk.x()) * sxa + static_cast<double>(dk.y()) * sya;
-  const double k1 = static_cast<double>(dk.x()) * sx + static_cast<double>(dk.y()) * sy;
-  out.coupling[6] = pair.scale * ka;
-  out.coupling[7] = pair.scale * k1;
-  out.coupling[8] = -pair.scale * ka;
-  out.coupling[9] = -k1;
+  for (int p = 0; p < kCalibParams; ++p) {
+    const double dx = dc(0, p), dy = dc(1, p);
+    // sum w J_p (g . a) for a pixel displacement a: dc_p^T S a with S the gradient moments.
+    const double kx = dx * sxx + dy * sxy;
+    const double ky = dx * sxy + dy * syy;
+    for (int q = 0; q < kCalibParams; ++q) out.H_cc(p, q) = kx * dc(0, q) + ky * dc(1, q);
+    out.b_c[p] = dx * sxr + dy * syr;
+    out.H_dc[p] = kx * jac.dpx_didepth[0] + ky * jac.dpx_didepth[1];
+    for (int j = 0; j < 6; ++j)
+      out.coupling(j, p) = kx * jac.dpx_deps[0][j] + ky * jac.dpx_deps[1][j];
+    const double ka = dx * sxa + dy * sya;
+    const double k1 = dx * sx + dy * sy;
+    out.coupling(6, p) = pair.scale * ka;
+    out.coupling(7, p) = pair.scale * k1;
+    out.coupling(8, p) = -pair.scale * ka;
+    out.coupling(9, p) = -k1;
+  }
 }
 
 }  // namespace
@@ -228,9 +259,9 @@ float evaluateResidual(const ActivePoint& point, PointResidual& res, const Frame
   if (acc == nullptr) return energy;
 
   simd::PatternJacobian jac;
-  Eigen::Vector2f dpx_dk;
-  const bool radial = acc->radial != nullptr && !acc->depth_only;
-  centreJacobian(host.x(), host.y(), d, pair, jac, radial ? &dpx_dk : nullptr);
+  CalibJacobian dpx_dc;
+  const bool calibration = acc->calibration != nullptr && !acc->depth_only;
+  centreJacobian(host.x(), host.y(), d, pair, jac, calibration ? &dpx_dc : nullptr);
   if (acc->depth_only) {
     float H_dd, b_d;
     simd::accumulateDepthOnly<simd::Vec4>(samples, jac.dpx_didepth, &H_dd, &b_d);
@@ -241,8 +272,8 @@ float evaluateResidual(const ActivePoint& point, PointResidual& res, const Frame
   jac.colors = point.colors;
   jac.scale = pair.scale;
   jac.host_b = pair.host_b;
-  if (radial) radialTerms(samples, jac, dpx_dk, pair, *acc->radial);
-  if (acc->radial_only) return energy;
+  if (calibration) calibrationTerms(samples, jac, dpx_dc, pair, *acc->calibration);
+  if (acc->calibration_only) return energy;
   simd::PatternPointSums ps;
   acc->pair->sums().add(samples, jac, ps);
   // Coupling over [eps, a_h, b_h, a_t, b_t] from the basis [eps, a_h, 1].

@@ -5,9 +5,10 @@
 // gradients at the current estimate. The pattern is evaluated as a struct of arrays by the SIMD
 // kernels of kernels/ (pattern_sampling.h, pattern_accumulate.h); the (host, target) pair block
 // is summed in SIMD lanes (PairAccumulator) and reduced once per pair and linearisation.
-// With a radial correction k (radial_correction.h) the host pixel's ray is undistorted and the
-// projection shifted by the distortion at the target's centre pixel (the pattern shares the
-// shift); the linearisation can then also yield the residual's terms in k.
+// With a radial correction k (calibration_refinement.h) the host pixel's ray is undistorted and
+// the projection shifted by the distortion at the target's centre pixel (the pattern shares the
+// shift); the linearisation can also yield the residual's terms in the calibration correction
+// (k, focal scale, principal point) of the camera it is evaluated with.
 #pragma once
 
 #include <vector>
@@ -15,6 +16,7 @@
 #include <Eigen/Core>
 
 #include "backend/active_point.h"
+#include "backend/calibration_refinement.h"
 #include "backend/window_keyframe.h"
 #include "camera/pyramid_camera.h"
 #include "image/gradient_pixel.h"
@@ -46,7 +48,7 @@ struct FramePairPrecalc {
   simd::PatternSamplingParams sampling;  ///< the above as the sampling kernel takes them
   /// The larger of the two keyframes' adapted outlier thresholds (0: none adapted yet).
   float outlier_energy = 0.f;
-  /// Residual radial distortion k of the images (radial_correction.h), 0: plain pinhole.
+  /// Residual radial distortion k of the images (calibration_refinement.h), 0: plain pinhole.
   float radial_k = 0.f;
 
   void set(const WindowKeyframe& host, const WindowKeyframe& target, const LevelCamera& camera);
@@ -83,12 +85,14 @@ class PairAccumulator {
   simd::PatternPairSums sums_;
 };
 
-/// One residual's terms of the radial distortion k (radial_correction.h).
-struct RadialResidualTerms {
-  double H_kk = 0.0;                       ///< sum w J_k^2
-  double b_k = 0.0;                        ///< sum w J_k r
-  double H_dk = 0.0;                       ///< sum w J_d J_k
-  RelVector coupling = RelVector::Zero();  ///< sum w J_rel^T J_k
+/// One residual's terms of the calibration correction c (calibration_refinement.h): derivatives
+/// in the radial k, the focal log scale and the principal point, at the pair's camera.
+struct CalibrationResidualTerms {
+  CalibMatrix H_cc = CalibMatrix::Zero();  ///< sum w J_c^T J_c
+  CalibVector b_c = CalibVector::Zero();   ///< sum w J_c^T r
+  CalibVector H_dc = CalibVector::Zero();  ///< sum w J_d J_c
+  Eigen::Matrix<double, kRelParams, kCalibParams> coupling =
+      Eigen::Matrix<double, kRelParams, kCalibParams>::Zero();  ///< sum w J_rel^T J_c
 };
 
 /// Receives the Gauss-Newton terms of one residual.
@@ -98,10 +102,12 @@ struct ResidualAccumulator {
   double b_d = 0.0;                 ///< sum w J_d r
   RelVector coupling = RelVector::Zero();  ///< sum w J_rel^T J_d
   bool depth_only = false;                 ///< accumulate H_dd and b_d only (pair may be null)
-  /// When set (and not depth_only), receives the residual's k terms (overwritten, not added).
-  RadialResidualTerms* radial = nullptr;
-  /// Only the k terms: nothing goes to the pair block or the point terms (pair may be null).
-  bool radial_only = false;
+  /// When set (and not depth_only), receives the residual's calibration terms (overwritten, not
+  /// added).
+  CalibrationResidualTerms* calibration = nullptr;
+  /// Only the calibration terms: nothing goes to the pair block or the point terms (pair may be
+  /// null).
+  bool calibration_only = false;
 };
 
 /// Evaluates the residual of `point` in the pair's target. Updates `res.state`, `res.energy`,

@@ -27,8 +27,8 @@ Map10x16 relativeToAbsolute(const Eigen::Matrix<double, 6, 6>& Ad) {
 
 /// The coupling of a depth to (host, target) parameters from its relative-parameter coupling,
 /// the transpose of relativeToAbsolute() applied without the dense product.
-void addCoupling(const Eigen::Matrix<double, 6, 6>& Ad, const RelVector& c_rel, int h, int t,
-                 Eigen::Ref<Eigen::VectorXd> c) {
+void addCoupling(const Eigen::Matrix<double, 6, 6>& Ad, const Eigen::Ref<const RelVector>& c_rel,
+                 int h, int t, Eigen::Ref<Eigen::VectorXd> c) {
   c.segment<6>(kFrameParams * h).noalias() -= Ad.transpose() * c_rel.head<6>();
   c.segment<2>(kFrameParams * h + 6) += c_rel.segment<2>(6);
   c.segment<6>(kFrameParams * t) += c_rel.head<6>();
@@ -121,12 +121,11 @@ double WindowOptimizer::addPriors(const std::vector<WindowKeyframe*>& window,
       (*b)[k * i + 6] += settings_.affine_prior_a * a;
       (*b)[k * i + 7] += settings_.affine_prior_b * bb;
     }
-    const double anchor =
-        kf.is_gauge_anchor ? settings_.gauge_anchor_weight
-        : kf.is_reactivated
-            ? (settings_.reactivated_weight > 0.0 ? settings_.reactivated_weight
-                                                  : settings_.gauge_anchor_weight)
-            : kf.anchor_weight;
+    const double anchor = kf.is_gauge_anchor ? settings_.gauge_anchor_weight
+                          : kf.is_reactivated
+                              ? (settings_.reactivated_weight > 0.0 ? settings_.reactivated_weight
+                                                                    : settings_.gauge_anchor_weight)
+                              : kf.anchor_weight;
     if (anchor > 0.0) {
       // The gauge anchor: pose and affine brightness stay at their first estimate. Without the
       // affine part, the offsets b of all keyframes drift together (the cost hardly changes when
@@ -222,31 +221,34 @@ void WindowOptimizer::linearize(const std::vector<WindowKeyframe*>& window,
   sys.energy = 0.5 * residual_energy + addPriors(window, prior, &sys.H, &sys.b);
 }
 
-void WindowOptimizer::linearizeRadial(const std::vector<WindowKeyframe*>& window, System& sys) {
+void WindowOptimizer::linearizeCalibration(const std::vector<WindowKeyframe*>& window,
+                                           System& sys) {
   const int n = static_cast<int>(window.size());
-  sys.radial.reset(sys.H.rows());
-  radial_pair_.assign(static_cast<size_t>(n) * n, RelVector::Zero());
-  RadialResidualTerms rt;
+  sys.calibration.reset(sys.H.rows());
+  calibration_pair_.assign(static_cast<size_t>(n) * n, RelCalibMatrix::Zero());
+  CalibrationResidualTerms rt;
   for (int h = 0; h < n; ++h)
     for (auto& pt : window[h]->points) {
-      double H_dk = 0.0;
+      CalibVector H_dc = CalibVector::Zero();
       for (auto& res : pt->residuals) {
         const size_t pi = static_cast<size_t>(h) * n + res.target->window_index;
         ResidualAccumulator acc;
-        acc.radial = &rt;
-        acc.radial_only = true;
+        acc.calibration = &rt;
+        acc.calibration_only = true;
         evaluateResidual(*pt, res, pairs_[pi], settings_.residual, &acc);
         if (res.state != ResidualState::Inlier) continue;
-        radial_pair_[pi] += rt.coupling;
-        sys.radial.H_kk += rt.H_kk;
-        sys.radial.b_k += rt.b_k;
-        H_dk += rt.H_dk;
+        calibration_pair_[pi] += rt.coupling;
+        sys.calibration.H_cc += rt.H_cc;
+        sys.calibration.b_c += rt.b_c;
+        H_dc += rt.H_dc;
       }
-      sys.radial.H_dk.push_back(H_dk);
+      sys.calibration.H_dc.push_back(H_dc);
     }
-  for (size_t pi = 0; pi < radial_pair_.size(); ++pi) {
+  for (size_t pi = 0; pi < calibration_pair_.size(); ++pi) {
     const int h = static_cast<int>(pi) / n, t = static_cast<int>(pi) % n;
-    if (h != t) addCoupling(adjoints_[pi], radial_pair_[pi], h, t, sys.radial.H_fk);
+    if (h == t) continue;
+    for (int p = 0; p < kCalibParams; ++p)
+      addCoupling(adjoints_[pi], calibration_pair_[pi].col(p), h, t, sys.calibration.H_fc.col(p));
   }
 }
 
@@ -367,22 +369,23 @@ WindowOptimizationResult WindowOptimizer::optimize(const std::vector<WindowKeyfr
   result.inlier_residuals = sys.inliers;
   result.outlier_residuals = sys.outliers;
   result.rmse = sys.inliers > 0 ? std::sqrt(sys.inlier_energy / (sys.inliers * kPatternSize)) : 0.0;
-  if (settings_.estimate_radial) {
-    linearizeRadial(window, sys);
-    result.radial_valid =
-        radialEnvelopeStep(sys.H, sys.b, sys.coupling, sys.H_dd, sys.b_d, sys.radial,
-                           &result.radial_step, &result.radial_curvature);
+  const CalibMask& mask = settings_.estimate_calibration;
+  if (mask[0] || mask[1] || mask[2] || mask[3]) {
+    linearizeCalibration(window, sys);
+    result.calibration_valid =
+        calibrationEnvelopeStep(sys.H, sys.b, sys.coupling, sys.H_dd, sys.b_d, sys.calibration,
+                                mask, &result.calibration_step, &result.calibration_curvature);
   }
   return result;
 }
 
-double WindowOptimizer::radialGradient(const std::vector<WindowKeyframe*>& window,
-                                       const MarginalizationPrior& prior) {
+CalibVector WindowOptimizer::calibrationGradient(const std::vector<WindowKeyframe*>& window,
+                                                 const MarginalizationPrior& prior) {
   System sys;
   precalcPairs(window);
   linearize(window, prior, sys);
-  linearizeRadial(window, sys);
-  return sys.radial.b_k;
+  linearizeCalibration(window, sys);
+  return sys.calibration.b_c;
 }
 
 Eigen::VectorXd WindowOptimizer::frameGradient(const std::vector<WindowKeyframe*>& window,

@@ -8,9 +8,9 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "backend/calibration_refinement.h"
 #include "backend/marginalization_prior.h"
 #include "backend/photometric_residual.h"
-#include "backend/radial_correction.h"
 #include "backend/window_keyframe.h"
 #include "camera/pyramid_camera.h"
 
@@ -21,16 +21,16 @@ struct WindowOptimizerSettings {
   double initial_lambda = 1e-4;
   /// Stop when a step changes the energy by less than this fraction (either way).
   double min_relative_decrease = 3e-4;
-  double affine_prior_a = 1e-3;         ///< prior weight on a (towards 0)
-  double affine_prior_b = 1e-3;         ///< prior weight on b (towards 0)
+  double affine_prior_a = 1e-3;  ///< prior weight on a (towards 0)
+  double affine_prior_b = 1e-3;  ///< prior weight on b (towards 0)
   /// Weight anchoring the gauge keyframe (pose and affine brightness) to its first estimate.
   double gauge_anchor_weight = 1e8;
   /// Weight holding a reactivated map keyframe's pose and brightness at the map's estimate
   /// (per parameter): the gauge anchor's (fixed) unless set (> 0: free with that prior).
   double reactivated_weight = 0.0;
-  /// After each optimisation, linearise the residuals in the radial distortion k as well and
-  /// report the envelope step in k (radial_correction.h).
-  bool estimate_radial = false;
+  /// After each optimisation, linearise the residuals in these calibration parameters as well
+  /// and report the envelope step in them (calibration_refinement.h). None: no step.
+  CalibMask estimate_calibration{};
   ResidualSettings residual;
 };
 
@@ -41,11 +41,12 @@ struct WindowOptimizationResult {
   int inlier_residuals = 0;
   int outlier_residuals = 0;
   double rmse = 0.0;  ///< sqrt(mean pattern-pixel energy) of inliers, grey levels
-  /// With estimate_radial: the Newton step in k with frames and depths re-optimised, and its
-  /// curvature, at the final state (radialEnvelopeStep()); radial_valid false when undefined.
-  bool radial_valid = false;
-  double radial_step = 0.0;
-  double radial_curvature = 0.0;
+  /// With estimate_calibration: the Newton step in the calibration correction with frames and
+  /// depths re-optimised, and its curvature, at the final state (calibrationEnvelopeStep());
+  /// calibration_valid false when undefined.
+  bool calibration_valid = false;
+  CalibVector calibration_step = CalibVector::Zero();
+  CalibMatrix calibration_curvature = CalibMatrix::Zero();
 };
 
 class WindowOptimizer {
@@ -75,14 +76,19 @@ class WindowOptimizer {
   Eigen::VectorXd frameGradient(const std::vector<WindowKeyframe*>& window,
                                 const MarginalizationPrior& prior);
 
-  /// dE/dk of the energy in the radial distortion k at the current state (estimate_radial must
-  /// be set). For tests and diagnostics.
-  double radialGradient(const std::vector<WindowKeyframe*>& window,
-                        const MarginalizationPrior& prior);
+  /// dE/dc of the energy in the calibration correction (radial k, focal log scale, principal
+  /// point) at the current state and camera. For tests and diagnostics.
+  CalibVector calibrationGradient(const std::vector<WindowKeyframe*>& window,
+                                  const MarginalizationPrior& prior);
 
-  /// The radial distortion k the residuals are evaluated with (0: plain pinhole).
-  void setRadialCorrection(double k) { radial_k_ = k; }
+  /// The camera (level 0, focal length and principal point corrected) and radial distortion k
+  /// (0: plain pinhole) the residuals are evaluated with.
+  void setCamera(const LevelCamera& camera, double radial_k) {
+    camera_ = camera;
+    radial_k_ = radial_k;
+  }
   double radialCorrection() const { return radial_k_; }
+  const LevelCamera& camera() const { return camera_; }
 
   const WindowOptimizerSettings& settings() const { return settings_; }
 
@@ -99,15 +105,16 @@ class WindowOptimizer {
     double energy = 0.0;
     int inliers = 0, outliers = 0;
     double inlier_energy = 0.0;
-    RadialTerms radial;  ///< k terms (estimate_radial only)
+    CalibrationTerms calibration;  ///< calibration terms (linearizeCalibration() only)
   };
 
   void precalcPairs(const std::vector<WindowKeyframe*>& window);
   /// Linearises every residual (and priors) at the current state into `sys`.
   void linearize(const std::vector<WindowKeyframe*>& window, const MarginalizationPrior& prior,
                  System& sys);
-  /// The k terms of every residual at the state `sys` was linearised at (sys.radial).
-  void linearizeRadial(const std::vector<WindowKeyframe*>& window, System& sys);
+  /// The calibration terms of every residual at the state `sys` was linearised at
+  /// (sys.calibration).
+  void linearizeCalibration(const std::vector<WindowKeyframe*>& window, System& sys);
   /// Adds the keyframe priors (affine towards 0, gauge anchor) and the marginalisation prior.
   double addPriors(const std::vector<WindowKeyframe*>& window, const MarginalizationPrior& prior,
                    Eigen::MatrixXd* H, Eigen::VectorXd* b) const;
@@ -129,8 +136,9 @@ class WindowOptimizer {
   std::vector<SavedPoint> saved_points_;
   std::vector<PointResidual> saved_residuals_;
   double radial_k_ = 0.0;
-  /// Per (host, target) pair: sum over its residuals of w J_rel^T J_k.
-  std::vector<RelVector, Eigen::aligned_allocator<RelVector>> radial_pair_;
+  using RelCalibMatrix = Eigen::Matrix<double, kRelParams, kCalibParams>;
+  /// Per (host, target) pair: sum over its residuals of w J_rel^T J_c.
+  std::vector<RelCalibMatrix, Eigen::aligned_allocator<RelCalibMatrix>> calibration_pair_;
   std::vector<FramePairPrecalc> pairs_;                ///< n x n, [host * n + target]
   std::vector<Eigen::Matrix<double, 6, 6>> adjoints_;  ///< Ad(T_th) at the linearisation points
   std::vector<PairAccumulator> pair_acc_;  ///< n x n, the pairs' blocks during a linearisation

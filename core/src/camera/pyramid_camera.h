@@ -31,7 +31,7 @@ struct LevelCamera {
 class PyramidCamera {
  public:
   PyramidCamera() = default;
-  PyramidCamera(const PinholeIntrinsics& k, int levels) : levels_(levels) {
+  PyramidCamera(const PinholeIntrinsics& k, int levels) : intrinsics_(k), levels_(levels) {
     for (int l = 0; l < levels; ++l) {
       const float s = 1.f / static_cast<float>(1 << l);
       LevelCamera& c = cams_[l];
@@ -49,8 +49,11 @@ class PyramidCamera {
   }
   int levels() const { return levels_; }
   const LevelCamera& operator[](int level) const { return cams_[level]; }
+  /// The full-resolution pinhole the levels were made from.
+  const PinholeIntrinsics& intrinsics() const { return intrinsics_; }
 
  private:
+  PinholeIntrinsics intrinsics_{};
   std::array<LevelCamera, kMaxPyramidLevels> cams_{};
   int levels_ = 0;
 };

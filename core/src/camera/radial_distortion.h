@@ -1,6 +1,6 @@
 // A residual radial distortion of the rectified images (the online calibration refinement of the
-// window, backend/radial_correction.h): a ray with pinhole coordinates x = (X/Z, Y/Z) appears in
-// the image at normalized coordinates x (1 + k |x|^2). k = 0 is the plain pinhole.
+// window, backend/calibration_refinement.h): a ray with pinhole coordinates x = (X/Z, Y/Z) appears
+// in the image at normalized coordinates x (1 + k |x|^2). k = 0 is the plain pinhole.
 #pragma once
 
 #include <Eigen/Core>

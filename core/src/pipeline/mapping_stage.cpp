@@ -6,15 +6,37 @@
 #include "reuse/redundancy.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace ldsm {
+namespace {
+
+CalibrationStats calibrationStats(const Mapper& mapper) {
+  const CalibrationRefinement& r = mapper.calibration();
+  CalibrationStats c;
+  c.configured = mapper.baseCamera().intrinsics();
+  c.applied = mapper.camera().intrinsics();
+  c.radial_applied = r.applied()[kCalibRadial];
+  c.radial_estimate = r.estimate()[kCalibRadial];
+  c.focal_scale_estimate = std::exp(r.estimate()[kCalibFocal]);
+  c.cx_shift_estimate = r.estimate()[kCalibCx];
+  c.cy_shift_estimate = r.estimate()[kCalibCy];
+  const CalibVector sigma = r.sigma();
+  c.radial_sigma = sigma[kCalibRadial];
+  c.focal_scale_sigma = sigma[kCalibFocal];
+  c.cx_sigma = sigma[kCalibCx];
+  c.cy_sigma = sigma[kCalibCy];
+  c.windows = r.windows();
+  return c;
+}
+
+}  // namespace
 
 MappingStage::MappingStage(const MappingStageSettings& settings, const PyramidCamera& camera,
                            PyramidPool& pyramids, MapStore& store, EventSink& events,
                            loop::LoopCloser* loop_closer, bool inline_mode)
     : settings_(settings),
-      camera_(camera),
       pyramids_(pyramids),
       store_(store),
       events_(events),
@@ -212,7 +234,7 @@ void MappingStage::publishMap(MapUpdate&& update) {
     // A keyframe an earlier visit's map keyframe already covers adds nothing the map lacks.
     if (reuse_ && settings_.reuse.cull_redundant) {
       const RedundancyCheck r =
-          checkRedundancy(kf, store_.keyframe(kf.id), store_, camera_[0], settings_.reuse);
+          checkRedundancy(kf, store_.keyframe(kf.id), store_, mapper_.camera()[0], settings_.reuse);
       kf.culled = r.redundant;
       if (r.redundant)
         spdlog::trace("reuse: keyframe {} is covered by map keyframe {} ({:.0f} %)", kf.id,
@@ -361,7 +383,7 @@ void MappingStage::publishReference() {
   if (!depth_points_.empty()) median_depth_ = medianDepth(depth_points_, idepths_);
   std::unique_ptr<CoarseTracker> tracker = references_.acquire();
   const TrackingReference r = mapper_.newestReference();
-  tracker->setReference(*r.pyramid, camera_, depth_points_, r.exposure, r.aff);
+  tracker->setReference(*r.pyramid, mapper_.camera(), depth_points_, r.exposure, r.aff);
   references_.publish({std::move(tracker), r.keyframe_id, r.T_c_w, r.frame_index});
 }
 
@@ -380,6 +402,7 @@ void MappingStage::publishSnapshot() {
   s->active_point_count = static_cast<int>(s->active_points.size());
   s->radial_estimate = mapper_.radialEstimate();
   s->radial_applied = mapper_.radialK();
+  s->calibration = calibrationStats(mapper_);
   s->reactivated = mapper_.reactivatedIds();
   s->reuse = reuse_stats_;
   std::lock_guard<std::mutex> lock(snapshot_mutex_);

@@ -56,6 +56,7 @@ struct MappingSnapshot {
   int active_point_count = 0;
   double radial_estimate = 0.0;
   double radial_applied = 0.0;
+  CalibrationStats calibration;
   bool has_window = false;
   SE3d newest_T_c_w;             ///< the newest keyframe's pose (or the last one, no window)
   std::vector<int> window_ids;   ///< the active keyframes (or the last ones, no window)
@@ -183,7 +184,6 @@ class MappingStage {
   void confirmByTrial(ReuseEvent& event);
 
   MappingStageSettings settings_;
-  PyramidCamera camera_;
   PyramidPool& pyramids_;
   MapStore& store_;
   EventSink& events_;
@@ -192,7 +192,7 @@ class MappingStage {
   ReferenceExchange references_;
   StageTimer timer_;
   std::vector<DepthPoint> depth_points_;
-  bool describe_;  ///< keyframes leaving the window are described (loop closure or reuse)
+  bool describe_;     ///< keyframes leaving the window are described (loop closure or reuse)
   bool inline_mode_;  ///< deterministic: jobs run in the submitting thread
   std::unique_ptr<OrbExtractor> orb_;
   std::unique_ptr<CornerDetector> loop_corner_detector_;

@@ -73,7 +73,7 @@ ReuseView MappingStage::reuseView(const WindowKeyframe& newest) {
   ReuseView view;
   view.keyframe_id = newest.id();
   view.T_c_w = newest.T_c_w;
-  view.camera = camera_[0];
+  view.camera = mapper_.camera()[0];
   view.radial_k = mapper_.radialK();
   view.path_length = newest.path_length;
   view.chain_start_id = mapper_.chainStartId();

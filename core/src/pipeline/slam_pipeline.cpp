@@ -89,6 +89,7 @@ void SlamPipeline::fillStats(SystemStats& stats) const {
   const std::shared_ptr<const MappingSnapshot> s = mapping_.snapshot();
   stats.radial_estimate = s->radial_estimate;
   stats.radial_applied = s->radial_applied;
+  stats.calibration = s->calibration;
   stats.reuse = s->reuse;
   stats.reuse.relocalization_attempts = tracking_.relocalizationAttempts();
   stats.reuse.relocalizations = tracking_.relocalizations();

@@ -16,7 +16,9 @@ WindowOptimizerSettings optimizerSettings(const Config& c, bool photometry_known
   s.residual.huber_threshold = static_cast<float>(c.tracking.huber_threshold);
   const float th = static_cast<float>(c.window.outlier_threshold);
   s.residual.outlier_energy = th * th * kPatternSize;
-  s.estimate_radial = c.calibration.refine_radial;
+  s.estimate_calibration = {c.calibration.refine_radial, c.calibration.refine_focal,
+                            c.calibration.refine_principal_point,
+                            c.calibration.refine_principal_point};
   s.reactivated_weight = c.reuse.reactivated_pose_weight;
   return s;
 }

@@ -19,6 +19,8 @@ using test::SyntheticWindow;
 Config mapperConfig() {
   Config c;
   c.calibration.refine_radial = false;
+  c.calibration.refine_focal = false;
+  c.calibration.refine_principal_point = false;
   return c;
 }
 

@@ -30,7 +30,7 @@ LevelCamera camera() {
 }
 
 /// Keyframes moving sideways in front of the wall-and-floor scene; points on the first two.
-/// `img` as seen through the radial distortion k (radial_correction.h) of the test camera.
+/// `img` as seen through the radial distortion k (calibration_refinement.h) of the test camera.
 ImageF distort(const ImageF& img, float k) {
   if (k == 0.f) return img;
   ImageF out(img.width(), img.height());
@@ -251,45 +251,72 @@ TEST(WindowOptimizer, MarginalisedFrameKeepsItsInformation) {
   }
 }
 
-TEST(WindowOptimizer, RadialGradientMatchesNumericDifferentiation) {
+/// The test camera with the calibration correction c (focal scale, principal point) applied.
+LevelCamera correctedCamera(const CalibVector& c) {
+  PinholeIntrinsics k{kFx, kFy, kCx, kCy, kW, kH};
+  return PyramidCamera(correctedIntrinsics(k, c), 3)[0];
+}
+
+TEST(WindowOptimizer, CalibrationGradientMatchesNumericDifferentiation) {
   // Plain least squares (no Huber, unit gradient weights) so that the gradient is exact.
   TestWindow tw = makeWindow(3, 0.004, 0.03, 7, 1e6);
   WindowOptimizerSettings s;
   s.residual.huber_threshold = 1e6f;
   s.residual.outlier_energy = 1e12f;
   s.residual.gradient_weight_c = 1e6f;
-  s.estimate_radial = true;
   WindowOptimizer opt(s, camera());
   MarginalizationPrior prior;
   const auto window = tw.window();
-  for (double k : {0.0, 0.02, -0.03}) {
-    opt.setRadialCorrection(k);
-    const double analytic = opt.radialGradient(window, prior);
-    const double eps = 2e-4;
-    opt.setRadialCorrection(k + eps);
-    const double ep = opt.evaluate(window, prior);
-    opt.setRadialCorrection(k - eps);
-    const double em = opt.evaluate(window, prior);
-    const double numeric = (ep - em) / (2 * eps);
-    EXPECT_NEAR(analytic, numeric, 0.06 * std::fabs(numeric)) << "k " << k;
+  std::vector<CalibVector> states(3);
+  states[0] << 0.0, 0.0, 0.0, 0.0;
+  states[1] << 0.02, 0.03, 2.0, -1.5;
+  states[2] << -0.03, -0.02, -3.0, 2.5;
+  // Steps large enough for the float energies (about 1e5) to resolve them: 0.2 px at the border
+  // for k and the focal scale, 0.1 px for the principal point. The floors of the tolerance are the
+  // energy's rounding noise over those steps.
+  const CalibVector eps(6e-4, 6e-4, 0.1, 0.1);
+  const CalibVector floor(300.0, 300.0, 10.0, 10.0);
+  for (const CalibVector& c : states) {
+    opt.setCamera(correctedCamera(c), c[kCalibRadial]);
+    const CalibVector analytic = opt.calibrationGradient(window, prior);
+    for (int p = 0; p < kCalibParams; ++p) {
+      CalibVector cp = c, cm = c;
+      cp[p] += eps[p];
+      cm[p] -= eps[p];
+      opt.setCamera(correctedCamera(cp), cp[kCalibRadial]);
+      const double ep = opt.evaluate(window, prior);
+      opt.setCamera(correctedCamera(cm), cm[kCalibRadial]);
+      const double em = opt.evaluate(window, prior);
+      const double numeric = (ep - em) / (2 * eps[p]);
+      EXPECT_NEAR(analytic[p], numeric, 0.05 * std::fabs(numeric) + floor[p])
+          << "parameter " << p << " at " << c.transpose();
+    }
   }
 }
 
-/// Runs `rounds` window optimisations, each followed by the envelope step in k, from k = 0.
-double estimateRadial(TestWindow& tw, int rounds) {
+/// Runs `rounds` window optimisations, each followed by the envelope step in the parameters of
+/// `mask`, from the correction `start`; returns the correction reached.
+CalibVector estimateCalibration(TestWindow& tw, int rounds, const CalibMask& mask,
+                                const CalibVector& start) {
   WindowOptimizerSettings s;
   s.max_iterations = 10;
-  s.estimate_radial = true;
-  WindowOptimizer opt(s, camera());
+  s.estimate_calibration = mask;
+  WindowOptimizer opt(s, correctedCamera(start));
+  opt.setCamera(correctedCamera(start), start[kCalibRadial]);
   MarginalizationPrior prior;
-  double k = 0.0;
+  CalibVector c = start;
   for (int i = 0; i < rounds; ++i) {
     const WindowOptimizationResult r = opt.optimize(tw.window(), prior);
-    if (!r.radial_valid) break;
-    k += r.radial_step;
-    opt.setRadialCorrection(k);
+    if (!r.calibration_valid) break;
+    c += r.calibration_step;
+    opt.setCamera(correctedCamera(c), c[kCalibRadial]);
   }
-  return k;
+  return c;
+}
+
+double estimateRadial(TestWindow& tw, int rounds) {
+  return estimateCalibration(tw, rounds, {true, false, false, false},
+                             CalibVector::Zero())[kCalibRadial];
 }
 
 TEST(WindowOptimizer, EstimatesTheImagesRadialDistortion) {
@@ -300,6 +327,43 @@ TEST(WindowOptimizer, EstimatesTheImagesRadialDistortion) {
   EXPECT_NEAR(estimateRadial(distorted, 8), 0.04, 0.002);
   TestWindow plain = makeWindow(4, 0.002, 0.05, 21, 50.0, 0.f, 0.06);
   EXPECT_NEAR(estimateRadial(plain, 8), 0.0, 0.0015);
+}
+
+TEST(WindowOptimizer, EstimatesTheFocalLength) {
+  // The images are rendered with the exact camera; the window starts from a camera told a focal
+  // length 5 % short. The panning window sees it (a rotation moves border pixels by f (1 + x^2)
+  // theta, which a rotation alone cannot match with a wrong f): the envelope steps in k and the
+  // focal scale bring it back; started exact, they stay there.
+  const CalibMask focal{true, true, false, false};
+  CalibVector wrong = CalibVector::Zero();
+  wrong[kCalibFocal] = std::log(0.95);
+  TestWindow tw = makeWindow(4, 0.002, 0.05, 21, 50.0, 0.f, 0.06);
+  const CalibVector found = estimateCalibration(tw, 8, focal, wrong);
+  EXPECT_NEAR(found[kCalibFocal], 0.0, 0.005);
+  EXPECT_NEAR(found[kCalibRadial], 0.0, 0.002);
+  TestWindow exact = makeWindow(4, 0.002, 0.05, 21, 50.0, 0.f, 0.06);
+  const CalibVector stay = estimateCalibration(exact, 8, focal, CalibVector::Zero());
+  EXPECT_NEAR(stay[kCalibFocal], 0.0, 0.002);
+  EXPECT_NEAR(stay[kCalibRadial], 0.0, 0.0015);
+}
+
+TEST(WindowOptimizer, ReportsAPrincipalPointTheMotionDoesNotExciteAsUncertain) {
+  // Four keyframes panning about one axis: a principal point shift is almost a rotation of every
+  // keyframe, so the envelope's curvature in it is tiny against the focal length's (per unit of
+  // pixel displacement at the image border: 1 px of cx against 1 px of focal change).
+  WindowOptimizerSettings s;
+  s.max_iterations = 10;
+  s.estimate_calibration = {true, true, true, true};
+  WindowOptimizer opt(s, camera());
+  MarginalizationPrior prior;
+  TestWindow tw = makeWindow(4, 0.002, 0.05, 21, 50.0, 0.f, 0.06);
+  const WindowOptimizationResult r = opt.optimize(tw.window(), prior);
+  ASSERT_TRUE(r.calibration_valid);
+  const double focal_per_px = 1.0 / (0.5 * kW);  // focal scale that moves the border by 1 px
+  const double focal_curvature =
+      r.calibration_curvature(kCalibFocal, kCalibFocal) * focal_per_px * focal_per_px;
+  EXPECT_LT(r.calibration_curvature(kCalibCx, kCalibCx), 0.1 * focal_curvature);
+  EXPECT_GT(r.calibration_curvature(kCalibCx, kCalibCx), 0.0);
 }
 
 }  // namespace

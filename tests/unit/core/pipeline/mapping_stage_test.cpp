@@ -45,6 +45,8 @@ class RecordingListener : public SystemListener {
 Config stageConfig() {
   Config c;
   c.calibration.refine_radial = false;
+  c.calibration.refine_focal = false;
+  c.calibration.refine_principal_point = false;
   c.loop.enabled = false;
   return c;
 }

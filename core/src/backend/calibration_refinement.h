@@ -1,0 +1,105 @@
+// Online refinement of the camera calibration, estimated from the window.
+//
+// The correction c = [k, s, dcx, dcy] of the configured (rectified) pinhole K0:
+//   - k, a residual radial distortion: a ray with pinhole coordinates x = (X/Z, Y/Z) appears at
+//     normalized coordinates x (1 + k |x|^2) (camera/radial_distortion.h);
+//   - s, a common log scale of the focal lengths: fx = fx0 e^s, fy = fy0 e^s;
+//   - (dcx, dcy), a shift of the principal point in full-resolution pixels.
+// The window evaluates its residuals with the corrected camera (host pixel -> ray: K^-1, then
+// removeRadial; projection -> target pixel: applyRadial, then K). After each window optimisation,
+// calibrationEnvelopeStep() takes the Newton step in c of the window energy with every frame
+// parameter and depth re-optimised (Schur complement of the whole Gauss-Newton system), so a
+// direction the poses and depths can absorb - the radial flow of pure forward motion, a focal
+// length under pure translation - carries little weight. CalibrationRefinement fuses those steps
+// over keyframes and decides which correction the window applies.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/StdVector>
+
+#include "camera/pyramid_camera.h"
+#include "camera/radial_distortion.h"
+#include "ldsm/config.h"
+
+namespace ldsm {
+
+/// The calibration parameters the window can refine, in the order of CalibVector.
+enum CalibParam : int { kCalibRadial = 0, kCalibFocal = 1, kCalibCx = 2, kCalibCy = 3 };
+constexpr int kCalibParams = 4;
+using CalibVector = Eigen::Matrix<double, kCalibParams, 1>;
+using CalibMatrix = Eigen::Matrix<double, kCalibParams, kCalibParams>;
+/// Which parameters are refined (the others have no step and no weight).
+using CalibMask = std::array<bool, kCalibParams>;
+
+/// The pinhole K0 with the focal scale and principal point shift of `c` applied (k is applied
+/// separately, in normalized coordinates).
+PinholeIntrinsics correctedIntrinsics(const PinholeIntrinsics& base, const CalibVector& c);
+
+/// The calibration rows of the window's Gauss-Newton system, beside the frame block and depths.
+struct CalibrationTerms {
+  Eigen::MatrixXd H_fc;  ///< sum w J_frames^T J_c (frames x 4)
+  std::vector<CalibVector, Eigen::aligned_allocator<CalibVector>> H_dc;  ///< per point
+  CalibMatrix H_cc = CalibMatrix::Zero();                                ///< sum w J_c^T J_c
+  CalibVector b_c = CalibVector::Zero();                                 ///< sum w J_c^T r
+
+  void reset(Eigen::Index frame_dim) {
+    H_fc.setZero(frame_dim, kCalibParams);
+    H_dc.clear();
+    H_cc.setZero();
+    b_c.setZero();
+  }
+};
+
+/// The Newton step in the refined parameters of c and its curvature (information) with frames
+/// and depths eliminated: with the full system [[H, C, h_fc], [C^T, D, h_dc], [., ., H_cc]] and
+/// gradient [b, b_d, b_c],
+///   curvature S = H_cc - h^T A^-1 h,  step = -S^-1 (b_c - h^T A^-1 g)
+/// over the depth-reduced frame block A, restricted to the parameters of `mask` (the others:
+/// zero step, zero rows and columns). False (step and curvature 0) when S is not positive
+/// definite or not finite.
+bool calibrationEnvelopeStep(const Eigen::MatrixXd& H, const Eigen::VectorXd& b,
+                             const Eigen::MatrixXd& coupling, const std::vector<double>& H_dd,
+                             const std::vector<double>& b_d, const CalibrationTerms& terms,
+                             const CalibMask& mask, CalibVector* step, CalibMatrix* curvature);
+
+/// Fuses the windows' envelope steps into one estimate of c and keeps the correction the window
+/// applies. Each window's measurement applied + step is weighted by its curvature matrix against
+/// the older ones' (which keep `memory` of their weight per window). Each parameter's correction
+/// switches on when its estimate leaves its dead band, off again below half of it; while on it
+/// follows the estimate, clamped to its largest value.
+class CalibrationRefinement {
+ public:
+  explicit CalibrationRefinement(const CalibrationRefinementConfig& config);
+
+  /// Adds one window's step, taken with applied() in effect.
+  void addWindowStep(const CalibVector& step, const CalibMatrix& curvature);
+  /// The correction the window applies (a parameter is 0 while off).
+  const CalibVector& applied() const { return applied_; }
+  /// The current estimate of c.
+  const CalibVector& estimate() const { return estimate_; }
+  /// 1-sigma uncertainty of each parameter of the estimate (0 before any window or when the
+  /// parameter is not refined).
+  CalibVector sigma() const;
+  bool engaged(int param) const { return engaged_[static_cast<size_t>(param)]; }
+  /// Windows fused so far.
+  int windows() const { return windows_; }
+  /// The parameters refined.
+  const CalibMask& mask() const { return mask_; }
+  /// Any parameter refined at all.
+  bool active() const { return mask_[0] || mask_[1] || mask_[2] || mask_[3]; }
+
+ private:
+  CalibrationRefinementConfig config_;
+  CalibMask mask_{};
+  CalibVector dead_band_, max_;
+  CalibVector estimate_ = CalibVector::Zero();
+  CalibMatrix weight_ = CalibMatrix::Zero();  ///< fused information of the older windows
+  CalibVector applied_ = CalibVector::Zero();
+  std::array<bool, kCalibParams> engaged_{};
+  int windows_ = 0;
+};
+
+}  // namespace ldsm

@@ -1,0 +1,277 @@
+#include "backend/calibration_refinement.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <limits>
+#include <random>
+
+namespace ldsm {
+namespace {
+
+TEST(RadialCorrection, RemoveInvertsApply) {
+  for (float k : {-0.1f, -0.02f, 0.f, 0.015f, 0.1f})
+    for (float x = -1.2f; x <= 1.2f; x += 0.3f)
+      for (float y = -0.9f; y <= 0.9f; y += 0.3f) {
+        const Eigen::Vector2f d = applyRadial(k, x, y);
+        const Eigen::Vector2f u = removeRadial(k, d.x(), d.y());
+        EXPECT_NEAR(u.x(), x, 2e-5f) << "k " << k;
+        EXPECT_NEAR(u.y(), y, 2e-5f) << "k " << k;
+      }
+}
+
+TEST(RadialCorrection, RayAndProjectionAreInverse) {
+  PinholeIntrinsics K{300, 310, 160, 118, 320, 240};
+  const LevelCamera cam = PyramidCamera(K, 1)[0];
+  const float k = 0.03f;
+  const Eigen::Vector3f ray = radialRay(cam, k, 301.f, 12.f);
+  const Eigen::Vector2f px = radialProject(cam, k, 2.5f * ray);
+  EXPECT_NEAR(px.x(), 301.f, 1e-3f);
+  EXPECT_NEAR(px.y(), 12.f, 1e-3f);
+  // Outward: the pinhole ray of a border pixel is further out than the distorted one for k > 0.
+  EXPECT_LT(std::abs(ray.x()), std::abs(cam.unproject(301.f, 12.f).x()));
+}
+
+TEST(CalibrationEnvelope, StepIsTheCalibrationPartOfTheFullSolve) {
+  // A random positive definite system over 8 frame parameters, 5 depths and the 4 calibration
+  // parameters.
+  std::mt19937 rng(3);
+  std::normal_distribution<double> N(0.0, 1.0);
+  const int nf = 8, nd = 5, nc = kCalibParams, n = nf + nd + nc;
+  Eigen::MatrixXd J(60, n);
+  for (int i = 0; i < J.rows(); ++i)
+    for (int j = 0; j < n; ++j) J(i, j) = N(rng);
+  const Eigen::MatrixXd H = J.transpose() * J;
+  Eigen::VectorXd g(n);
+  for (int i = 0; i < n; ++i) g[i] = N(rng);
+  // Depths are not coupled to each other: keep the block diagonal.
+  Eigen::MatrixXd Hd = H;
+  for (int a = nf; a < nf + nd; ++a)
+    for (int b = nf; b < nf + nd; ++b)
+      if (a != b) Hd(a, b) = 0.0;
+  Hd += 1e-3 * Eigen::MatrixXd::Identity(n, n);
+
+  CalibrationTerms terms;
+  terms.reset(nf);
+  terms.H_fc = Hd.block(0, nf + nd, nf, nc);
+  terms.H_cc = Hd.bottomRightCorner(nc, nc);
+  terms.b_c = g.tail(nc);
+  std::vector<double> H_dd, b_d;
+  for (int i = 0; i < nd; ++i) {
+    H_dd.push_back(Hd(nf + i, nf + i));
+    b_d.push_back(g[nf + i]);
+    terms.H_dc.push_back(Hd.block(nf + i, nf + nd, 1, nc).transpose());
+  }
+  // Every subset of the parameters: the step is the full solve of the system without the others.
+  for (int bits = 1; bits < (1 << nc); ++bits) {
+    CalibMask mask{};
+    std::vector<int> keep;
+    for (int i = 0; i < nf + nd; ++i) keep.push_back(i);
+    for (int p = 0; p < nc; ++p) {
+      mask[static_cast<size_t>(p)] = (bits >> p) & 1;
+      if (mask[static_cast<size_t>(p)]) keep.push_back(nf + nd + p);
+    }
+    const int m = static_cast<int>(keep.size());
+    Eigen::MatrixXd Hs(m, m);
+    Eigen::VectorXd gs(m);
+    for (int i = 0; i < m; ++i) {
+      gs[i] = g[keep[static_cast<size_t>(i)]];
+      for (int j = 0; j < m; ++j)
+        Hs(i, j) = Hd(keep[static_cast<size_t>(i)], keep[static_cast<size_t>(j)]);
+    }
+    const Eigen::VectorXd full = Hs.ldlt().solve(-gs);
+    const Eigen::MatrixXd cov = Hs.inverse();
+    CalibVector step;
+    CalibMatrix curvature;
+    ASSERT_TRUE(calibrationEnvelopeStep(Hd.topLeftCorner(nf, nf), g.head(nf),
+                                        Hd.block(0, nf, nf, nd), H_dd, b_d, terms, mask, &step,
+                                        &curvature));
+    int at = nf + nd;
+    for (int p = 0; p < nc; ++p) {
+      if (!mask[static_cast<size_t>(p)]) {
+        EXPECT_EQ(step[p], 0.0);
+        EXPECT_EQ(curvature(p, p), 0.0);
+        continue;
+      }
+      const int i = at;
+      EXPECT_NEAR(step[p], full[i], 1e-6 * (1.0 + std::abs(full[i]))) << "mask " << bits;
+      ++at;
+    }
+    // The curvature is the inverse of the calibration block of the covariance.
+    const int mc = m - (nf + nd);
+    const Eigen::MatrixXd info = cov.bottomRightCorner(mc, mc).inverse();
+    int r = 0;
+    for (int p = 0; p < nc; ++p) {
+      if (!mask[static_cast<size_t>(p)]) continue;
+      int c = 0;
+      for (int q = 0; q < nc; ++q) {
+        if (!mask[static_cast<size_t>(q)]) continue;
+        EXPECT_NEAR(curvature(p, q), info(r, c), 1e-6 * (1.0 + std::abs(info(r, c))));
+        ++c;
+      }
+      ++r;
+    }
+  }
+
+  // Mismatched sizes, no parameter and an undefined curvature are refused.
+  const CalibMask all{true, true, true, true};
+  CalibVector step;
+  CalibMatrix curvature;
+  CalibrationTerms bad = terms;
+  bad.H_dc.pop_back();
+  EXPECT_FALSE(calibrationEnvelopeStep(Hd.topLeftCorner(nf, nf), g.head(nf),
+                                       Hd.block(0, nf, nf, nd), H_dd, b_d, bad, all, &step,
+                                       &curvature));
+  EXPECT_FALSE(calibrationEnvelopeStep(Hd.topLeftCorner(nf, nf), g.head(nf),
+                                       Hd.block(0, nf, nf, nd), H_dd, b_d, terms, CalibMask{},
+                                       &step, &curvature));
+  CalibrationTerms empty;
+  empty.reset(nf);
+  EXPECT_FALSE(calibrationEnvelopeStep(Hd.topLeftCorner(nf, nf), g.head(nf), Eigen::MatrixXd(nf, 0),
+                                       {}, {}, empty, all, &step, &curvature));
+  EXPECT_EQ(step.squaredNorm(), 0.0);
+}
+
+TEST(CalibrationEnvelope, CorrectedIntrinsicsScaleTheFocalLengthAndShiftThePrincipalPoint) {
+  const PinholeIntrinsics base{300, 310, 160, 118, 320, 240};
+  CalibVector c;
+  c << 0.01, std::log(1.05), 3.0, -2.0;
+  const PinholeIntrinsics k = correctedIntrinsics(base, c);
+  EXPECT_NEAR(k.fx, 315.0, 1e-9);
+  EXPECT_NEAR(k.fy, 325.5, 1e-9);
+  EXPECT_DOUBLE_EQ(k.cx, 163.0);
+  EXPECT_DOUBLE_EQ(k.cy, 116.0);
+  EXPECT_EQ(k.width, 320);
+  EXPECT_EQ(k.height, 240);
+}
+
+/// A radial-only refinement's step (the other parameters are not refined).
+CalibrationRefinementConfig radialOnly() {
+  CalibrationRefinementConfig c;
+  c.refine_focal = false;
+  c.refine_principal_point = false;
+  return c;
+}
+
+void addRadial(CalibrationRefinement& r, double step, double curvature) {
+  CalibVector s = CalibVector::Zero();
+  s[kCalibRadial] = step;
+  CalibMatrix C = CalibMatrix::Zero();
+  C(kCalibRadial, kCalibRadial) = curvature;
+  r.addWindowStep(s, C);
+}
+
+double appliedK(const CalibrationRefinement& r) {
+  return r.applied()[kCalibRadial];
+}
+double estimateK(const CalibrationRefinement& r) {
+  return r.estimate()[kCalibRadial];
+}
+
+TEST(CalibrationRefinement, RadialConvergesToAConsistentMeasurement) {
+  CalibrationRefinementConfig c = radialOnly();
+  CalibrationRefinement r(c);
+  // Every window says k is 0.02 away from what is applied, as a window with k unmodelled does.
+  for (int i = 0; i < 200; ++i) addRadial(r, 0.02 - appliedK(r), 1.0);
+  EXPECT_TRUE(r.engaged(kCalibRadial));
+  EXPECT_NEAR(estimateK(r), 0.02, 1e-4);
+  EXPECT_DOUBLE_EQ(appliedK(r), estimateK(r));
+  EXPECT_EQ(r.windows(), 200);
+}
+
+TEST(CalibrationRefinement, RadialStaysOffInsideTheDeadBandAndSwitchesWithHysteresis) {
+  CalibrationRefinementConfig c = radialOnly();
+  c.radial_dead_band = 0.004;
+  CalibrationRefinement r(c);
+  for (int i = 0; i < 100; ++i) addRadial(r, 0.003 - appliedK(r), 1.0);
+  EXPECT_FALSE(r.engaged(kCalibRadial));
+  EXPECT_EQ(appliedK(r), 0.0);
+  EXPECT_NEAR(estimateK(r), 0.003, 1e-4);
+  for (int i = 0; i < 100; ++i) addRadial(r, 0.006 - appliedK(r), 1.0);
+  EXPECT_TRUE(r.engaged(kCalibRadial));
+  EXPECT_NEAR(appliedK(r), 0.006, 1e-4);
+  // Back to 0.003: above half the band, the correction stays on.
+  for (int i = 0; i < 100; ++i) addRadial(r, 0.003 - appliedK(r), 1.0);
+  EXPECT_TRUE(r.engaged(kCalibRadial));
+  EXPECT_NEAR(appliedK(r), 0.003, 1e-4);
+  for (int i = 0; i < 100; ++i) addRadial(r, 0.0 - appliedK(r), 1.0);
+  EXPECT_FALSE(r.engaged(kCalibRadial));
+  EXPECT_EQ(appliedK(r), 0.0);
+}
+
+TEST(CalibrationRefinement, RadialWeighsWindowsByCurvature) {
+  CalibrationRefinementConfig c = radialOnly();
+  c.memory = 1.0;
+  CalibrationRefinement r(c);
+  // The first window weighs 1 against a starting weight of 4 at k = 0: estimate 0.01 / 5.
+  addRadial(r, 0.01, 1.0);
+  EXPECT_NEAR(estimateK(r), 0.002, 1e-12);
+  // A window with 15 times the information against the weight 5 so far (0.002 is inside the
+  // dead band, so the step was taken at k = 0).
+  addRadial(r, 0.04, 15.0);
+  EXPECT_NEAR(estimateK(r), 0.002 + 0.75 * 0.038, 1e-12);
+}
+
+TEST(CalibrationRefinement, RadialIgnoresBadInputClampsAndCanBeTurnedOff) {
+  CalibrationRefinementConfig c = radialOnly();
+  c.radial_max = 0.05;
+  CalibrationRefinement r(c);
+  addRadial(r, std::numeric_limits<double>::quiet_NaN(), 1.0);
+  addRadial(r, 0.1, 0.0);
+  addRadial(r, 0.1, -1.0);
+  addRadial(r, 0.1, std::numeric_limits<double>::infinity());
+  EXPECT_EQ(r.windows(), 0);
+  EXPECT_EQ(estimateK(r), 0.0);
+  for (int i = 0; i < 100; ++i) addRadial(r, 1.0, 1.0);
+  EXPECT_DOUBLE_EQ(estimateK(r), 0.05);
+  EXPECT_DOUBLE_EQ(appliedK(r), 0.05);
+
+  c.refine_radial = false;
+  CalibrationRefinement off(c);
+  for (int i = 0; i < 10; ++i) addRadial(off, 0.02, 1.0);
+  EXPECT_EQ(off.windows(), 0);
+  EXPECT_EQ(appliedK(off), 0.0);
+}
+
+TEST(CalibrationRefinement, FusesCorrelatedParametersWithTheirDeadBands) {
+  CalibrationRefinementConfig c;
+  c.refine_focal = true;
+  c.refine_principal_point = true;
+  CalibrationRefinement r(c);
+  // The truth: focal 2 % long, cx 3 px, cy 0.5 px (inside its dead band), k 0. Each window
+  // measures it with a different correlation between focal length and cx (as windows that turn
+  // one way or the other do): the fused estimate reaches it, the uncertainty shrinks.
+  CalibVector truth;
+  truth << 0.0, 0.02, 3.0, 0.5;
+  for (int i = 0; i < 300; ++i) {
+    CalibMatrix C = CalibMatrix::Identity();
+    C(1, 1) = 1e4;
+    C(2, 2) = 0.5;
+    C(1, 2) = C(2, 1) = (i % 2 == 0 ? 60.0 : -60.0);
+    r.addWindowStep(truth - r.applied(), C);
+  }
+  EXPECT_NEAR(r.estimate()[kCalibFocal], 0.02, 1e-5);
+  EXPECT_NEAR(r.estimate()[kCalibCx], 3.0, 1e-3);
+  EXPECT_TRUE(r.engaged(kCalibFocal));
+  EXPECT_TRUE(r.engaged(kCalibCx));
+  EXPECT_FALSE(r.engaged(kCalibCy));
+  EXPECT_EQ(r.applied()[kCalibCy], 0.0);
+  EXPECT_FALSE(r.engaged(kCalibRadial));
+  // One window alone leaves cx at sigma 2.7 px and the focal scale at 0.019 (the correlation);
+  // windows correlated the other way pin both down (memory 0.95: about 20 windows' worth).
+  const CalibVector sigma = r.sigma();
+  EXPECT_GT(sigma[kCalibCx], 0.0);
+  EXPECT_LT(sigma[kCalibCx], 0.5);
+  EXPECT_LT(sigma[kCalibFocal], 0.003);
+
+  // A curvature that is not positive definite in the refined parameters is ignored.
+  CalibMatrix bad = CalibMatrix::Identity();
+  bad(1, 2) = bad(2, 1) = 5.0;
+  const int before = r.windows();
+  r.addWindowStep(CalibVector::Constant(0.1), bad);
+  EXPECT_EQ(r.windows(), before);
+}
+
+}  // namespace
+}  // namespace ldsm
