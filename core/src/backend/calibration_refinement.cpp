@@ -18,6 +18,32 @@ PinholeIntrinsics correctedIntrinsics(const PinholeIntrinsics& base, const Calib
   return k;
 }
 
+std::vector<int> refinedParams(const CalibMask& mask) {
+  std::vector<int> params;
+  for (int p = 0; p < kCalibParams; ++p)
+    if (mask[static_cast<size_t>(p)]) params.push_back(p);
+  return params;
+}
+
+namespace {
+
+/// The rows and columns `params` of M.
+Eigen::MatrixXd restricted(const CalibMatrix& M, const std::vector<int>& params) {
+  const auto m = static_cast<Eigen::Index>(params.size());
+  Eigen::MatrixXd R(m, m);
+  for (Eigen::Index i = 0; i < m; ++i)
+    for (Eigen::Index j = 0; j < m; ++j)
+      R(i, j) = M(params[static_cast<size_t>(i)], params[static_cast<size_t>(j)]);
+  return R;
+}
+
+/// Whether the LDLT is of a positive definite matrix.
+bool positiveDefinite(const Eigen::LDLT<Eigen::MatrixXd>& ldlt) {
+  return ldlt.info() == Eigen::Success && ldlt.vectorD().minCoeff() > 0.0;
+}
+
+}  // namespace
+
 bool calibrationEnvelopeStep(const Eigen::MatrixXd& H, const Eigen::VectorXd& b,
                              const Eigen::MatrixXd& coupling, const std::vector<double>& H_dd,
                              const std::vector<double>& b_d, const CalibrationTerms& terms,
@@ -29,9 +55,7 @@ bool calibrationEnvelopeStep(const Eigen::MatrixXd& H, const Eigen::VectorXd& b,
       terms.H_dc.size() != H_dd.size() || b_d.size() != H_dd.size() ||
       coupling.cols() != static_cast<Eigen::Index>(H_dd.size()))
     return false;
-  std::vector<int> active;
-  for (int p = 0; p < kCalibParams; ++p)
-    if (mask[static_cast<size_t>(p)]) active.push_back(p);
+  const std::vector<int> active = refinedParams(mask);
   if (active.empty()) return false;
   // Eliminate the depths (each couples to the frames and to c).
   const Eigen::Index np = coupling.cols();
@@ -60,39 +84,33 @@ bool calibrationEnvelopeStep(const Eigen::MatrixXd& H, const Eigen::VectorXd& b,
   A.diagonal().array() += 1e-9 * max_diag + 1e-12;
   const Eigen::LDLT<Eigen::MatrixXd> ldlt(A);
   const Eigen::VectorXd Ag = ldlt.solve(g);
-  const int m = static_cast<int>(active.size());
-  std::vector<Eigen::VectorXd> h(static_cast<size_t>(m)), Ah(static_cast<size_t>(m));
-  for (int j = 0; j < m; ++j) {
-    const auto uj = static_cast<size_t>(j);
-    h[uj] = terms.H_fc.col(active[uj]);
-    h[uj].noalias() -= coupling * wc.col(active[uj]);
-    Ah[uj] = ldlt.solve(h[uj]);
+  const auto m = static_cast<Eigen::Index>(active.size());
+  std::vector<Eigen::VectorXd> h(active.size()), Ah(active.size());
+  for (size_t j = 0; j < active.size(); ++j) {
+    h[j] = terms.H_fc.col(active[j]);
+    h[j].noalias() -= coupling * wc.col(active[j]);
+    Ah[j] = ldlt.solve(h[j]);
   }
   Eigen::MatrixXd S(m, m);
   Eigen::VectorXd r(m);
-  for (int i = 0; i < m; ++i) {
+  for (Eigen::Index i = 0; i < m; ++i) {
     const auto ui = static_cast<size_t>(i);
     r[i] = bc[active[ui]] - h[ui].dot(Ag);
-    for (int j = 0; j < m; ++j)
+    for (Eigen::Index j = 0; j < m; ++j)
       S(i, j) =
           hcc(active[ui], active[static_cast<size_t>(j)]) - h[ui].dot(Ah[static_cast<size_t>(j)]);
   }
   S = 0.5 * (S + S.transpose()).eval();
   if (!S.allFinite() || !r.allFinite()) return false;
-  Eigen::VectorXd x(m);
-  if (m == 1) {
-    if (!(S(0, 0) > 0.0)) return false;
-    x[0] = -r[0] / S(0, 0);
-  } else {
-    const Eigen::LLT<Eigen::MatrixXd> llt(S);
-    if (llt.info() != Eigen::Success) return false;
-    x = -llt.solve(r);
-  }
+  const Eigen::LDLT<Eigen::MatrixXd> schur(S);
+  if (!positiveDefinite(schur)) return false;
+  const Eigen::VectorXd x = -schur.solve(r);
   if (!x.allFinite()) return false;
-  for (int i = 0; i < m; ++i) {
+  for (Eigen::Index i = 0; i < m; ++i) {
     const auto ui = static_cast<size_t>(i);
     (*step)[active[ui]] = x[i];
-    for (int j = 0; j < m; ++j) (*curvature)(active[ui], active[static_cast<size_t>(j)]) = S(i, j);
+    for (Eigen::Index j = 0; j < m; ++j)
+      (*curvature)(active[ui], active[static_cast<size_t>(j)]) = S(i, j);
   }
   return true;
 }
@@ -101,6 +119,7 @@ CalibrationRefinement::CalibrationRefinement(const CalibrationRefinementConfig& 
     : config_(config) {
   mask_ = {config.refine_radial, config.refine_focal, config.refine_principal_point,
            config.refine_principal_point};
+  refined_ = refinedParams(mask_);
   dead_band_ << config.radial_dead_band, config.focal_dead_band, config.principal_point_dead_band,
       config.principal_point_dead_band;
   max_ << config.radial_max, config.focal_max, config.principal_point_max,
@@ -109,70 +128,41 @@ CalibrationRefinement::CalibrationRefinement(const CalibrationRefinementConfig& 
 
 CalibVector CalibrationRefinement::sigma() const {
   CalibVector s = CalibVector::Zero();
-  if (windows_ == 0) return s;
-  std::vector<int> active;
-  for (int p = 0; p < kCalibParams; ++p)
-    if (mask_[static_cast<size_t>(p)]) active.push_back(p);
-  const int m = static_cast<int>(active.size());
-  Eigen::MatrixXd W(m, m);
-  for (int i = 0; i < m; ++i)
-    for (int j = 0; j < m; ++j)
-      W(i, j) = weight_(active[static_cast<size_t>(i)], active[static_cast<size_t>(j)]);
-  const Eigen::LDLT<Eigen::MatrixXd> ldlt(W);
-  if (ldlt.info() != Eigen::Success) return s;
+  if (windows_ == 0 || refined_.empty()) return s;
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(restricted(weight_, refined_));
+  if (!positiveDefinite(ldlt)) return s;
+  const auto m = static_cast<Eigen::Index>(refined_.size());
   const Eigen::MatrixXd cov = ldlt.solve(Eigen::MatrixXd::Identity(m, m));
-  for (int i = 0; i < m; ++i)
-    s[active[static_cast<size_t>(i)]] = std::sqrt(std::max(0.0, cov(i, i)));
+  for (Eigen::Index i = 0; i < m; ++i) s[refined_[static_cast<size_t>(i)]] = std::sqrt(cov(i, i));
   return s;
 }
 
 void CalibrationRefinement::addWindowStep(const CalibVector& step, const CalibMatrix& curvature) {
-  if (!active() || !step.allFinite() || !curvature.allFinite()) return;
+  if (refined_.empty() || !step.allFinite() || !curvature.allFinite()) return;
   // Only the refined parameters take part; their curvature block must be positive definite.
-  CalibMatrix C = CalibMatrix::Zero();
-  for (int p = 0; p < kCalibParams; ++p)
-    for (int q = 0; q < kCalibParams; ++q)
-      if (mask_[static_cast<size_t>(p)] && mask_[static_cast<size_t>(q)]) C(p, q) = curvature(p, q);
-  for (int p = 0; p < kCalibParams; ++p)
-    if (mask_[static_cast<size_t>(p)] && !(C(p, p) > 0.0)) return;
-  CalibMatrix Cr = C;
-  for (int p = 0; p < kCalibParams; ++p)
-    if (!mask_[static_cast<size_t>(p)]) Cr(p, p) = 1.0;
-  if (Eigen::LLT<CalibMatrix>(Cr).info() != Eigen::Success) return;
-
-  CalibVector measurement = applied_ + step;
+  const Eigen::MatrixXd C = restricted(curvature, refined_);
+  if (!positiveDefinite(Eigen::LDLT<Eigen::MatrixXd>(C))) return;
   // The first window counts as much as a few: one window alone does not swing the estimate.
   constexpr double kFirstWindowWeight = 4.0;
-  if (windows_ == 0) weight_ = kFirstWindowWeight * C;
-  weight_ = config_.memory * weight_ + C;
-  // estimate += W^-1 C (measurement - estimate), over the refined parameters.
-  CalibMatrix Wr = weight_;
-  for (int p = 0; p < kCalibParams; ++p)
-    if (!mask_[static_cast<size_t>(p)]) {
-      Wr.row(p).setZero();
-      Wr.col(p).setZero();
-      Wr(p, p) = 1.0;
-      measurement[p] = 0.0;
-    }
-  int refined = 0, only = 0;
-  for (int p = 0; p < kCalibParams; ++p)
-    if (mask_[static_cast<size_t>(p)]) ++refined, only = p;
-  if (refined == 1) {
-    // One parameter: the scalar form of the same update.
-    estimate_[only] += C(only, only) / weight_(only, only) * (measurement[only] - estimate_[only]);
-  } else {
-    const CalibVector delta = Wr.ldlt().solve(C * (measurement - estimate_));
-    if (!delta.allFinite()) return;
-    estimate_ += delta;
+  const auto m = static_cast<Eigen::Index>(refined_.size());
+  Eigen::MatrixXd W =
+      windows_ == 0 ? Eigen::MatrixXd(kFirstWindowWeight * C) : restricted(weight_, refined_);
+  W = config_.memory * W + C;
+  // estimate += W^-1 C (measurement - estimate) with measurement = applied + step.
+  Eigen::VectorXd innovation(m);
+  for (Eigen::Index i = 0; i < m; ++i) {
+    const int p = refined_[static_cast<size_t>(i)];
+    innovation[i] = applied_[p] + step[p] - estimate_[p];
   }
+  const Eigen::MatrixXd gain = W.ldlt().solve(C);
+  const Eigen::VectorXd delta = gain * innovation;
+  if (!delta.allFinite()) return;
   ++windows_;
-  for (int p = 0; p < kCalibParams; ++p) {
+  for (Eigen::Index i = 0; i < m; ++i) {
+    const int p = refined_[static_cast<size_t>(i)];
     const auto u = static_cast<size_t>(p);
-    if (!mask_[u]) {
-      estimate_[p] = applied_[p] = 0.0;
-      continue;
-    }
-    estimate_[p] = std::clamp(estimate_[p], -max_[p], max_[p]);
+    for (Eigen::Index j = 0; j < m; ++j) weight_(p, refined_[static_cast<size_t>(j)]) = W(i, j);
+    estimate_[p] = std::clamp(estimate_[p] + delta[i], -max_[p], max_[p]);
     if (std::abs(estimate_[p]) > dead_band_[p])
       engaged_[u] = true;
     else if (std::abs(estimate_[p]) < 0.5 * dead_band_[p])

@@ -34,6 +34,9 @@ using CalibMatrix = Eigen::Matrix<double, kCalibParams, kCalibParams>;
 /// Which parameters are refined (the others have no step and no weight).
 using CalibMask = std::array<bool, kCalibParams>;
 
+/// The indices of the parameters `mask` refines, in order.
+std::vector<int> refinedParams(const CalibMask& mask);
+
 /// The pinhole K0 with the focal scale and principal point shift of `c` applied (k is applied
 /// separately, in normalized coordinates).
 PinholeIntrinsics correctedIntrinsics(const PinholeIntrinsics& base, const CalibVector& c);
@@ -88,12 +91,11 @@ class CalibrationRefinement {
   int windows() const { return windows_; }
   /// The parameters refined.
   const CalibMask& mask() const { return mask_; }
-  /// Any parameter refined at all.
-  bool active() const { return mask_[0] || mask_[1] || mask_[2] || mask_[3]; }
 
  private:
   CalibrationRefinementConfig config_;
   CalibMask mask_{};
+  std::vector<int> refined_;  ///< refinedParams(mask_)
   CalibVector dead_band_, max_;
   CalibVector estimate_ = CalibVector::Zero();
   CalibMatrix weight_ = CalibMatrix::Zero();  ///< fused information of the older windows

@@ -133,11 +133,7 @@ void Mapper::refineCalibration(const WindowOptimizationResult& opt) {
     was_engaged[static_cast<size_t>(p)] = calibration_.engaged(p);
   calibration_.addWindowStep(opt.calibration_step, opt.calibration_curvature);
   const CalibVector& c = calibration_.applied();
-  if (c[kCalibFocal] != 0.0 || c[kCalibCx] != 0.0 || c[kCalibCy] != 0.0 ||
-      camera_[0].fx != base_camera_[0].fx || camera_[0].cx != base_camera_[0].cx ||
-      camera_[0].cy != base_camera_[0].cy)
-    camera_ =
-        PyramidCamera(correctedIntrinsics(base_camera_.intrinsics(), c), base_camera_.levels());
+  camera_ = PyramidCamera(correctedIntrinsics(base_camera_.intrinsics(), c), base_camera_.levels());
   optimizer_.setCamera(camera_[0], c[kCalibRadial]);
   static constexpr const char* kNames[kCalibParams] = {"radial k", "focal scale", "cx", "cy"};
   const CalibVector& e = calibration_.estimate();

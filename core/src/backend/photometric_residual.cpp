@@ -72,11 +72,11 @@ using CalibJacobian = Eigen::Matrix<float, 2, kCalibParams>;
 
 /// d(pixel) / d(eps) and d(pixel) / d(inverse depth) of the point's centre at the linearisation
 /// point (first estimates), for the host ray through pinhole pixel (u, v).
-/// With `dpx_dc`, also d(pixel) / d(calibration correction c) at the pair's camera: the host ray's
-/// move through the projection (the host pixel stays, its ray turns) plus the change of the
-/// target's projection itself.
+/// With `dpx_dc`, also d(pixel) / d(calibration correction c) at the pair's camera (the columns
+/// of `params`; the others 0): the host ray's move through the projection (the host pixel stays,
+/// its ray turns) plus the change of the target's projection itself.
 void centreJacobian(float u, float v, float d, const FramePairPrecalc& pair,
-                    simd::PatternJacobian& jac, CalibJacobian* dpx_dc) {
+                    simd::PatternJacobian& jac, CalibJacobian* dpx_dc, const CalibMask& params) {
   const LevelCamera& cam = pair.cam;
   const Eigen::Vector3f ray = cam.unproject(u, v);
   const Eigen::Vector3f R_ray = pair.R0 * ray;
@@ -122,15 +122,17 @@ void centreJacobian(float u, float v, float d, const FramePairPrecalc& pair,
     // Focal scale and principal point: the image normalized coordinates m = K^-1 (u, v) of the
     // host pixel move by dm (dm/ds = -m, dm/dcx = (-1/fx, 0), dm/dcy = (0, -1/fy)), the pinhole
     // ray by J_D^-1 dm.
-    const Eigen::Vector2f m = applyRadial(k, ray.x(), ray.y());
-    Eigen::Matrix2f Jh = Eigen::Matrix2f::Identity();
-    if (k != 0.f) Jh = radialJacobian(k, ray.x(), ray.y()).inverse();
-    const Eigen::Vector2f ds = Jh * (-m);
-    const Eigen::Vector2f dcx = Jh.col(0) * (-cam.fxi);
-    const Eigen::Vector2f dcy = Jh.col(1) * (-cam.fyi);
-    host_move.col(kCalibFocal) = through(ds.x(), ds.y());
-    host_move.col(kCalibCx) = through(dcx.x(), dcx.y());
-    host_move.col(kCalibCy) = through(dcy.x(), dcy.y());
+    if (params[kCalibFocal] || params[kCalibCx] || params[kCalibCy]) {
+      const Eigen::Vector2f m = applyRadial(k, ray.x(), ray.y());
+      Eigen::Matrix2f Jh = Eigen::Matrix2f::Identity();
+      if (k != 0.f) Jh = radialJacobian(k, ray.x(), ray.y()).inverse();
+      const Eigen::Vector2f ds = Jh * (-m);
+      const Eigen::Vector2f dcx = Jh.col(0) * (-cam.fxi);
+      const Eigen::Vector2f dcy = Jh.col(1) * (-cam.fyi);
+      if (params[kCalibFocal]) host_move.col(kCalibFocal) = through(ds.x(), ds.y());
+      if (params[kCalibCx]) host_move.col(kCalibCx) = through(dcx.x(), dcx.y());
+      if (params[kCalibCy]) host_move.col(kCalibCy) = through(dcy.x(), dcy.y());
+    }
   }
   const float xt = p.x() * zi, yt = p.y() * zi;
   if (k != 0.f) {
@@ -154,10 +156,12 @@ void centreJacobian(float u, float v, float d, const FramePairPrecalc& pair,
     const float rt2 = xt * xt + yt * yt;
     const Eigen::Vector2f Dt = applyRadial(k, xt, yt);
     *dpx_dc = host_move;
-    dpx_dc->col(kCalibRadial) += Eigen::Vector2f(cam.fx * xt * rt2, cam.fy * yt * rt2);
-    dpx_dc->col(kCalibFocal) += Eigen::Vector2f(cam.fx * Dt.x(), cam.fy * Dt.y());
-    (*dpx_dc)(0, kCalibCx) += 1.f;
-    (*dpx_dc)(1, kCalibCy) += 1.f;
+    if (params[kCalibRadial])
+      dpx_dc->col(kCalibRadial) += Eigen::Vector2f(cam.fx * xt * rt2, cam.fy * yt * rt2);
+    if (params[kCalibFocal])
+      dpx_dc->col(kCalibFocal) += Eigen::Vector2f(cam.fx * Dt.x(), cam.fy * Dt.y());
+    if (params[kCalibCx]) (*dpx_dc)(0, kCalibCx) += 1.f;
+    if (params[kCalibCy]) (*dpx_dc)(1, kCalibCy) += 1.f;
   }
 }
 
@@ -184,11 +188,13 @@ void calibrationTerms(const simd::PatternSamples& samples, const simd::PatternJa
     sy += wy;
   }
   for (int p = 0; p < kCalibParams; ++p) {
+    if (!out.params[p]) continue;
     const double dx = dc(0, p), dy = dc(1, p);
     // sum w J_p (g . a) for a pixel displacement a: dc_p^T S a with S the gradient moments.
     const double kx = dx * sxx + dy * sxy;
     const double ky = dx * sxy + dy * syy;
-    for (int q = 0; q < kCalibParams; ++q) out.H_cc(p, q) = kx * dc(0, q) + ky * dc(1, q);
+    for (int q = 0; q < kCalibParams; ++q)
+      if (out.params[q]) out.H_cc(p, q) = kx * dc(0, q) + ky * dc(1, q);
     out.b_c[p] = dx * sxr + dy * syr;
     out.H_dc[p] = kx * jac.dpx_didepth[0] + ky * jac.dpx_didepth[1];
     for (int j = 0; j < 6; ++j)
@@ -261,7 +267,8 @@ float evaluateResidual(const ActivePoint& point, PointResidual& res, const Frame
   simd::PatternJacobian jac;
   CalibJacobian dpx_dc;
   const bool calibration = acc->calibration != nullptr && !acc->depth_only;
-  centreJacobian(host.x(), host.y(), d, pair, jac, calibration ? &dpx_dc : nullptr);
+  centreJacobian(host.x(), host.y(), d, pair, jac, calibration ? &dpx_dc : nullptr,
+                 calibration ? acc->calibration->params : CalibMask{});
   if (acc->depth_only) {
     float H_dd, b_d;
     simd::accumulateDepthOnly<simd::Vec4>(samples, jac.dpx_didepth, &H_dd, &b_d);

@@ -88,6 +88,8 @@ class PairAccumulator {
 /// One residual's terms of the calibration correction c (calibration_refinement.h): derivatives
 /// in the radial k, the focal log scale and the principal point, at the pair's camera.
 struct CalibrationResidualTerms {
+  /// Input: the parameters wanted; the entries of the others are left untouched.
+  CalibMask params{true, true, true, true};
   CalibMatrix H_cc = CalibMatrix::Zero();  ///< sum w J_c^T J_c
   CalibVector b_c = CalibVector::Zero();   ///< sum w J_c^T r
   CalibVector H_dc = CalibVector::Zero();  ///< sum w J_d J_c

@@ -227,6 +227,8 @@ void WindowOptimizer::linearizeCalibration(const std::vector<WindowKeyframe*>& w
   sys.calibration.reset(sys.H.rows());
   calibration_pair_.assign(static_cast<size_t>(n) * n, RelCalibMatrix::Zero());
   CalibrationResidualTerms rt;
+  rt.params = settings_.estimate_calibration;
+  const std::vector<int> refined = refinedParams(rt.params);
   for (int h = 0; h < n; ++h)
     for (auto& pt : window[h]->points) {
       CalibVector H_dc = CalibVector::Zero();
@@ -247,7 +249,7 @@ void WindowOptimizer::linearizeCalibration(const std::vector<WindowKeyframe*>& w
   for (size_t pi = 0; pi < calibration_pair_.size(); ++pi) {
     const int h = static_cast<int>(pi) / n, t = static_cast<int>(pi) % n;
     if (h == t) continue;
-    for (int p = 0; p < kCalibParams; ++p)
+    for (int p : refined)
       addCoupling(adjoints_[pi], calibration_pair_[pi].col(p), h, t, sys.calibration.H_fc.col(p));
   }
 }
@@ -370,7 +372,7 @@ WindowOptimizationResult WindowOptimizer::optimize(const std::vector<WindowKeyfr
   result.outlier_residuals = sys.outliers;
   result.rmse = sys.inliers > 0 ? std::sqrt(sys.inlier_energy / (sys.inliers * kPatternSize)) : 0.0;
   const CalibMask& mask = settings_.estimate_calibration;
-  if (mask[0] || mask[1] || mask[2] || mask[3]) {
+  if (!refinedParams(mask).empty()) {
     linearizeCalibration(window, sys);
     result.calibration_valid =
         calibrationEnvelopeStep(sys.H, sys.b, sys.coupling, sys.H_dd, sys.b_d, sys.calibration,

@@ -77,7 +77,8 @@ class WindowOptimizer {
                                 const MarginalizationPrior& prior);
 
   /// dE/dc of the energy in the calibration correction (radial k, focal log scale, principal
-  /// point) at the current state and camera. For tests and diagnostics.
+  /// point; the parameters of settings().estimate_calibration, the others 0) at the current
+  /// state and camera. For tests and diagnostics.
   CalibVector calibrationGradient(const std::vector<WindowKeyframe*>& window,
                                   const MarginalizationPrior& prior);
 

@@ -264,6 +264,7 @@ TEST(WindowOptimizer, CalibrationGradientMatchesNumericDifferentiation) {
   s.residual.huber_threshold = 1e6f;
   s.residual.outlier_energy = 1e12f;
   s.residual.gradient_weight_c = 1e6f;
+  s.estimate_calibration = {true, true, true, true};
   WindowOptimizer opt(s, camera());
   MarginalizationPrior prior;
   const auto window = tw.window();
