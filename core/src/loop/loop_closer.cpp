@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
@@ -79,7 +80,8 @@ void LoopCloser::importMap(const std::vector<std::pair<int, Sim3d>>& vertices,
   bool first = true;
   for (const auto& [id, S_w_c] : vertices) {
     graph_.addVertex(id, S_w_c);
-    if (!first) chain = {chain.step + 1, chain.path + (S_w_c.translation() - previous.translation()).norm()};
+    if (!first)
+      chain = {chain.step + 1, chain.path + (S_w_c.translation() - previous.translation()).norm()};
     chain_[id] = chain;
     map_of_[id] = 0;
     previous = S_w_c;
@@ -230,7 +232,8 @@ std::optional<LoopCorrection> LoopCloser::process(LoopJob& job, const std::atomi
   if (job.id < 0) {
     // Flush: the pending pose graph now.
     if (pending_first_ >= 0) optimizePending(out, abort);
-    if (out.loops.empty() && out.S_world_camera.empty()) return std::nullopt;
+    out.folded.swap(folded_);
+    if (out.loops.empty() && out.S_world_camera.empty() && out.folded.empty()) return std::nullopt;
     return out;
   }
   const int id = job.id;
@@ -243,6 +246,7 @@ std::optional<LoopCorrection> LoopCloser::process(LoopJob& job, const std::atomi
     index_.remove(k);
     features_.erase(k);
     place_bows_.erase(k);
+    retired_.push_back(k);
   }
   const bool new_map = new_map_.exchange(false);
   // A new map is not connected to the old one: what the old map still waits for is solved now,
@@ -278,12 +282,69 @@ std::optional<LoopCorrection> LoopCloser::process(LoopJob& job, const std::atomi
     // Redundant with the map: it looks for loops, but is no place to be found itself.
     index_.remove(id);
     features_.erase(id);
+    retired_.push_back(id);
   }
   publishPlaces(id);
   ++processed_;
   if (poseGraphDue()) optimizePending(out, abort);
-  if (out.loops.empty() && out.S_world_camera.empty() && !out.merge) return std::nullopt;
+  foldRetired();
+  // Folds go out with the next correction (the map store needs them only when keyframes move),
+  // or on their own once a few have gathered.
+  constexpr std::size_t kPublishFolds = 64;
+  const bool moves = !out.S_world_camera.empty() || out.merge;
+  if (!folded_.empty() && (moves || folded_.size() >= kPublishFolds)) out.folded.swap(folded_);
+  if (out.loops.empty() && !moves && out.folded.empty()) return std::nullopt;
   return out;
+}
+
+int LoopCloser::foldAnchor(int id) const {
+  // The neighbour it is tied to most firmly (usually a map keyframe at the same place, from the
+  // window): the rerouted edges gain the least uncertainty, and the keyframe's pose, which then
+  // follows that neighbour rigidly, the shortest lever arm.
+  int best = -1;
+  double best_certainty = -std::numeric_limits<double>::infinity();
+  for (const PoseGraphEdge& e : graph_.edges()) {
+    if (e.from_id != id && e.to_id != id) continue;
+    const double certainty = informationLogDet(e.information);
+    if (certainty > best_certainty) {
+      best_certainty = certainty;
+      best = e.from_id == id ? e.to_id : e.from_id;
+    }
+  }
+  return best;
+}
+
+void LoopCloser::foldRetired() {
+  std::vector<int> keep;
+  for (const int id : retired_) {
+    if (id == last_id_) {
+      keep.push_back(id);
+      continue;
+    }
+    if (!graph_.hasVertex(id)) continue;
+    const int anchor = foldAnchor(id);
+    if (anchor < 0) {
+      graph_.removeIsolatedVertex(id);
+    } else {
+      const int rerouted = graph_.foldVertex(id, anchor);
+      folded_.emplace_back(id, anchor);
+      spdlog::debug("pose graph: keyframe {} folded into {} ({} edges rerouted)", id, anchor,
+                    rerouted);
+    }
+    if (fixed_id_ == id) fixed_id_ = -1;
+    chain_.erase(id);
+    map_of_.erase(id);
+    const auto it = covisible_.find(id);
+    if (it != covisible_.end()) {
+      for (const int other : it->second) {
+        auto o = covisible_.find(other);
+        if (o == covisible_.end()) continue;
+        o->second.erase(std::remove(o->second.begin(), o->second.end(), id), o->second.end());
+      }
+      covisible_.erase(it);
+    }
+  }
+  retired_.swap(keep);
 }
 
 void LoopCloser::optimizePending(LoopCorrection& out, const std::atomic<bool>& abort) {

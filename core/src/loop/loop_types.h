@@ -80,6 +80,10 @@ struct LoopCorrection {
   int reuse_constraints = 0;
   /// A loop connected two maps (applied before S_world_camera).
   std::optional<MapMerge> merge;
+  /// Keyframes taken out of the pose graph since the last result (culled or forgotten ones,
+  /// PoseGraph::foldVertex), each with the vertex it was folded into: from now on it moves with
+  /// that vertex (applied before the rest).
+  std::vector<std::pair<int, int>> folded;
 };
 
 }  // namespace ldsm::loop

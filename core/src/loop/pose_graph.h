@@ -45,6 +45,10 @@ struct PoseGraphEdge {
   PoseGraphEdgeKind kind = PoseGraphEdgeKind::kOdometry;
 };
 
+/// log det of an information matrix (symmetric positive definite): how certain an edge is, for
+/// comparing edges.
+double informationLogDet(const Matrix7d& information);
+
 /// Solver limits of PoseGraph::optimize().
 struct PoseGraphSolveOptions {
   int max_iterations = 50;
@@ -95,6 +99,19 @@ class PoseGraph {
   const std::vector<PoseGraphEdge>& edges() const { return edges_; }
   std::size_t numVertices() const { return vertices_.size(); }
 
+  /// Takes vertex `id` out of the graph (pose_graph_folding.cpp): each of its edges to a third
+  /// vertex x is re-expressed at `anchor` through the edge that links the two (the most certain
+  /// one, informationLogDet, when there are several), composing the measurements and, to first
+  /// order, adding the link's uncertainty to the rerouted edge's; a rerouted edge that joins an
+  /// existing edge of the same kind between the same two vertices is fused with it
+  /// (information-weighted). Edges between `id` and `anchor` go with the vertex. Bounds the graph
+  /// by the keyframes that are kept: a keyframe no longer needed as a vertex leaves its
+  /// measurements to a neighbour. Throws InputError for an unknown vertex, anchor == id, or an
+  /// anchor without an edge to id while id has other edges. Returns the number of edges rerouted.
+  int foldVertex(int id, int anchor);
+  /// Removes a vertex with no edges. Throws InputError when it is unknown or has edges.
+  void removeIsolatedVertex(int id);
+
   /// The residual of an edge at the current estimates, log(S_i_j^-1 S_w_i^-1 S_w_j).
   Vector7d edgeResidual(const PoseGraphEdge& edge) const;
   /// 0.5 sum over edges of r^T Info r at the current estimates.
@@ -109,6 +126,9 @@ class PoseGraph {
     bool fixed = false;
   };
   const Vertex& at(int id) const;
+  /// Adds an edge whose information was already checked, or fuses it into an existing edge of
+  /// the same kind between the same two vertices (either direction).
+  void addOrFuseEdge(PoseGraphEdge edge);
 
   std::map<int, Vertex> vertices_;  // node-based: parameter addresses stay valid while solving
   std::vector<PoseGraphEdge> edges_;

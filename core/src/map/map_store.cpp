@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <iterator>
 #include <limits>
 
@@ -293,6 +294,54 @@ int MapStore::applyCorrection(const std::map<int, Sim3d>& S_world_camera) {
     kf.scale = S_new.scale();
     if (data_.count(id) != 0) spatial_.set(id, kf.T_w_c.translation());
   }
+  // Keyframes folded out of the pose graph move with the one they follow: resolved along the
+  // chain of followed keyframes to one that moves (memoised: each keyframe once).
+  if (!moves.empty() && !follows_.empty()) {
+    enum : std::int8_t { kUnknown, kStays, kMoves };
+    std::vector<std::int8_t> state(follows_.size(), kUnknown);
+    std::vector<Sim3d> move(follows_.size());
+    std::vector<int> path;
+    for (std::size_t start = 0; start < follows_.size(); ++start) {
+      if (follows_[start] < 0 || moves.count(static_cast<int>(start)) != 0) continue;
+      path.clear();
+      int k = static_cast<int>(start);
+      std::int8_t found = kStays;
+      Sim3d found_move;
+      // Walk until a keyframe that moves, one already resolved, or the end of the chain (a
+      // guard against a cycle, which folding never makes: at most as many steps as keyframes).
+      while (true) {
+        const auto m = moves.find(k);
+        if (m != moves.end()) {
+          found = kMoves;
+          found_move = m->second;
+          break;
+        }
+        const auto ks = static_cast<std::size_t>(k);
+        if (ks < state.size() && state[ks] != kUnknown) {
+          found = state[ks];
+          found_move = move[ks];
+          break;
+        }
+        if (ks >= follows_.size() || follows_[ks] < 0 || path.size() > follows_.size()) break;
+        path.push_back(k);
+        k = follows_[ks];
+      }
+      for (const int p : path) {
+        state[static_cast<std::size_t>(p)] = found;
+        move[static_cast<std::size_t>(p)] = found_move;
+      }
+    }
+    for (std::size_t id = 0; id < state.size() && id < keyframes_.size(); ++id) {
+      if (state[id] != kMoves || keyframes_[id].id < 0) continue;
+      KeyframeRecord& kf = keyframes_[id];
+      const Sim3d S_new = move[id] * Sim3d(kf.T_w_c.so3(), kf.T_w_c.translation(), kf.scale);
+      moves[static_cast<int>(id)] = move[id];
+      kf.T_w_c = SE3d(S_new.so3(), S_new.translation());
+      kf.scale = S_new.scale();
+      if (data_.count(static_cast<int>(id)) != 0)
+        spatial_.set(static_cast<int>(id), kf.T_w_c.translation());
+    }
+  }
   // Copy on write: only the blocks holding points of a keyframe that moves are copied.
   const auto moved = [&](const HostedPoint& p) { return moves.count(p.host) != 0; };
   for (auto& block : points_) {
@@ -306,6 +355,17 @@ int MapStore::applyCorrection(const std::map<int, Sim3d>& S_world_camera) {
   }
   publishLocked(true);
   return static_cast<int>(moves.size());
+}
+
+void MapStore::followKeyframes(const std::vector<std::pair<int, int>>& folded) {
+  if (folded.empty()) return;
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (const auto& [id, followed] : folded) {
+    if (id < 0 || followed < 0 || id == followed) continue;
+    const auto k = static_cast<std::size_t>(id);
+    if (follows_.size() <= k) follows_.resize(k + 1, -1);
+    follows_[k] = followed;
+  }
 }
 
 Trajectory MapStore::frameTrajectory() const {

@@ -46,7 +46,7 @@ struct MapSnapshot {
 /// Poses and points are in the store's internal frame; S_report_world maps them into the frame
 /// poses are reported in.
 struct StoredMap {
-  std::vector<KeyframeRecord> keyframes;  ///< by increasing id
+  std::vector<KeyframeRecord> keyframes;                          ///< by increasing id
   std::vector<std::shared_ptr<const MarginalizedKeyframe>> data;  ///< by increasing id
   std::vector<HostedPoint> points;
   std::vector<std::array<int, 3>> covisibility;  ///< (a, b, weight), a < b
@@ -68,7 +68,12 @@ class MapStore {
   void addPoints(const std::vector<HostedPoint>& points);
   /// Loop closure: moves the given keyframes to their corrected Sim(3) world-from-camera poses,
   /// with their frames and the points they hosted. Returns the number of keyframes moved.
+  /// A keyframe that no correction lists moves with the keyframe it follows (transitively), if
+  /// that one moves.
   int applyCorrection(const std::map<int, Sim3d>& S_world_camera);
+  /// Loop closure folded keyframes out of its pose graph: each (keyframe, followed) keyframe
+  /// moves with the one it follows from now on (its pose relative to it kept).
+  void followKeyframes(const std::vector<std::pair<int, int>>& folded);
   /// Tracking was lost for good: the keyframes from now on belong to a new map (its number).
   int startNewMap();
   /// The map new keyframes belong to.
@@ -134,6 +139,7 @@ class MapStore {
   mutable std::mutex mutex_;
   MapFrames maps_;
   std::vector<KeyframeRecord> keyframes_;  ///< indexed by id
+  std::vector<int> follows_;               ///< indexed by id: the keyframe it moves with (-1)
   concurrency::AppendOnlyLog<FrameRecord> frames_;
   std::vector<std::shared_ptr<const MapSnapshot::PointBlock>> points_;
   std::size_t point_count_ = 0;

@@ -326,6 +326,7 @@ void MappingStage::applyLoopCorrections() {
 
 void MappingStage::applyCorrections(const std::vector<loop::LoopCorrection>& corrections) {
   for (const loop::LoopCorrection& c : corrections) {
+    store_.followKeyframes(c.folded);
     int merged = 0;
     if (c.merge) merged = mergeMaps(*c.merge);
     int moved = 0;
