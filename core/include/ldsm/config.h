@@ -249,6 +249,12 @@ struct LoopConfig {
   /// at the latest pose_graph_max_delay_keyframes after the first one (or at the end of a run).
   int pose_graph_delay_keyframes = 5;
   int pose_graph_max_delay_keyframes = 20;
+  /// Keyframes without data in the map (culled as redundant, or dropped for the map's budget)
+  /// leave the pose graph once this many keyframes were processed after them: each is folded
+  /// into the neighbour it is most firmly tied to (its edges rerouted there), so that the graph
+  /// grows with the map, not with time. The recent trajectory stays in the graph in full, for
+  /// the corrections that spread drift over it.
+  int pose_graph_recent_keyframes = 100;
   /// LDSM: candidates that share more than this many points with the query keyframe (through the
   /// window, or through map keyframes brought back into it) are no loops: they are connected
   /// already.
@@ -289,6 +295,9 @@ struct LoopConfig {
     v.field("pose_graph_max_delay_keyframes", pose_graph_max_delay_keyframes, Range<int>{0, 100000},
             "keyframes after the first significant constraint by which the pose graph is "
             "optimised at the latest");
+    v.field("pose_graph_recent_keyframes", pose_graph_recent_keyframes, Range<int>{0, 10000000},
+            "keyframes processed after a keyframe without map data before it is folded out of "
+            "the pose graph into its most firmly tied neighbour");
     v.field("covisible_shared_points", covisible_shared_points, Range<int>{0, 100000},
             "points a candidate may share with the query keyframe before it counts as connected "
             "(no loop)");

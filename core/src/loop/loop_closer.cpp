@@ -246,7 +246,7 @@ std::optional<LoopCorrection> LoopCloser::process(LoopJob& job, const std::atomi
     index_.remove(k);
     features_.erase(k);
     place_bows_.erase(k);
-    retired_.push_back(k);
+    retired_.emplace_back(k, processed_);
   }
   const bool new_map = new_map_.exchange(false);
   // A new map is not connected to the old one: what the old map still waits for is solved now,
@@ -282,7 +282,7 @@ std::optional<LoopCorrection> LoopCloser::process(LoopJob& job, const std::atomi
     // Redundant with the map: it looks for loops, but is no place to be found itself.
     index_.remove(id);
     features_.erase(id);
-    retired_.push_back(id);
+    retired_.emplace_back(id, processed_);
   }
   publishPlaces(id);
   ++processed_;
@@ -315,10 +315,10 @@ int LoopCloser::foldAnchor(int id) const {
 }
 
 void LoopCloser::foldRetired() {
-  std::vector<int> keep;
-  for (const int id : retired_) {
-    if (id == last_id_) {
-      keep.push_back(id);
+  std::vector<std::pair<int, int>> keep;
+  for (const auto& [id, retired_at] : retired_) {
+    if (id == last_id_ || processed_ - retired_at < config_.pose_graph_recent_keyframes) {
+      keep.emplace_back(id, retired_at);
       continue;
     }
     if (!graph_.hasVertex(id)) continue;

@@ -102,8 +102,10 @@ class LoopCloser {
   Matrix7d windowEdgeInformation(const Sim3d& S) const;
   void connectCovisible(int a, int b, int shared_points);
   /// Folds the keyframes no longer needed as vertices (culled or forgotten: no place to be found,
-  /// no data in the map) into a neighbour (PoseGraph::foldVertex), all but the newest vertex,
-  /// which the next keyframe's odometry edge starts from: the graph stays as large as the map.
+  /// no data in the map) into a neighbour (PoseGraph::foldVertex) once
+  /// loop.pose_graph_recent_keyframes keyframes were processed after they retired (never the
+  /// newest vertex, which the next keyframe's odometry edge starts from): the graph stays as
+  /// large as the map plus the recent trajectory.
   void foldRetired();
   /// The vertex a keyframe is folded into: the neighbour of the most certain edge (largest
   /// information determinant; -1: no edges).
@@ -139,8 +141,9 @@ class LoopCloser {
   /// Keyframes sharing more than loop.covisible_shared_points points (not loop candidates of
   /// each other).
   std::map<int, std::vector<int>> covisible_;
-  /// Vertices waiting to be folded (foldRetired), and the folds not yet published.
-  std::vector<int> retired_;
+  /// Vertices waiting to be folded (foldRetired) with the processed-keyframe count when they
+  /// retired, and the folds not yet published.
+  std::vector<std::pair<int, int>> retired_;
   std::vector<std::pair<int, int>> folded_;
   // The deferred pose graph: significant loops waiting for it, and when constraints arrived
   // (in processed keyframes).
