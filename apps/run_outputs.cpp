@@ -182,6 +182,8 @@ void writeRunOutputs(const std::string& dir, const System& system, const RunSumm
   j.key("points").value(s.map.points);
   j.key("bytes").value(s.map.bytes);
   j.key("bytes_per_keyframe").value(s.map.bytes_per_keyframe);
+  j.key("pose_graph_vertices").value(s.map.pose_graph_vertices);
+  j.key("pose_graph_edges").value(s.map.pose_graph_edges);
   j.endObject();
   j.key("stages");
   writeTimings(j, s.stages);

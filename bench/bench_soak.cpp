@@ -94,8 +94,8 @@ int main(int argc, char** argv) {
   std::printf("%s, %s, reuse %s, loop closure %s\n", dataset.c_str(),
               realtime ? "real time, threaded" : "deterministic", reuse ? "on" : "off",
               loop ? "on" : "off");
-  std::printf("%4s %8s %10s %10s %9s %9s %10s %9s %9s\n", "pass", "frames", "ATE pass", "ATE all",
-              "keyframes", "kf data", "points", "RSS MB", "ms/frame");
+  std::printf("%4s %8s %10s %10s %9s %9s %10s %11s %9s %9s\n", "pass", "frames", "ATE pass",
+              "ATE all", "keyframes", "kf data", "points", "graph v/e", "RSS MB", "ms/frame");
   ldsm::drivers::Frame f;
   std::int64_t n = 0;
   double pass_start_t = -1.0;
@@ -109,7 +109,9 @@ int main(int argc, char** argv) {
     const double ms = std::chrono::duration<double, std::milli>(now - pass_wall).count() /
                       static_cast<double>(per_pass);
     pass_wall = now;
-    std::printf("%4lld %8lld %10s %10s %9lld %9lld %10lld %9.1f %9.2f\n",
+    const std::string graph =
+        std::to_string(s.map.pose_graph_vertices) + "/" + std::to_string(s.map.pose_graph_edges);
+    std::printf("%4lld %8lld %10s %10s %9lld %9lld %10lld %11s %9.1f %9.2f\n",
                 static_cast<long long>(pass), static_cast<long long>(s.frames),
                 ldsm::bench::cell(ate(between(in.ground_truth, pass_start_t, t_end),
                                       between(est, pass_start_t, t_end)),
@@ -117,7 +119,7 @@ int main(int argc, char** argv) {
                     .c_str(),
                 ldsm::bench::cell(ate(in.ground_truth, est), "%.5f").c_str(),
                 static_cast<long long>(s.keyframes), static_cast<long long>(s.map.data_keyframes),
-                static_cast<long long>(s.map.points), residentMb(), ms);
+                static_cast<long long>(s.map.points), graph.c_str(), residentMb(), ms);
     std::fflush(stdout);
   };
   double first_t = 0.0;

@@ -63,6 +63,10 @@ struct MapStats {
   std::int64_t points = 0;          ///< points that left the window
   std::int64_t bytes = 0;           ///< kept keyframe data and points
   double bytes_per_keyframe = 0.0;  ///< bytes / data_keyframes
+  /// Loop closure's Sim(3) pose graph (0 without loop closure): keyframes without map data leave
+  /// it (loop.pose_graph_recent_keyframes), so it grows with the map, not with time.
+  std::int64_t pose_graph_vertices = 0;
+  std::int64_t pose_graph_edges = 0;
 };
 
 /// The online calibration refinement (config section calibration): the rectified pinhole the

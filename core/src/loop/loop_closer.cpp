@@ -288,6 +288,8 @@ std::optional<LoopCorrection> LoopCloser::process(LoopJob& job, const std::atomi
   ++processed_;
   if (poseGraphDue()) optimizePending(out, abort);
   foldRetired();
+  graph_vertices_.store(static_cast<std::int64_t>(graph_.numVertices()), std::memory_order_relaxed);
+  graph_edges_.store(static_cast<std::int64_t>(graph_.edges().size()), std::memory_order_relaxed);
   // Folds go out with the next correction (the map store needs them only when keyframes move),
   // or on their own once a few have gathered.
   constexpr std::size_t kPublishFolds = 64;

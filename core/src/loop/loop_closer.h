@@ -51,6 +51,9 @@ class LoopCloser {
   /// once the queued keyframes are processed; end of a run.
   void flush();
   std::uint64_t droppedKeyframes() const { return task_->dropped(); }
+  /// The pose graph's size after the last processed keyframe (any thread).
+  std::int64_t graphVertices() const { return graph_vertices_.load(std::memory_order_relaxed); }
+  std::int64_t graphEdges() const { return graph_edges_.load(std::memory_order_relaxed); }
   /// A new map after tracking was lost: its keyframes are not chained to the old ones.
   void startNewMap() { new_map_.store(true); }
   // ---- Saved maps (call while the task is idle: after waitIdle(), or before the first keyframe)
@@ -126,6 +129,8 @@ class LoopCloser {
   PinholeIntrinsics camera_;
   OdometryDriftModel drift_;
   std::atomic<bool> new_map_{false};
+  std::atomic<std::int64_t> graph_vertices_{0};
+  std::atomic<std::int64_t> graph_edges_{0};
   // Used only by the background task.
   BowIndex index_;
   std::map<int, KeyframeFeatures> features_;

@@ -101,6 +101,10 @@ void SlamPipeline::fillStats(SystemStats& stats) const {
       stats.map.data_keyframes > 0
           ? static_cast<double>(stats.map.bytes) / static_cast<double>(stats.map.data_keyframes)
           : 0.0;
+  if (loop_closer_) {
+    stats.map.pose_graph_vertices = loop_closer_->graphVertices();
+    stats.map.pose_graph_edges = loop_closer_->graphEdges();
+  }
   stats.mapping_backlog = static_cast<int>(mapping_.backlog());
 }
 

@@ -4,6 +4,7 @@
 // are connected to the query through shared points are no loops.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <vector>
@@ -198,6 +199,51 @@ TEST(LoopCloser, CovisibleKeyframesAreNoLoopCandidates) {
   };
   EXPECT_EQ(run(20), 1) << "the pair must be a verifiable loop for this test to mean anything";
   EXPECT_EQ(run(150), 0);
+}
+
+// A camera going round the circle three times: the first lap's keyframes are kept (the map), the
+// later laps' are culled (redundant with it), each tied by the window to the first-lap keyframe
+// at its place. The culled keyframes leave the pose graph once pose_graph_recent_keyframes newer
+// ones were processed: the graph stays the size of the map plus the recent ones, and every fold
+// is reported with the vertex the keyframe follows from then on.
+TEST(LoopCloser, CulledKeyframesLeaveThePoseGraphOnceOld) {
+  const int n = 24, laps = 3, recent = 6;
+  LoopConfig c = config();
+  c.pose_graph_recent_keyframes = recent;
+  LoopCloser closer(c, test::testCamera(500.0), /*inline_mode=*/true);
+  std::map<int, int> follows;
+  std::size_t most_vertices = 0;
+  for (int k = 0; k < laps * n; ++k) {
+    LoopJob job = keyframe(k, truePose(k, n));
+    if (k + 1 < laps * n)
+      job.links.push_back(link(k + 1, truePose(k, n), truePose(k + 1, n), false));
+    if (k >= n) {
+      job.culled = true;
+      job.links.push_back(link(k % n, truePose(k, n), truePose(k % n, n), true));
+    }
+    closer.keyframeLeftWindow(std::move(job));
+    for (const LoopCorrection& corr : closer.takeCorrections())
+      for (const auto& [id, anchor] : corr.folded) follows[id] = anchor;
+    most_vertices = std::max(most_vertices, static_cast<std::size_t>(closer.graphVertices()));
+  }
+  closer.flush();
+  for (const LoopCorrection& corr : closer.takeCorrections())
+    for (const auto& [id, anchor] : corr.folded) follows[id] = anchor;
+  // The map's n keyframes and the culled ones processed fewer than `recent` keyframes ago.
+  EXPECT_LE(most_vertices, static_cast<std::size_t>(n + recent));
+  EXPECT_EQ(closer.graphVertices(), n + recent - 1);
+  // Parallel edges are fused: a few per kept keyframe, not one per keyframe ever made.
+  EXPECT_LE(closer.graphEdges(), 4 * n);
+  // Every culled keyframe but the recent ones was folded; it follows a vertex or another folded
+  // keyframe, and the chain ends at a keyframe of the map.
+  const int folded = laps * n - n - (recent - 1);
+  EXPECT_EQ(static_cast<int>(follows.size()), folded);
+  for (const auto& [id, anchor] : follows) {
+    EXPECT_GE(id, n);
+    int root = anchor;
+    for (int guard = 0; follows.count(root) != 0 && guard < laps * n; ++guard) root = follows[root];
+    EXPECT_TRUE(root < n || root >= laps * n - (recent - 1)) << id << " follows " << anchor;
+  }
 }
 
 }  // namespace
