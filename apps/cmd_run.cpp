@@ -17,6 +17,7 @@
 #include "interrupt.h"
 #include "ldsm/calib/calibration_loader.h"
 #include "ldsm/calib/photometric_files.h"
+#include "ldsm/calib/pinhole_guess.h"
 #include "ldsm/drivers/config_yaml.h"
 #include "ldsm/drivers/dataset_calibration.h"
 #include "ldsm/drivers/dataset_description.h"
@@ -40,6 +41,7 @@ struct RunOptions {
   std::string dataset;
   std::string format = "auto";
   std::string calib;
+  double fov_deg = 0.0;  ///< --fov: start from a pinhole guess (0: not given)
   std::string config;
   std::string out = "ldsm_out";
   bool deterministic = false;
@@ -114,7 +116,8 @@ std::optional<eval::AteResult> evaluate(const drivers::DatasetDescription& d,
 RunInput openDatasetInput(const RunOptions& o) {
   RunInput in;
   in.dataset = drivers::describeDataset(o.dataset, drivers::parseDatasetFormat(o.format));
-  const drivers::DatasetCalibration calib = drivers::loadDatasetCalibration(*in.dataset, o.calib);
+  const drivers::DatasetCalibration calib =
+      drivers::loadDatasetCalibration(*in.dataset, o.calib, o.fov_deg);
   in.geometric = calib.geometric;
   in.photometric = calib.photometric;
   in.geometric_source = calib.geometric_source;
@@ -142,12 +145,24 @@ std::vector<drivers::V4l2PixelFormat> parsePixelFormats(const std::string& list)
 #endif
 
 RunInput openLiveInput(const RunOptions& o) {
-  if (o.calib.empty())
-    throw ConfigError("run --live: give the camera's calibration with --calib FILE");
+  const bool guess = o.fov_deg != 0.0;
+  if (o.calib.empty() && !guess)
+    throw ConfigError(
+        "run --live: give the camera's calibration with --calib FILE, or a guess of its "
+        "horizontal field of view with --fov DEG");
+  if (!o.calib.empty() && guess) throw ConfigError("run: give either --calib FILE or --fov DEG");
 #if defined(LDSM_HAVE_V4L2)
   RunInput in;
-  in.geometric = calib::loadGeometricCalibration(o.calib, o.width, o.height);
-  in.geometric_source = o.calib;
+  if (guess) {
+    // Validated before the device is opened; the size is the device's unless told.
+    in.geometric =
+        calib::pinholeFromFieldOfView(std::max(o.width, 1), std::max(o.height, 1), o.fov_deg);
+    in.geometric.input.width = o.width;
+    in.geometric.input.height = o.height;
+  } else {
+    in.geometric = calib::loadGeometricCalibration(o.calib, o.width, o.height);
+    in.geometric_source = o.calib;
+  }
   const CameraIntrinsics& k = in.geometric.input;
   drivers::V4l2Options camera;
   camera.device = o.live;
@@ -161,6 +176,10 @@ RunInput openLiveInput(const RunOptions& o) {
   camera.poll_timeout_ms = o.timeout_ms;
   auto source = std::make_unique<drivers::V4l2Source>(camera);
   const drivers::SourceInfo info = source->info();
+  if (guess) {
+    in.geometric = calib::pinholeFromFieldOfView(info.width, info.height, o.fov_deg);
+    in.geometric_source = "a pinhole guess of " + std::to_string(o.fov_deg) + " degrees (--fov)";
+  }
   if (info.width != k.width || info.height != k.height)
     throw InputError(o.calib + ": calibration is for " + std::to_string(k.width) + "x" +
                      std::to_string(k.height) + " images but " + o.live + " delivers " +
@@ -214,6 +233,18 @@ int run(const RunOptions& o) {
     config.system.live = true;
   }
   if (o.localize_only) config.map.localize_only = true;
+  if (o.fov_deg != 0.0) {
+    // Nothing is known of the camera: every part of the calibration has to be found online.
+    config.calibration.refine_focal = true;
+    config.calibration.refine_principal_point = true;
+    const CameraIntrinsics& k = in.geometric.input;
+    spdlog::warn(
+        "no calibration: self-calibrating from a pinhole guess (horizontal field of view {} "
+        "degrees: fx = fy = {:.1f}, cx {:.1f}, cy {:.1f}, no distortion); focal length, principal "
+        "point and radial distortion are refined online and the result is written to {}/"
+        "camera.txt. Expect a less accurate start than with a calibration.",
+        o.fov_deg, k.fx, k.fx, k.cx, k.cy, o.out);
+  }
   std::unique_ptr<System> owned =
       o.load_map.empty() ? std::make_unique<System>(config, in.geometric, in.photometric)
                          : std::make_unique<System>(config, in.geometric, in.photometric,
@@ -300,6 +331,8 @@ int run(const RunOptions& o) {
   if (view) view->finish();
   RunSummary summary;
   summary.dataset = in.name;
+  summary.calibration = in.geometric;
+  summary.calibration_source = in.geometric_source;
   summary.status = status;
   summary.mode = live_input ? "live" : config.system.deterministic ? "deterministic" : "offline";
   if (in.replay) {
@@ -353,8 +386,9 @@ int run(const RunOptions& o) {
                 100.0 * summary.ate->rmse / std::max(summary.ate->gt_path_length, 1e-9),
                 summary.ate->gt_path_length, summary.ate->matched);
   if (written)
-    std::printf("outputs in %s (trajectory.txt, keyframes.txt, points.ply, stats.json)\n",
-                o.out.c_str());
+    std::printf(
+        "outputs in %s (trajectory.txt, keyframes.txt, points.ply, stats.json, camera.txt)\n",
+        o.out.c_str());
   else
     std::printf("outputs in %s incomplete: see the error above\n", o.out.c_str());
   if (view && o.serve_wait && !InterruptHandler::requested()) {
@@ -381,6 +415,10 @@ void addRunCommand(CLI::App& app, CommandResult& result) {
   cmd->add_option("--format", o->format, "auto, tum-mono, euroc, kitti, tum-rgbd, folder, video")
       ->capture_default_str();
   cmd->add_option("--calib", o->calib, "Calibration file (default: the dataset's own)");
+  cmd->add_option("--fov", o->fov_deg,
+                  "No calibration: start from a pinhole of this horizontal field of view "
+                  "(degrees, 20-160) and refine focal length, principal point and distortion "
+                  "online; the result is written to the output folder's camera.txt");
   cmd->add_option("--config", o->config, "Configuration YAML (see ldsm config --print-defaults)");
   cmd->add_option("--out", o->out, "Output folder")->capture_default_str();
   cmd->add_flag("--deterministic", o->deterministic, "One thread, bit-identical results");

@@ -3,9 +3,12 @@
 #include <sys/resource.h>
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "ldsm/calib/refined_camera.h"
+#include "ldsm/camera/camera_model.h"
 #include "ldsm/drivers/atomic_file.h"
 #include "ldsm/drivers/json_writer.h"
 #include "ldsm/drivers/machine_info.h"
@@ -36,6 +39,33 @@ void writeTimings(drivers::JsonWriter& j, const std::vector<StageTiming>& timing
     j.endObject();
   }
   j.endObject();
+}
+
+/// "history": [{"windows", "frame", "t", "estimate": [k, focal_scale, cx_shift, cy_shift],
+/// "sigma": [...], "applied": [k, fx, fy, cx, cy]}, ...], oldest first.
+void writeCalibrationHistory(drivers::JsonWriter& j, const std::vector<CalibrationSample>& h) {
+  j.key("history").beginArray();
+  for (const CalibrationSample& c : h) {
+    j.beginObject();
+    j.key("windows").value(static_cast<std::int64_t>(c.windows));
+    j.key("frame").value(c.frame_index);
+    j.key("t").value(c.timestamp);
+    j.key("estimate").beginArray();
+    for (const double v :
+         {c.radial_estimate, c.focal_scale_estimate, c.cx_shift_estimate, c.cy_shift_estimate})
+      j.value(v);
+    j.endArray();
+    j.key("sigma").beginArray();
+    for (const double v : {c.radial_sigma, c.focal_scale_sigma, c.cx_sigma, c.cy_sigma}) j.value(v);
+    j.endArray();
+    j.key("applied").beginArray();
+    for (const double v :
+         {c.radial_applied, c.applied.fx, c.applied.fy, c.applied.cx, c.applied.cy})
+      j.value(v);
+    j.endArray();
+    j.endObject();
+  }
+  j.endArray();
 }
 
 /// Runs one file's writer; a failure is collected, not thrown, so the other files still get
@@ -102,6 +132,31 @@ void writeRunOutputs(const std::string& dir, const System& system, const RunSumm
   attempt(errors, [&] { drivers::writePly(base + "points.ply", xyz, colours); });
 
   const SystemStats s = system.stats();
+  std::optional<calib::RefinedCameraFit> camera;
+  if (summary.calibration.input.width > 0) {
+    attempt(errors, [&] {
+      try {
+        camera = calib::refitCalibration(summary.calibration, s.calibration, s.calibration_history);
+      } catch (const Error& e) {
+        throw Error(base + "camera.txt, " + base + "camchain.yaml: not written: " + e.what());
+      }
+    });
+  }
+  if (camera) {
+    const auto write_camera = [&](const std::string& name, auto format) {
+      std::error_code ec;
+      if (std::filesystem::equivalent(base + name, summary.calibration_source, ec)) {
+        // Never replace the calibration the run read (an output folder that is the dataset's).
+        errors.push_back(base + name + ": not written: it is the calibration this run read");
+        return;
+      }
+      attempt(errors, [&] {
+        drivers::writeFileAtomically(base + name, format(*camera, summary.calibration_source));
+      });
+    };
+    write_camera("camera.txt", calib::formatRefinedDsoCameraFile);
+    write_camera("camchain.yaml", calib::formatRefinedKalibrYaml);
+  }
   drivers::JsonWriter j;
   j.beginObject();
   j.key("dataset").value(summary.dataset);
@@ -160,6 +215,29 @@ void writeRunOutputs(const std::string& dir, const System& system, const RunSumm
   j.key("cx_shift").value(c.cx_sigma);
   j.key("cy_shift").value(c.cy_sigma);
   j.endObject();
+  if (camera) {
+    j.key("sigma_px").beginObject();
+    j.key("fx").value(camera->sigma_fx);
+    j.key("fy").value(camera->sigma_fy);
+    j.key("cx").value(camera->sigma_cx);
+    j.key("cy").value(camera->sigma_cy);
+    j.endObject();
+    j.key("spread").beginObject();
+    j.key("windows").value(camera->spread_windows);
+    j.key("radial_k").value(camera->spread_k);
+    j.key("fx").value(camera->spread_fx);
+    j.key("fy").value(camera->spread_fy);
+    j.key("cx").value(camera->spread_cx);
+    j.key("cy").value(camera->spread_cy);
+    j.endObject();
+    j.key("written").beginObject();
+    j.key("model").value(cameraModelName(camera->calibration.input.model));
+    j.key("changed").value(camera->changed);
+    j.key("fit_rms_px").value(camera->rms_px);
+    j.key("fit_max_px").value(camera->max_px);
+    j.endObject();
+  }
+  writeCalibrationHistory(j, s.calibration_history);
   j.endObject();
   j.key("reuse").beginObject();
   j.key("reactivations").value(s.reuse.reactivations);

@@ -1,6 +1,8 @@
 // What `ldsm run` writes to its output folder: trajectory.txt and keyframes.txt (TUM format),
-// points.ply (the map) and stats.json (counts, per-stage timing, the frame pipeline's drops,
-// queue depths and latencies, memory, status, accuracy).
+// points.ply (the map), stats.json (counts, per-stage timing, the frame pipeline's drops,
+// queue depths and latencies, memory, status, accuracy, the calibration refinement over time)
+// and the camera the run ended with (the online refinement applied to the given calibration) as
+// camera.txt (DSO format) and camchain.yaml (Kalibr).
 #pragma once
 
 #include <optional>
@@ -21,15 +23,20 @@ struct RunSummary {
   double ms_per_frame = 0.0;  ///< mean processing time per frame
   double peak_rss_mb = 0.0;
   std::optional<eval::AteResult> ate;
+  /// The calibration the run was given (or guessed with --fov) and where it came from: the
+  /// camera the engine ended with is written back in its model (camera.txt, camchain.yaml).
+  /// Not written when its input size is 0.
+  GeometricCalibration calibration;
+  std::string calibration_source;
 };
 
 /// Peak resident memory of this process so far, MB.
 double peakRssMb();
 
-/// Writes trajectory.txt, keyframes.txt, points.ply and stats.json into `dir` (created when
-/// missing). Every file is replaced atomically (a crash or a full disk never leaves a truncated
-/// one); each is tried even when another failed, and the failures are thrown together as one
-/// Error naming the files.
+/// Writes trajectory.txt, keyframes.txt, points.ply, stats.json, camera.txt and camchain.yaml
+/// into `dir` (created when missing). Every file is replaced atomically (a crash or a full disk
+/// never leaves a truncated one); each is tried even when another failed, and the failures are
+/// thrown together as one Error naming the files.
 void writeRunOutputs(const std::string& dir, const System& system, const RunSummary& summary);
 
 /// trajectory.txt and keyframes.txt alone, as far as the run has got (the periodic flush of a

@@ -87,6 +87,19 @@ struct CalibrationStats {
   int windows = 0;  ///< window estimates fused
 };
 
+/// The calibration refinement after one more window estimate was fused: how the estimate,
+/// its uncertainty and the applied camera evolved over a run.
+struct CalibrationSample {
+  int windows = 0;                ///< window estimates fused so far
+  std::int64_t frame_index = -1;  ///< the newest keyframe's frame
+  double timestamp = 0.0;         ///< its time, seconds
+  double radial_estimate = 0.0, focal_scale_estimate = 1.0;
+  double cx_shift_estimate = 0.0, cy_shift_estimate = 0.0;  ///< pixels
+  double radial_sigma = 0.0, focal_scale_sigma = 0.0, cx_sigma = 0.0, cy_sigma = 0.0;
+  double radial_applied = 0.0;
+  PinholeIntrinsics applied;  ///< the pinhole the window works with from then on
+};
+
 struct SystemStats {
   std::int64_t frames = 0;
   std::int64_t tracked_frames = 0;
@@ -103,6 +116,11 @@ struct SystemStats {
   double radial_applied = 0.0;
   /// The whole online calibration refinement (radial k, focal scale, principal point).
   CalibrationStats calibration;
+  /// Its history, oldest first: one sample per fused window until kMaxCalibrationSamples are
+  /// held, then every second one is dropped and only every second window recorded (and so on),
+  /// so that the history of a long run stays bounded and spans it evenly.
+  std::vector<CalibrationSample> calibration_history;
+  static constexpr int kMaxCalibrationSamples = 256;
   ReuseStats reuse;
   MapStats map;
 

@@ -31,6 +31,24 @@ CalibrationStats calibrationStats(const Mapper& mapper) {
   return c;
 }
 
+CalibrationSample calibrationSample(const CalibrationStats& c, const WindowKeyframe& newest) {
+  CalibrationSample sample;
+  sample.windows = c.windows;
+  sample.frame_index = newest.frameIndex();
+  sample.timestamp = newest.timestamp();
+  sample.radial_estimate = c.radial_estimate;
+  sample.focal_scale_estimate = c.focal_scale_estimate;
+  sample.cx_shift_estimate = c.cx_shift_estimate;
+  sample.cy_shift_estimate = c.cy_shift_estimate;
+  sample.radial_sigma = c.radial_sigma;
+  sample.focal_scale_sigma = c.focal_scale_sigma;
+  sample.cx_sigma = c.cx_sigma;
+  sample.cy_sigma = c.cy_sigma;
+  sample.radial_applied = c.radial_applied;
+  sample.applied = c.applied;
+  return sample;
+}
+
 }  // namespace
 
 MappingStage::MappingStage(const MappingStageSettings& settings, const PyramidCamera& camera,
@@ -404,6 +422,9 @@ void MappingStage::publishSnapshot() {
   s->radial_estimate = mapper_.radialEstimate();
   s->radial_applied = mapper_.radialK();
   s->calibration = calibrationStats(mapper_);
+  if (s->has_window && s->calibration.windows > 0)
+    calibration_history_.add(calibrationSample(s->calibration, mapper_.newestKeyframe()));
+  s->calibration_history = calibration_history_.samples();
   s->reactivated = mapper_.reactivatedIds();
   s->reuse = reuse_stats_;
   std::lock_guard<std::mutex> lock(snapshot_mutex_);

@@ -20,6 +20,7 @@
 #include <optional>
 #include <vector>
 
+#include "backend/calibration_history.h"
 #include "backend/mapper.h"
 #include "concurrency/background_task.h"
 #include "features/corner_detector.h"
@@ -57,6 +58,8 @@ struct MappingSnapshot {
   double radial_estimate = 0.0;
   double radial_applied = 0.0;
   CalibrationStats calibration;
+  /// The refinement's history (backend/calibration_history.h; never null once published).
+  std::shared_ptr<const std::vector<CalibrationSample>> calibration_history;
   bool has_window = false;
   SE3d newest_T_c_w;             ///< the newest keyframe's pose (or the last one, no window)
   std::vector<int> window_ids;   ///< the active keyframes (or the last ones, no window)
@@ -209,6 +212,7 @@ class MappingStage {
   std::vector<std::pair<int, int>> trial_rejected_;
   int last_left_id_ = -1;
   double median_depth_ = 1.0;
+  CalibrationHistory calibration_history_;  ///< written by publishSnapshot() only
   std::atomic<bool> keyframe_in_flight_{false};
   std::atomic<std::int64_t> keyframes_{0};
   InitializationOutcome init_outcome_;

@@ -90,6 +90,7 @@ void SlamPipeline::fillStats(SystemStats& stats) const {
   stats.radial_estimate = s->radial_estimate;
   stats.radial_applied = s->radial_applied;
   stats.calibration = s->calibration;
+  if (s->calibration_history) stats.calibration_history = *s->calibration_history;
   stats.reuse = s->reuse;
   stats.reuse.relocalization_attempts = tracking_.relocalizationAttempts();
   stats.reuse.relocalizations = tracking_.relocalizations();

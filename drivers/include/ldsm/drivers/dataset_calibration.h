@@ -17,9 +17,14 @@ struct DatasetCalibration {
 };
 
 /// Loads the calibration of `dataset`; a non-empty `calib_file` replaces the dataset's own.
-/// Throws ldsm::InputError naming the file at fault, or saying that none was found, or when the
-/// calibration's input size differs from the images'.
+/// With `guess_fov_deg` non-zero the geometric calibration is not read at all: it is a pinhole of
+/// that horizontal field of view (calib/pinhole_guess.h) at the images' size, for a camera without
+/// a calibration (the online refinement then has to find the rest); the photometric files are still
+/// read. Throws ldsm::InputError naming the file at fault, or saying that none was found (and how
+/// to start without one), or when the calibration's input size differs from the images';
+/// ldsm::ConfigError when both a file and a guess are given, or the guess is out of range.
 DatasetCalibration loadDatasetCalibration(const DatasetDescription& dataset,
-                                          const std::string& calib_file = {});
+                                          const std::string& calib_file = {},
+                                          double guess_fov_deg = 0.0);
 
 }  // namespace ldsm::drivers
