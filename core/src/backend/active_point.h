@@ -23,6 +23,13 @@ struct PointResidual {
       Eigen::Vector2f::Zero();  ///< centre pixel in the target at the last evaluation
 };
 
+/// Smallest inverse depth a point's optimisation may reach (the initialisation scales the first
+/// map's depths to about 1). A point that runs off to infinity loses up to three quarters of its
+/// inverse depth per step; without a floor it underflowed, and its Jacobians (its camera
+/// coordinates are its ray divided by the inverse depth) overflowed float and made the whole
+/// window's system NaN (found with a focal and principal point correction on kitti00_200).
+constexpr float kMinInverseDepth = 1e-10f;
+
 struct ActivePoint {
   std::uint64_t id = 0;
   WindowKeyframe* host = nullptr;

@@ -126,8 +126,11 @@ void Mapper::traceFrame(const ImagePyramid& frame, const MapperFrame& info) {
 
 void Mapper::refineCalibration(const WindowOptimizationResult& opt) {
   // Only full windows: the first keyframes' short baselines say little about the calibration.
-  if (!opt.calibration_valid || static_cast<int>(window_.size()) <= settings_.window.max_keyframes)
+  if (static_cast<int>(window_.size()) <= settings_.window.max_keyframes) return;
+  if (!opt.calibration_valid) {
+    spdlog::debug("calibration: no step from this window (curvature not positive definite)");
     return;
+  }
   std::array<bool, kCalibParams> was_engaged{};
   for (int p = 0; p < kCalibParams; ++p)
     was_engaged[static_cast<size_t>(p)] = calibration_.engaged(p);

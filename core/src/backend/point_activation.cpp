@@ -78,7 +78,7 @@ bool Mapper::optimizeNewPointDepth(ActivePoint& point, const std::vector<FramePa
   for (int it = 0; it < 5 && H > 1e-10; ++it) {
     const float old = point.idepth;
     const double step = -b / (H * (1.0 + lambda));
-    point.idepth = static_cast<float>(std::max(0.25 * old, old + step));
+    point.idepth = std::max(static_cast<float>(std::max(0.25 * old, old + step)), kMinInverseDepth);
     double H2 = 0, b2 = 0;
     const double e2 = evaluate(true, &H2, &b2);
     if (e2 < energy) {

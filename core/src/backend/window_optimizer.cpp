@@ -141,29 +141,34 @@ double WindowOptimizer::addPriors(const std::vector<WindowKeyframe*>& window,
       }
     }
   }
-  if (!prior.empty()) {
-    // Gather the prior onto the window's block order.
-    const auto& ids = prior.ids();
-    std::vector<int> at(ids.size(), -1);
-    Eigen::VectorXd deltas(k * ids.size());
+  return energy + addMarginalizationPrior(window, prior, 1.0, H, b);
+}
+
+double WindowOptimizer::addMarginalizationPrior(const std::vector<WindowKeyframe*>& window,
+                                                const MarginalizationPrior& prior, double sign,
+                                                Eigen::MatrixXd* H, Eigen::VectorXd* b) const {
+  if (prior.empty()) return 0.0;
+  const int k = kFrameParams;
+  // Gather the prior onto the window's block order.
+  const auto& ids = prior.ids();
+  std::vector<int> at(ids.size(), -1);
+  Eigen::VectorXd deltas(k * ids.size());
+  for (size_t j = 0; j < ids.size(); ++j) {
+    for (size_t i = 0; i < window.size(); ++i)
+      if (window[i]->id() == ids[j]) at[j] = static_cast<int>(i);
+    deltas.segment<k>(k * j) = at[j] >= 0 ? window[at[j]]->delta() : FrameVector::Zero().eval();
+  }
+  if (H) {
+    const Eigen::VectorXd g = prior.b() + prior.H() * deltas;
     for (size_t j = 0; j < ids.size(); ++j) {
-      for (size_t i = 0; i < window.size(); ++i)
-        if (window[i]->id() == ids[j]) at[j] = static_cast<int>(i);
-      deltas.segment<k>(k * j) = at[j] >= 0 ? window[at[j]]->delta() : FrameVector::Zero().eval();
-    }
-    energy += prior.energy(deltas);
-    if (H) {
-      const Eigen::VectorXd g = prior.b() + prior.H() * deltas;
-      for (size_t j = 0; j < ids.size(); ++j) {
-        if (at[j] < 0) continue;
-        b->segment<k>(k * at[j]) += g.segment<k>(k * j);
-        for (size_t l = 0; l < ids.size(); ++l)
-          if (at[l] >= 0)
-            H->block<k, k>(k * at[j], k * at[l]) += prior.H().block<k, k>(k * j, k * l);
-      }
+      if (at[j] < 0) continue;
+      b->segment<k>(k * at[j]) += sign * g.segment<k>(k * j);
+      for (size_t l = 0; l < ids.size(); ++l)
+        if (at[l] >= 0)
+          H->block<k, k>(k * at[j], k * at[l]) += sign * prior.H().block<k, k>(k * j, k * l);
     }
   }
-  return energy;
+  return sign * prior.energy(deltas);
 }
 
 void WindowOptimizer::linearize(const std::vector<WindowKeyframe*>& window,
@@ -345,7 +350,8 @@ WindowOptimizationResult WindowOptimizer::optimize(const std::vector<WindowKeyfr
       p.idepth_backup = p.idepth;
       const double nd = p.idepth + point_step[i];
       // Keep depths positive: a point cannot jump behind its host.
-      p.idepth = static_cast<float>(nd > 0.25 * p.idepth ? nd : 0.25 * p.idepth);
+      p.idepth = std::max(static_cast<float>(nd > 0.25 * p.idepth ? nd : 0.25 * p.idepth),
+                          kMinInverseDepth);
     }
     saveResidualStates(sys.points);
     precalcPairs(window);
@@ -374,9 +380,18 @@ WindowOptimizationResult WindowOptimizer::optimize(const std::vector<WindowKeyfr
   const CalibMask& mask = settings_.estimate_calibration;
   if (!refinedParams(mask).empty()) {
     linearizeCalibration(window, sys);
+    // The envelope is taken over this window's own information: the marginalisation prior
+    // holds the poses where residuals evaluated with the camera of their time put them, and it
+    // has no calibration columns, so with it every change of the camera looks expensive and
+    // the estimate stops short (a focal length told 5 % short: a quarter of the error found with
+    // it, all of it without; docs/engine.md). The windows' estimates are fused over keyframes
+    // instead (CalibrationRefinement).
+    Eigen::MatrixXd H = sys.H;
+    Eigen::VectorXd b = sys.b;
+    addMarginalizationPrior(window, prior, -1.0, &H, &b);
     result.calibration_valid =
-        calibrationEnvelopeStep(sys.H, sys.b, sys.coupling, sys.H_dd, sys.b_d, sys.calibration,
-                                mask, &result.calibration_step, &result.calibration_curvature);
+        calibrationEnvelopeStep(H, b, sys.coupling, sys.H_dd, sys.b_d, sys.calibration, mask,
+                                &result.calibration_step, &result.calibration_curvature);
   }
   return result;
 }

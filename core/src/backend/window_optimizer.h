@@ -119,6 +119,11 @@ class WindowOptimizer {
   /// Adds the keyframe priors (affine towards 0, gauge anchor) and the marginalisation prior.
   double addPriors(const std::vector<WindowKeyframe*>& window, const MarginalizationPrior& prior,
                    Eigen::MatrixXd* H, Eigen::VectorXd* b) const;
+  /// Adds `sign` times the marginalisation prior at the window's current state to H and b (when
+  /// given); returns `sign` times its energy.
+  double addMarginalizationPrior(const std::vector<WindowKeyframe*>& window,
+                                 const MarginalizationPrior& prior, double sign, Eigen::MatrixXd* H,
+                                 Eigen::VectorXd* b) const;
   /// Solves the damped Schur-complemented system; returns frame and point steps.
   void solve(const System& sys, double lambda, Eigen::VectorXd& frame_step,
              std::vector<double>& point_step) const;

@@ -20,7 +20,6 @@
 #include <optional>
 #include <vector>
 
-#include "backend/calibration_history.h"
 #include "backend/mapper.h"
 #include "concurrency/background_task.h"
 #include "features/corner_detector.h"
@@ -30,6 +29,7 @@
 #include "ldsm/config.h"
 #include "loop/loop_closer.h"
 #include "map/map_store.h"
+#include "pipeline/calibration_history.h"
 #include "pipeline/event_sink.h"
 #include "pipeline/reference_exchange.h"
 #include "pipeline/stage_timer.h"
@@ -58,7 +58,7 @@ struct MappingSnapshot {
   double radial_estimate = 0.0;
   double radial_applied = 0.0;
   CalibrationStats calibration;
-  /// The refinement's history (backend/calibration_history.h; never null once published).
+  /// The refinement's history (pipeline/calibration_history.h; never null once published).
   std::shared_ptr<const std::vector<CalibrationSample>> calibration_history;
   bool has_window = false;
   SE3d newest_T_c_w;             ///< the newest keyframe's pose (or the last one, no window)

@@ -204,13 +204,13 @@ TEST(CalibrationRefinement, RadialWeighsWindowsByCurvature) {
   CalibrationRefinementConfig c = radialOnly();
   c.memory = 1.0;
   CalibrationRefinement r(c);
-  // The first window weighs 1 against a starting weight of 4 at k = 0: estimate 0.01 / 5.
+  // The first window weighs 1 against a starting weight of 1 at k = 0: estimate 0.01 / 2.
   addRadial(r, 0.01, 1.0);
-  EXPECT_NEAR(estimateK(r), 0.002, 1e-12);
-  // A window with 15 times the information against the weight 5 so far (0.002 is inside the
-  // dead band, so the step was taken at k = 0).
+  EXPECT_NEAR(estimateK(r), 0.005, 1e-12);
+  // A window with 15 times the information against the weight 2 so far (0.005 is outside the
+  // dead band, so the step was taken at k = 0.005: the measurement is 0.045).
   addRadial(r, 0.04, 15.0);
-  EXPECT_NEAR(estimateK(r), 0.002 + 0.75 * 0.038, 1e-12);
+  EXPECT_NEAR(estimateK(r), 0.005 + 15.0 / 17.0 * 0.04, 1e-12);
 }
 
 TEST(CalibrationRefinement, RadialIgnoresBadInputClampsAndCanBeTurnedOff) {

