@@ -320,10 +320,10 @@ struct CalibrationRefinementConfig {
   /// Estimate a residual radial distortion k (x_image = x (1 + k |x|^2) in the output camera's
   /// normalized coordinates) from the window's photometric error and apply it in the window.
   bool refine_radial = true;
-  /// Estimate a common scale of the focal lengths (fx, fy) and apply it. Off by default: in a
-  /// window of forward motion a focal error is absorbed by poses and depths (kitti00_200 with fx
-  /// 3 % short: the estimate stays at 0), and on vamr_desk_loop the window settles on +0.8 %
-  /// whose correction costs accuracy (ATE 0.0009 -> 0.0012 m); docs/engine.md.
+  /// Estimate a common scale of the focal lengths (fx, fy) and apply it. Off by default: on
+  /// vamr_desk_loop, whose calibration is right, estimating focal length and principal point
+  /// costs accuracy (ATE 0.00088 -> 0.00128 m); kitti00_200 told fx 3 % short is repaired with it
+  /// (0.45 -> 0.29 m). `ldsm run --fov` turns both on; docs/engine.md.
   bool refine_focal = false;
   /// Estimate a shift of the principal point (cx, cy) and apply it. Off by default: a shift is
   /// almost a rotation of every keyframe, so windows see little of it.
