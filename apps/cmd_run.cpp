@@ -243,7 +243,7 @@ int run(const RunOptions& o) {
         "degrees: fx = fy = {:.1f}, cx {:.1f}, cy {:.1f}, no distortion); focal length, principal "
         "point and radial distortion are refined online and the result is written to {}/"
         "camera.txt. Expect a less accurate start than with a calibration.",
-        o.fov_deg, k.fx, k.fx, k.cx, k.cy, o.out);
+        o.fov_deg, k.fx, k.cx, k.cy, o.out);
   }
   std::unique_ptr<System> owned =
       o.load_map.empty() ? std::make_unique<System>(config, in.geometric, in.photometric)
