@@ -85,6 +85,7 @@ TrackingStageSettings trackingStageSettings(const Config& config, int levels,
   s.tracker = frameTrackerSettings(config, photometry_known);
   s.reuse = config.reuse;
   s.localize_only = config.map.localize_only;
+  s.wait_for_keyframes = !config.system.live && !config.system.deterministic;
   return s;
 }
 

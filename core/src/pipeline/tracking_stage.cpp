@@ -19,11 +19,11 @@ TrackingStage::TrackingStage(const TrackingStageSettings& settings, const Pyrami
       initializer_(camera, settings.initializer, settings.initializer_hypotheses),
       tracker_(settings.tracker, camera),
       timer_({"preprocess", "initialize", "track", "total"}, 20000),
-      relocalization_timeout_s_(settings.localize_only
-                                    ? std::numeric_limits<double>::infinity()
-                                    : settings.reuse.relocalization_timeout_s),
+      relocalization_timeout_s_(settings.localize_only ? std::numeric_limits<double>::infinity()
+                                                       : settings.reuse.relocalization_timeout_s),
       place_candidates_(settings.reuse.relocalization_place_candidates),
-      resume_radius_(settings.reuse.relocalization_search_radius) {
+      resume_radius_(settings.reuse.relocalization_search_radius),
+      wait_for_keyframes_(settings.wait_for_keyframes) {
   if (settings.reuse.enabled && relocalization_timeout_s_ > 0.0)
     relocalizer_ = std::make_unique<Relocalizer>(settings.reuse, camera);
 }
@@ -110,6 +110,7 @@ void TrackingStage::initializeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent
 
 void TrackingStage::trackStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent& frame,
                               double exposure) {
+  if (wait_for_keyframes_) mapping_.waitForKeyframe();
   adoptNewestReference();
   const FrameTracker::MotionState motion = tracker_.motionState();
   FrameTrackingOutcome outcome;

@@ -39,6 +39,10 @@ struct TrackingStageSettings {
   ReuseConfig reuse;  ///< relocalisation after a loss (reuse.enabled, relocalization_*)
   /// map.localize_only: relocalisation never gives up for a new map.
   bool localize_only = false;
+  /// Offline threaded mode (not live): a frame waits for a keyframe being mapped and is tracked
+  /// against it, as in deterministic mode, instead of against the one before it (live mode never
+  /// waits: a late pose costs more than a frame tracked against an older reference).
+  bool wait_for_keyframes = false;
 };
 
 class TrackingStage {
@@ -117,6 +121,7 @@ class TrackingStage {
   /// ...and its tracking against the window fits as well as before the loss.
   static constexpr double kResumeMinInliers = 0.7;
   static constexpr double kResumeMaxRmseGrowth = 2.0;
+  bool wait_for_keyframes_ = false;  ///< TrackingStageSettings::wait_for_keyframes
   bool relocalizing_ = false;
   double lost_since_ = 0.0;
   bool window_kept_ = false;             ///< lost, but the window and its reference are still there
