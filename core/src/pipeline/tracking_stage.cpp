@@ -119,10 +119,11 @@ void TrackingStage::trackStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent& fra
     outcome = tracker_.track(*pyr, exposure);
   }
   if (mapping_.keyframeInFlight()) {
-    // Tracked against the reference before the keyframe the mapping stage is integrating. Never
-    // wait for it: a failed frame is tracked again against a reference published meanwhile, if
-    // any, or else goes without a pose (the next frame has the new reference); a frame that
-    // wants a keyframe does not make another one (the next frame decides against the new one).
+    // Live mode (offline mode waited above): tracked against the reference before the keyframe
+    // the mapping stage is integrating. Never wait for it: a failed frame is tracked again against
+    // a reference published meanwhile, if any, or else goes without a pose (the next frame has the
+    // new reference); a frame that wants a keyframe does not make another one (the next frame
+    // decides against the new one).
     if (!outcome.success && adoptNewestReference()) {
       tracker_.restoreMotion(motion);
       StageTimer::Scope t(timer_, kTrack);
