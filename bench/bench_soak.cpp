@@ -6,6 +6,12 @@
 //
 //   bench_soak --dataset DIR --frames-per-pass K [--realtime] [--no-reuse] [--no-loop]
 //              [--config FILE]   (a configuration YAML as `ldsm run --config` takes)
+//              [--log-level L]   (spdlog level, default warn; debug shows reuse decisions)
+//
+// Under each pass a second line says what map reuse and loop closure did in it: map keyframes
+// brought back and taken out, candidates turned down by the geometric and the ORB check,
+// keyframes culled as redundant, reuse-triggered corrections, loops closed and how many moved
+// keyframes. A pass that keeps new keyframes while bringing none back has lost the map.
 //
 // Default: deterministic, one thread, as fast as possible. --realtime: the live pipeline
 // (threaded, frames dropped when tracking is behind) paced at the recorded frame rate.
@@ -51,11 +57,11 @@ double ate(const ldsm::Trajectory& gt, const ldsm::Trajectory& est) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  spdlog::set_level(spdlog::level::warn);
   std::string dataset;
   std::int64_t per_pass = 0;
   bool realtime = false, reuse = true, loop = true;
   std::string config_path;
+  std::string log_level = "warn";
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--dataset" && i + 1 < argc) {
@@ -70,10 +76,12 @@ int main(int argc, char** argv) {
       loop = false;
     } else if (a == "--config" && i + 1 < argc) {
       config_path = argv[++i];
+    } else if (a == "--log-level" && i + 1 < argc) {
+      log_level = argv[++i];
     } else {
       std::fprintf(stderr,
                    "usage: %s --dataset DIR --frames-per-pass K [--realtime] [--no-reuse] "
-                   "[--no-loop] [--config FILE]\n",
+                   "[--no-loop] [--config FILE] [--log-level L]\n",
                    argv[0]);
       return 2;
     }
@@ -82,6 +90,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "bench_soak: --dataset and --frames-per-pass are required\n");
     return 2;
   }
+  spdlog::set_level(spdlog::level::from_str(log_level));
   std::printf("machine: %s\n",
               ldsm::drivers::machineSummary(ldsm::drivers::describeMachine()).c_str());
   ldsm::Config config =
@@ -101,6 +110,8 @@ int main(int argc, char** argv) {
   double pass_start_t = -1.0;
   auto wall0 = std::chrono::steady_clock::now();
   auto pass_wall = wall0;
+  ldsm::ReuseStats last_reuse;
+  std::size_t last_loops = 0;
   const auto report = [&](std::int64_t pass, double t_end) {
     in.system->finish();
     const ldsm::SystemStats s = in.system->stats();
@@ -120,6 +131,23 @@ int main(int argc, char** argv) {
                 ldsm::bench::cell(ate(in.ground_truth, est), "%.5f").c_str(),
                 static_cast<long long>(s.keyframes), static_cast<long long>(s.map.data_keyframes),
                 static_cast<long long>(s.map.points), graph.c_str(), residentMb(), ms);
+    const ldsm::ReuseStats& r = s.reuse;
+    int loops = 0, applied = 0;
+    for (std::size_t i = last_loops; i < s.loops.size(); ++i) {
+      ++loops;
+      if (s.loops[i].corrected_keyframes > 0) ++applied;
+    }
+    std::printf(
+        "     reuse +%lld -%lld, turned down %lld geometry %lld ORB, culled %lld, map corrections "
+        "%lld; loops %d (%d moved keyframes)\n",
+        static_cast<long long>(r.reactivations - last_reuse.reactivations),
+        static_cast<long long>(r.deactivations - last_reuse.deactivations),
+        static_cast<long long>(r.rejected_geometry - last_reuse.rejected_geometry),
+        static_cast<long long>(r.rejected_features - last_reuse.rejected_features),
+        static_cast<long long>(r.culled_keyframes - last_reuse.culled_keyframes),
+        static_cast<long long>(r.map_corrections - last_reuse.map_corrections), loops, applied);
+    last_reuse = r;
+    last_loops = s.loops.size();
     std::fflush(stdout);
   };
   double first_t = 0.0;

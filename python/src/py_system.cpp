@@ -76,6 +76,50 @@ py::dict timingToDict(const StageTiming& t) {
                   py::arg("max_ms") = t.max_ms);
 }
 
+py::dict pinholeToDict(const PinholeIntrinsics& p) {
+  return py::dict(py::arg("fx") = p.fx, py::arg("fy") = p.fy, py::arg("cx") = p.cx,
+                  py::arg("cy") = p.cy, py::arg("width") = p.width, py::arg("height") = p.height);
+}
+
+/// The online calibration refinement: where it stands and how it got there (one entry per
+/// fused window, bounded as SystemStats::calibration_history is).
+py::dict calibrationToDict(const SystemStats& s) {
+  const CalibrationStats& c = s.calibration;
+  py::dict d;
+  d["configured"] = pinholeToDict(c.configured);
+  d["applied"] = pinholeToDict(c.applied);
+  d["radial_applied"] = c.radial_applied;
+  d["radial_estimate"] = c.radial_estimate;
+  d["focal_scale_estimate"] = c.focal_scale_estimate;
+  d["cx_shift_estimate"] = c.cx_shift_estimate;
+  d["cy_shift_estimate"] = c.cy_shift_estimate;
+  d["radial_sigma"] = c.radial_sigma;
+  d["focal_scale_sigma"] = c.focal_scale_sigma;
+  d["cx_sigma"] = c.cx_sigma;
+  d["cy_sigma"] = c.cy_sigma;
+  d["windows"] = c.windows;
+  py::list history;
+  for (const CalibrationSample& h : s.calibration_history) {
+    py::dict e;
+    e["windows"] = h.windows;
+    e["frame_index"] = h.frame_index;
+    e["timestamp"] = h.timestamp;
+    e["radial_estimate"] = h.radial_estimate;
+    e["focal_scale_estimate"] = h.focal_scale_estimate;
+    e["cx_shift_estimate"] = h.cx_shift_estimate;
+    e["cy_shift_estimate"] = h.cy_shift_estimate;
+    e["radial_sigma"] = h.radial_sigma;
+    e["focal_scale_sigma"] = h.focal_scale_sigma;
+    e["cx_sigma"] = h.cx_sigma;
+    e["cy_sigma"] = h.cy_sigma;
+    e["radial_applied"] = h.radial_applied;
+    e["applied"] = pinholeToDict(h.applied);
+    history.append(e);
+  }
+  d["history"] = history;
+  return d;
+}
+
 py::dict statsToDict(const SystemStats& s) {
   py::dict d;
   d["frames"] = s.frames;
@@ -90,6 +134,7 @@ py::dict statsToDict(const SystemStats& s) {
   d["map_points"] = s.map.points;
   d["map_bytes"] = s.map.bytes;
   d["reactivations"] = s.reuse.reactivations;
+  d["calibration"] = calibrationToDict(s);
   py::dict stages, latency;
   for (const StageTiming& t : s.stages) stages[t.stage.c_str()] = timingToDict(t);
   for (const StageTiming& t : s.latency) latency[t.stage.c_str()] = timingToDict(t);

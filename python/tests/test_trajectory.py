@@ -46,6 +46,25 @@ def test_python_matches_the_cli(scene, scratch):
     assert system.keyframe_trajectory().shape[1] == 8
 
 
+def test_calibration_refinement_in_stats(scene):
+    # A window of three keyframes is full early: the refinement fuses a window estimate per
+    # keyframe from then on, and stats() reports it and its history as SystemStats does.
+    dataset = ldsm.open_dataset(str(scene))
+    system = ldsm.System({"system": {"deterministic": True},
+                          "window": {"min_keyframes": 2, "max_keyframes": 3}},
+                         dataset.calibration, dataset.photometric)
+    for frame in dataset:
+        system.submit(frame.image, frame.timestamp, frame.exposure_ms)
+    system.finish()
+    cal = system.stats()["calibration"]
+    assert cal["windows"] > 0 and len(cal["history"]) == min(cal["windows"], 256)
+    windows = [h["windows"] for h in cal["history"]]
+    assert windows == sorted(set(windows)) and windows[-1] == cal["windows"]
+    assert cal["history"][-1]["radial_estimate"] == cal["radial_estimate"]
+    assert cal["radial_sigma"] > 0
+    assert cal["configured"]["width"] > 0 and cal["applied"]["fx"] > 0
+
+
 def test_evaluation_on_arrays(scene):
     dataset = ldsm.open_dataset(str(scene))
     gt = dataset.groundtruth()

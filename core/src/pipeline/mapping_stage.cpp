@@ -257,6 +257,9 @@ void MappingStage::publishMap(MapUpdate&& update) {
       if (r.redundant)
         spdlog::trace("reuse: keyframe {} is covered by map keyframe {} ({:.0f} %)", kf.id,
                       r.covered_by, 100.0 * r.coverage);
+      else
+        spdlog::debug("reuse: keyframe {} joins the map (best cover {:.0f} % by keyframe {})",
+                      kf.id, 100.0 * r.coverage, r.covered_by);
     }
     if (kf.culled) {
       store_.cullKeyframe(kf.id);
