@@ -57,6 +57,11 @@ void runInfo(const std::string& path) {
   std::printf("calibration:  %dx%d, fx %.3f fy %.3f cx %.3f cy %.3f, radial k %.6g\n",
               s.camera.width, s.camera.height, s.camera.fx, s.camera.fy, s.camera.cx, s.camera.cy,
               s.radial_k);
+  if (s.focal_scale != 1.0 || s.cx_shift != 0.0 || s.cy_shift != 0.0)
+    std::printf(
+        "refined:      measured with fx, fy x %.5f, cx %+.3f, cy %+.3f px (online "
+        "calibration refinement)\n",
+        s.focal_scale, s.cx_shift, s.cy_shift);
   std::printf("photometric:  %s (hash %016llx)\n", photometricText(s).c_str(),
               static_cast<unsigned long long>(s.photometric_hash));
   printVocabulary(vocabulary, path);

@@ -1,7 +1,8 @@
 // A long revisiting run, pass by pass: a sequence made by scripts/pingpong-sequence.sh (a real
 // sequence played forward and backward N times) through the System, with per pass the ATE of
 // that pass (its own Sim(3) alignment) and of everything so far, keyframes (made, kept with data),
-// map points, resident memory and the latency of the pass. What map reuse must keep bounded:
+// map points, resident memory (RSS, and the live heap: RSS also holds freed memory the allocator
+// keeps) and the latency of the pass. What map reuse must keep bounded:
 // after the first pass, memory should hardly grow.
 //
 //   bench_soak --dataset DIR --frames-per-pass K [--realtime] [--no-reuse] [--no-loop]
@@ -17,6 +18,7 @@
 // (threaded, frames dropped when tracking is behind) paced at the recorded frame rate.
 #include <spdlog/spdlog.h>
 
+#include <malloc.h>
 #include <unistd.h>
 #include <chrono>
 #include <cstdio>
@@ -36,6 +38,17 @@ double residentMb() {
   long pages = 0, resident = 0;
   in >> pages >> resident;
   return static_cast<double>(resident) * static_cast<double>(sysconf(_SC_PAGESIZE)) / (1 << 20);
+}
+
+/// Bytes the allocator has handed out and not got back (glibc): the live heap, without the freed
+/// memory it keeps for reuse, which RSS counts.
+double liveHeapMb() {
+#if defined(__GLIBC__) && (__GLIBC__ > 2 || (__GLIBC__ == 2 && __GLIBC_MINOR__ >= 33))
+  const struct mallinfo2 m = mallinfo2();
+  return static_cast<double>(m.uordblks + m.hblkhd) / (1 << 20);
+#else
+  return NAN;
+#endif
 }
 
 ldsm::Trajectory between(const ldsm::Trajectory& t, double t0, double t1) {
@@ -103,8 +116,9 @@ int main(int argc, char** argv) {
   std::printf("%s, %s, reuse %s, loop closure %s\n", dataset.c_str(),
               realtime ? "real time, threaded" : "deterministic", reuse ? "on" : "off",
               loop ? "on" : "off");
-  std::printf("%4s %8s %10s %10s %9s %9s %10s %11s %9s %9s\n", "pass", "frames", "ATE pass",
-              "ATE all", "keyframes", "kf data", "points", "graph v/e", "RSS MB", "ms/frame");
+  std::printf("%4s %8s %10s %10s %9s %9s %10s %11s %9s %9s %9s\n", "pass", "frames", "ATE pass",
+              "ATE all", "keyframes", "kf data", "points", "graph v/e", "RSS MB", "heap MB",
+              "ms/frame");
   ldsm::drivers::Frame f;
   std::int64_t n = 0;
   double pass_start_t = -1.0;
@@ -122,15 +136,16 @@ int main(int argc, char** argv) {
     pass_wall = now;
     const std::string graph =
         std::to_string(s.map.pose_graph_vertices) + "/" + std::to_string(s.map.pose_graph_edges);
-    std::printf("%4lld %8lld %10s %10s %9lld %9lld %10lld %11s %9.1f %9.2f\n",
-                static_cast<long long>(pass), static_cast<long long>(s.frames),
-                ldsm::bench::cell(ate(between(in.ground_truth, pass_start_t, t_end),
-                                      between(est, pass_start_t, t_end)),
-                                  "%.5f")
-                    .c_str(),
-                ldsm::bench::cell(ate(in.ground_truth, est), "%.5f").c_str(),
-                static_cast<long long>(s.keyframes), static_cast<long long>(s.map.data_keyframes),
-                static_cast<long long>(s.map.points), graph.c_str(), residentMb(), ms);
+    std::printf(
+        "%4lld %8lld %10s %10s %9lld %9lld %10lld %11s %9.1f %9.1f %9.2f\n",
+        static_cast<long long>(pass), static_cast<long long>(s.frames),
+        ldsm::bench::cell(
+            ate(between(in.ground_truth, pass_start_t, t_end), between(est, pass_start_t, t_end)),
+            "%.5f")
+            .c_str(),
+        ldsm::bench::cell(ate(in.ground_truth, est), "%.5f").c_str(),
+        static_cast<long long>(s.keyframes), static_cast<long long>(s.map.data_keyframes),
+        static_cast<long long>(s.map.points), graph.c_str(), residentMb(), liveHeapMb(), ms);
     const ldsm::ReuseStats& r = s.reuse;
     int loops = 0, applied = 0;
     for (std::size_t i = last_loops; i < s.loops.size(); ++i) {

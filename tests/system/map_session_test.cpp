@@ -19,6 +19,7 @@
 #include "ldsm/error.h"
 #include "ldsm/eval/ate.h"
 #include "ldsm/system.h"
+#include "mapfile/map_codec.h"
 
 namespace ldsm {
 namespace {
@@ -162,6 +163,46 @@ TEST_F(MapSessions, LocalizeOnlyNeverChangesTheMap) {
   std::printf("localise only: %zu poses, error under the first session's alignment %.4f m\n",
               matched, rmse);
   EXPECT_LE(rmse, 2.0 * first_ate.rmse);
+}
+
+/// A map saved by a self-calibrating session (a focal and principal point correction applied,
+/// docs/map-file.md CALR) is reused in the camera it was measured in: the loading session starts
+/// with that correction, keeps it (refinement off), and saves it back unchanged.
+TEST(MapSessionCalibration, ARefinedMapIsReusedInTheCameraItWasMeasuredIn) {
+  const std::vector<std::uint8_t> plain = runSession(sessionConfig(), 0, 40, {}).map_after;
+  ASSERT_FALSE(plain.empty());
+  MapData data = decodeMap(plain.data(), plain.size(), "plain");
+  EXPECT_EQ(data.calibration.focal_log_scale, 0.0);
+  data.calibration.focal_log_scale = 0.03;
+  data.calibration.cx_shift = 2.5;
+  data.calibration.cy_shift = -1.5;
+  const std::vector<std::uint8_t> refined = encodeMap(data);
+
+  drivers::sim::SimSource source("loop", drivers::sim::SimOptions{});
+  System system(sessionConfig(), source.geometricCalibration(), source.photometricCalibration(),
+                refined, "refined.ldsmmap");
+  const CalibrationStats before = system.stats().calibration;
+  EXPECT_NEAR(before.applied.fx, before.configured.fx * std::exp(0.03), 1e-9 * before.applied.fx);
+  EXPECT_NEAR(before.applied.fy, before.configured.fy * std::exp(0.03), 1e-9 * before.applied.fy);
+  EXPECT_NEAR(before.applied.cx, before.configured.cx + 2.5, 1e-9);
+  EXPECT_NEAR(before.applied.cy, before.configured.cy - 1.5, 1e-9);
+  EXPECT_TRUE(system.saveMap() == refined) << "the correction must be saved back unchanged";
+
+  // Tracking in it: the window works in that camera and the map it saves says so.
+  source.seek(10);
+  drivers::Frame frame;
+  while (frame.index + 1 < 40 && source.next(frame))
+    system.submit({frame.image.view(), frame.timestamp, frame.exposure_ms});
+  system.finish();
+  EXPECT_GT(system.stats().tracked_frames, 20);
+  const CalibrationStats after = system.stats().calibration;
+  EXPECT_EQ(after.applied.fx, before.applied.fx);
+  EXPECT_EQ(after.applied.cx, before.applied.cx);
+  const std::vector<std::uint8_t> saved = system.saveMap();
+  const MapData back = decodeMap(saved.data(), saved.size(), "saved");
+  EXPECT_EQ(back.calibration.focal_log_scale, 0.03);
+  EXPECT_EQ(back.calibration.cx_shift, 2.5);
+  EXPECT_EQ(back.calibration.cy_shift, -1.5);
 }
 
 /// Each bad input is an error naming the file and what is wrong, before any frame.

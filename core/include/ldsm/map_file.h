@@ -32,6 +32,9 @@ struct MapFileSummary {
   std::size_t vocabulary_bytes = 0;  ///< 0: the map has no vocabulary
   PinholeIntrinsics camera;          ///< the rectified camera the map was made with
   double radial_k = 0.0;
+  /// The online refinement's correction the map was measured with: fx, fy times focal_scale,
+  /// cx, cy shifted by these pixels (1, 0, 0: none).
+  double focal_scale = 1.0, cx_shift = 0.0, cy_shift = 0.0;
   bool has_response = false;
   bool has_vignette = false;
   std::uint64_t photometric_hash = 0;

@@ -137,6 +137,18 @@ CalibVector CalibrationRefinement::sigma() const {
   return s;
 }
 
+void CalibrationRefinement::startAt(double focal_log_scale, double cx_shift, double cy_shift) {
+  const double c[] = {focal_log_scale, cx_shift, cy_shift};
+  const int params[] = {kCalibFocal, kCalibCx, kCalibCy};
+  for (int i = 0; i < 3; ++i) {
+    const int p = params[i];
+    const auto u = static_cast<size_t>(p);
+    estimate_[p] = c[i];
+    applied_[p] = c[i];
+    engaged_[u] = c[i] != 0.0;
+  }
+}
+
 void CalibrationRefinement::addWindowStep(const CalibVector& step, const CalibMatrix& curvature) {
   if (refined_.empty() || !step.allFinite() || !curvature.allFinite()) return;
   // Only the refined parameters take part; their curvature block must be positive definite.

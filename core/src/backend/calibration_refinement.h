@@ -77,6 +77,11 @@ class CalibrationRefinement {
  public:
   explicit CalibrationRefinement(const CalibrationRefinementConfig& config);
 
+  /// Starts from a correction made earlier (a loaded map's): estimate and applied correction are
+  /// `c` for the focal and principal point parts (each on when not 0, refined or not, so that the
+  /// camera is the one the map was measured in); the window estimates that follow refine it from
+  /// there (the first with one window's weight, as from the configured camera).
+  void startAt(double focal_log_scale, double cx_shift, double cy_shift);
   /// Adds one window's step, taken with applied() in effect.
   void addWindowStep(const CalibVector& step, const CalibMatrix& curvature);
   /// The correction the window applies (a parameter is 0 while off).

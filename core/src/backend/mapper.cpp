@@ -124,6 +124,13 @@ void Mapper::traceFrame(const ImagePyramid& frame, const MapperFrame& info) {
   }
 }
 
+void Mapper::startCalibrationAt(double focal_log_scale, double cx_shift, double cy_shift) {
+  calibration_.startAt(focal_log_scale, cx_shift, cy_shift);
+  const CalibVector& c = calibration_.applied();
+  camera_ = PyramidCamera(correctedIntrinsics(base_camera_.intrinsics(), c), base_camera_.levels());
+  optimizer_.setCamera(camera_[0], c[kCalibRadial]);
+}
+
 void Mapper::refineCalibration(const WindowOptimizationResult& opt) {
   // Only full windows: the first keyframes' short baselines say little about the calibration.
   if (static_cast<int>(window_.size()) <= settings_.window.max_keyframes) return;

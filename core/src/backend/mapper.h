@@ -106,6 +106,9 @@ class Mapper {
   /// Keyframe ids continue after `next` (a loaded map's keyframes keep theirs). Before the first
   /// keyframe only.
   void setNextKeyframeId(int next) { next_keyframe_id_ = next; }
+  /// A loaded map's focal and principal point correction (CalibrationRefinement::startAt): the
+  /// window works in the camera the map was measured in. Before the first keyframe.
+  void startCalibrationAt(double focal_log_scale, double cx_shift, double cy_shift);
   /// The first keyframe of the window's chain (the window started at initialisation or
   /// relocalisation with it): keyframes with smaller ids came from earlier chains or sessions.
   int chainStartId() const { return chain_start_id_; }

@@ -52,6 +52,17 @@ class Checker {
     if (!std::isfinite(c.camera.cx)) return bad("cx", c.camera.cx, "finite");
     if (!std::isfinite(c.camera.cy)) return bad("cy", c.camera.cy, "finite");
     if (!std::isfinite(c.radial_k)) return bad("radial_k", c.radial_k, "finite");
+    // The refinement's correction: a focal length within a factor e, a principal point within the
+    // image (calibration.focal_max and principal_point_max are far inside these).
+    const auto badRefinement = [&](const char* what, double v, const char* expected) {
+      return fail(kRefinementTag, std::string(what) + " " + numberText(v) + " is not " + expected);
+    };
+    if (!(std::abs(c.focal_log_scale) <= 1.0))
+      return badRefinement("focal_log_scale", c.focal_log_scale, "in [-1, 1]");
+    if (!(std::abs(c.cx_shift) <= c.camera.width))
+      return badRefinement("cx_shift", c.cx_shift, "within the image width");
+    if (!(std::abs(c.cy_shift) <= c.camera.height))
+      return badRefinement("cy_shift", c.cy_shift, "within the image height");
     return true;
   }
 

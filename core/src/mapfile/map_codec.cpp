@@ -19,6 +19,7 @@ void writeSection(ByteWriter& w, std::uint32_t tag, const MapData& map) {
   if (tag == kCovisibilityTag) writeCovisibility(w, map.covisibility);
   if (tag == kGraphTag) writeGraph(w, map.graph);
   if (tag == kVocabularyTag) w.bytes(map.vocabulary.data(), map.vocabulary.size());
+  if (tag == kRefinementTag) writeRefinement(w, map.calibration);
 }
 
 void readSection(ByteReader& r, std::uint32_t tag, MapData& map) {
@@ -33,13 +34,14 @@ void readSection(ByteReader& r, std::uint32_t tag, MapData& map) {
     const std::uint8_t* p = r.bytes(n);
     map.vocabulary.assign(p, p + n);
   }
+  if (tag == kRefinementTag) readRefinement(r, map.calibration);
 }
 
 /// Bytes to reserve for the whole file (exact but for the small sections).
 std::size_t estimatedBytes(const MapData& map) {
-  return layoutBytes(std::size(kSectionOrder)) + 256 + map.keyframes.size() * 96 +
-         keyframeDataBytes(map.data) + map.points.size() * 40 + map.covisibility.size() * 12 +
-         map.graph.size() * 472 + map.vocabulary.size();
+  return layoutBytes(std::size(kSectionOrder) + std::size(kOptionalSections)) + 256 +
+         map.keyframes.size() * 96 + keyframeDataBytes(map.data) + map.points.size() * 40 +
+         map.covisibility.size() * 12 + map.graph.size() * 472 + map.vocabulary.size();
 }
 
 }  // namespace
@@ -49,6 +51,7 @@ namespace ldsm {
 
 using mapfile::ByteReader;
 using mapfile::ByteWriter;
+using mapfile::kOptionalSections;
 using mapfile::kSectionOrder;
 using mapfile::layoutBytes;
 using mapfile::SectionEntry;
@@ -59,17 +62,19 @@ std::vector<std::uint8_t> encodeMap(const MapData& map) {
     throw Error("map to save: " + sectionLabel(problem->section) + ": " + problem->what);
   std::vector<std::uint8_t> file;
   file.reserve(mapfile::estimatedBytes(map));
-  file.resize(layoutBytes(std::size(kSectionOrder)));
+  file.resize(layoutBytes(std::size(kSectionOrder) + std::size(kOptionalSections)));
   ByteWriter w(file);
   std::vector<SectionEntry> sections;
-  for (const std::uint32_t tag : kSectionOrder) {
+  const auto write = [&](std::uint32_t tag) {
     SectionEntry s;
     s.tag = tag;
     s.offset = file.size();
     mapfile::writeSection(w, tag, map);
     s.size = file.size() - s.offset;
     sections.push_back(s);
-  }
+  };
+  for (const std::uint32_t tag : kSectionOrder) write(tag);
+  for (const std::uint32_t tag : kOptionalSections) write(tag);
   mapfile::writeMapLayout(file, std::move(sections));
   return file;
 }
@@ -77,13 +82,15 @@ std::vector<std::uint8_t> encodeMap(const MapData& map) {
 MapData decodeMap(const std::uint8_t* data, std::size_t size, const std::string& where) {
   const mapfile::MapLayout layout = mapfile::readMapLayout(data, size, where);
   MapData map;
-  for (const std::uint32_t tag : kSectionOrder) {
-    const SectionEntry& s = *layout.find(tag);  // present: readMapLayout checked
+  const auto read = [&](const SectionEntry& s) {
     ByteReader r(data + s.offset, static_cast<std::size_t>(s.size),
-                 where + ": " + sectionLabel(tag));
-    mapfile::readSection(r, tag, map);
+                 where + ": " + sectionLabel(s.tag));
+    mapfile::readSection(r, s.tag, map);
     r.expectEnd();
-  }
+  };
+  for (const std::uint32_t tag : kSectionOrder) read(*layout.find(tag));  // readMapLayout checked
+  for (const std::uint32_t tag : kOptionalSections)
+    if (const SectionEntry* s = layout.find(tag)) read(*s);
   if (const auto problem = mapfile::findMapProblem(map))
     throw InputError(where + ": " + sectionLabel(problem->section) + ": " + problem->what);
   return map;

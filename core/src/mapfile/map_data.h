@@ -21,6 +21,13 @@ namespace ldsm {
 struct MapCalibration {
   PinholeIntrinsics camera;  ///< the rectified pinhole the engine works in (level 0)
   double radial_k = 0.0;     ///< residual radial distortion the window applied when it was saved
+  /// The online refinement's focal and principal point correction applied when it was saved
+  /// (backend/calibration_refinement.h): the map's points were measured in `camera` with fx, fy
+  /// times exp(focal_log_scale) and cx, cy shifted by these pixels. A session that loads the map
+  /// starts with the same correction.
+  double focal_log_scale = 0.0;
+  double cx_shift = 0.0;
+  double cy_shift = 0.0;
   bool has_response = false;
   bool has_vignette = false;
   /// FNV-1a hash of the inverse response and the vignette (0: neither known); a loaded map made

@@ -28,6 +28,7 @@ std::string sectionLabel(std::uint32_t tag) {
   if (tag == kCovisibilityTag) name = "covisibility";
   if (tag == kGraphTag) name = "pose graph";
   if (tag == kVocabularyTag) name = "vocabulary";
+  if (tag == kRefinementTag) name = "calibration refinement";
   return "section " + tagText(tag) + (name ? std::string(" (") + name + ")" : std::string());
 }
 

@@ -36,11 +36,16 @@ constexpr std::uint32_t kPointsTag = tagOf("PNTS");
 constexpr std::uint32_t kCovisibilityTag = tagOf("COVI");
 constexpr std::uint32_t kGraphTag = tagOf("GRPH");
 constexpr std::uint32_t kVocabularyTag = tagOf("VOCB");
+constexpr std::uint32_t kRefinementTag = tagOf("CALR");
 
 /// The sections of a version-1 file, in the order they are written; all are required.
 constexpr std::uint32_t kSectionOrder[] = {kCalibrationTag,  kKeyframesTag, kKeyframeDataTag,
                                            kPointsTag,       kCovisibilityTag, kGraphTag,
                                            kVocabularyTag};
+
+/// Optional sections this build writes after the required ones (every time) and reads when
+/// present; a file without them is read with their defaults.
+constexpr std::uint32_t kOptionalSections[] = {kRefinementTag};
 
 /// "KFDT" for a tag, with non-printable bytes as "\xNN".
 std::string tagText(std::uint32_t tag);

@@ -14,6 +14,9 @@ namespace ldsm::mapfile {
 
 void writeCalibration(ByteWriter& w, const MapCalibration& c);
 MapCalibration readCalibration(ByteReader& r);
+/// CALR: the refinement's correction in `c` (focal_log_scale, cx_shift, cy_shift).
+void writeRefinement(ByteWriter& w, const MapCalibration& c);
+void readRefinement(ByteReader& r, MapCalibration& c);
 
 void writeKeyframes(ByteWriter& w, const std::vector<KeyframeRecord>& keyframes);
 std::vector<KeyframeRecord> readKeyframes(ByteReader& r);

@@ -1,5 +1,6 @@
 // ldsm/map_file.h: what a map file holds.
 #include <algorithm>
+#include <cmath>
 
 #include "ldsm/map_file.h"
 #include "mapfile/map_codec.h"
@@ -27,6 +28,9 @@ MapFileSummary summarizeMap(const std::uint8_t* data, std::size_t size, const st
   s.vocabulary_bytes = map.vocabulary.size();
   s.camera = map.calibration.camera;
   s.radial_k = map.calibration.radial_k;
+  s.focal_scale = std::exp(map.calibration.focal_log_scale);
+  s.cx_shift = map.calibration.cx_shift;
+  s.cy_shift = map.calibration.cy_shift;
   s.has_response = map.calibration.has_response;
   s.has_vignette = map.calibration.has_vignette;
   s.photometric_hash = map.calibration.photometric_hash;

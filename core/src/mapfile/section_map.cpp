@@ -1,4 +1,5 @@
-// CALB (calibration), PNTS (points), COVI (covisibility) and GRPH (pose graph): docs/map-file.md.
+// CALB (calibration), CALR (calibration refinement), PNTS (points), COVI (covisibility) and GRPH
+// (pose graph): docs/map-file.md.
 #include <string>
 
 #include "mapfile/map_sections.h"
@@ -44,6 +45,18 @@ MapCalibration readCalibration(ByteReader& r) {
   c.has_vignette = (flags & kVignetteFlag) != 0;
   c.photometric_hash = r.u64();
   return c;
+}
+
+void writeRefinement(ByteWriter& w, const MapCalibration& c) {
+  w.f64(c.focal_log_scale);
+  w.f64(c.cx_shift);
+  w.f64(c.cy_shift);
+}
+
+void readRefinement(ByteReader& r, MapCalibration& c) {
+  c.focal_log_scale = r.f64();
+  c.cx_shift = r.f64();
+  c.cy_shift = r.f64();
 }
 
 void writePoints(ByteWriter& w, const std::vector<HostedPoint>& points) {

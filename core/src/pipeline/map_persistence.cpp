@@ -160,7 +160,7 @@ void importMap(const MapData& map, const MapCalibration& now, const std::string&
   }
   int next_id = 0;
   for (const KeyframeRecord& r : map.keyframes) next_id = std::max(next_id, r.id + 1);
-  mapping.continueAfterLoadedMap(next_id);
+  mapping.continueAfterLoadedMap(next_id, map.calibration);
   tracking.startInLoadedMap();
 }
 

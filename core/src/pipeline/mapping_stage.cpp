@@ -234,6 +234,13 @@ void MappingStage::startWindow(const MapperFrame& info, int points, bool initial
                                  newest.T_c_w.inverse().toPose(), points});
 }
 
+void MappingStage::continueAfterLoadedMap(int next_keyframe_id, const MapCalibration& calibration) {
+  mapper_.setNextKeyframeId(next_keyframe_id);
+  mapper_.startCalibrationAt(calibration.focal_log_scale, calibration.cx_shift,
+                             calibration.cy_shift);
+  publishSnapshot();
+}
+
 void MappingStage::reset() {
   publishMap(mapper_.reset());
   last_left_id_ = -1;
@@ -424,6 +431,10 @@ void MappingStage::publishSnapshot() {
   s->active_point_count = static_cast<int>(s->active_points.size());
   s->radial_estimate = mapper_.radialEstimate();
   s->radial_applied = mapper_.radialK();
+  const CalibVector& applied = mapper_.calibration().applied();
+  s->focal_log_applied = applied[kCalibFocal];
+  s->cx_shift_applied = applied[kCalibCx];
+  s->cy_shift_applied = applied[kCalibCy];
   s->calibration = calibrationStats(mapper_);
   if (s->has_window && s->calibration.windows > 0)
     calibration_history_.add(calibrationSample(s->calibration, mapper_.newestKeyframe()));

@@ -29,6 +29,7 @@
 #include "ldsm/config.h"
 #include "loop/loop_closer.h"
 #include "map/map_store.h"
+#include "mapfile/map_data.h"
 #include "pipeline/calibration_history.h"
 #include "pipeline/event_sink.h"
 #include "pipeline/reference_exchange.h"
@@ -57,6 +58,8 @@ struct MappingSnapshot {
   int active_point_count = 0;
   double radial_estimate = 0.0;
   double radial_applied = 0.0;
+  /// The focal (log scale) and principal point correction applied (the saved map's CALR).
+  double focal_log_applied = 0.0, cx_shift_applied = 0.0, cy_shift_applied = 0.0;
   CalibrationStats calibration;
   /// The refinement's history (pipeline/calibration_history.h; never null once published).
   std::shared_ptr<const std::vector<CalibrationSample>> calibration_history;
@@ -128,7 +131,9 @@ class MappingStage {
   /// would keep them if they left it now; the window is unchanged.
   std::vector<MarginalizedKeyframe> windowForMap();
   /// A loaded map's keyframes keep their ids: the next keyframe is `next_keyframe_id`.
-  void continueAfterLoadedMap(int next_keyframe_id) { mapper_.setNextKeyframeId(next_keyframe_id); }
+  /// It was measured with the refinement's correction `calibration` (focal and principal point):
+  /// the window starts with it.
+  void continueAfterLoadedMap(int next_keyframe_id, const MapCalibration& calibration);
 
   /// End of a run: waits for the loop task, applies what it found and publishes the window.
   void finish();

@@ -42,6 +42,8 @@ void MappingStage::takeBackMisfits() {
     const bool fits = f.residuals > 0 && f.inliers >= settings_.reuse.min_inlier_fraction *
                                                           static_cast<double>(f.residuals);
     if (fits) continue;
+    spdlog::debug("reuse: keyframe {} no longer fits ({} of {} residuals in the newest keyframe)",
+                  f.id, f.inliers, f.residuals);
     mapper_.deactivate(f.id);
     ++reuse_stats_.deactivations;
   }

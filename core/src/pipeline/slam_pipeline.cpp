@@ -48,12 +48,16 @@ SlamPipeline::SlamPipeline(const Config& config, const GeometricCalibration& geo
 
 MapData SlamPipeline::exportMap() {
   MapCalibration calibration = map_calibration_;
-  calibration.radial_k = mapping_.snapshot()->radial_applied;
+  const std::shared_ptr<const MappingSnapshot> snapshot = mapping_.snapshot();
+  calibration.radial_k = snapshot->radial_applied;
+  calibration.focal_log_scale = snapshot->focal_log_applied;
+  calibration.cx_shift = snapshot->cx_shift_applied;
+  calibration.cy_shift = snapshot->cy_shift_applied;
   MapExportScope scope;
   if (localize_only_) {
     scope.keyframes_below = loaded_keyframes_end_;
     scope.window = false;
-    calibration.radial_k = loaded_radial_k_;
+    calibration = loaded_calibration_;
   }
   return ldsm::exportMap(store_, mapping_, loop_closer_.get(), camera_[0], calibration, scope);
 }
@@ -63,7 +67,7 @@ void SlamPipeline::loadMap(const MapData& map, const std::string& where) {
   loaded_keyframes_end_ = 0;
   for (const KeyframeRecord& r : map.keyframes)
     loaded_keyframes_end_ = std::max(loaded_keyframes_end_, r.id + 1);
-  loaded_radial_k_ = map.calibration.radial_k;
+  loaded_calibration_ = map.calibration;
 }
 
 SlamPipeline::~SlamPipeline() = default;

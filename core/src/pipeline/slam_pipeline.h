@@ -73,7 +73,7 @@ class SlamPipeline {
   bool localize_only_ = false;      ///< map.localize_only: the map saved is the map loaded
   /// Localising only: the loaded map's keyframes end here, and its calibration (radial_k) stays.
   int loaded_keyframes_end_ = 0;
-  double loaded_radial_k_ = 0.0;
+  MapCalibration loaded_calibration_;  ///< the loaded map's (localise-only saves it unchanged)
   PyramidCamera camera_;
   PyramidPool pyramids_;
   MapStore store_;

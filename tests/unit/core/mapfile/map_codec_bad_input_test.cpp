@@ -67,7 +67,7 @@ TEST(MapCodecBadInput, ANewerVersionNamesBothVersions) {
 TEST(MapCodecBadInput, TruncatedAnywhere) {
   const Bytes good = goodFile();
   const auto sections = test::sectionsOf(good);
-  std::vector<std::size_t> cuts = {8, 12, 19, 20, 21, 43, 20 + 7 * 24 - 1};
+  std::vector<std::size_t> cuts = {8, 12, 19, 20, 21, 43, 20 + 8 * 24 - 1};
   for (const auto& s : sections) {
     cuts.push_back(static_cast<std::size_t>(s.offset + s.size / 2));
     cuts.push_back(static_cast<std::size_t>(s.offset + s.size) - 1);
@@ -100,7 +100,7 @@ TEST(MapCodecBadInput, AFlippedByteInEachSectionIsAChecksumError) {
 
 TEST(MapCodecBadInput, AFlippedByteInTheHeaderOrTable) {
   const Bytes good = goodFile();
-  for (std::size_t at : {12u, 16u, 20u, 25u, 40u, 20u + 7 * 24 - 1}) {
+  for (std::size_t at : {12u, 16u, 20u, 25u, 40u, 20u + 8 * 24 - 1}) {
     Bytes bytes = good;
     bytes[at] ^= 0x01;
     const std::string message = errorOf(bytes);
@@ -286,6 +286,25 @@ TEST(MapCodecBadInput, ABadCalibration) {
   test::poke<std::int32_t>(bytes, test::sectionOffset(good, mf::kCalibrationTag), 0);
   test::refreshChecksums(bytes);
   EXPECT_MESSAGE(bytes, "section CALB (calibration): image size 0x480 is not positive");
+}
+
+TEST(MapCodecBadInput, ABadCalibrationRefinement) {
+  const Bytes good = goodFile();
+  const std::size_t at = test::sectionOffset(good, mf::kRefinementTag);
+  Bytes bytes = good;
+  test::poke<double>(bytes, at, std::numeric_limits<double>::quiet_NaN());
+  test::refreshChecksums(bytes);
+  EXPECT_MESSAGE(bytes,
+                 "section CALR (calibration refinement): focal_log_scale nan is not in [-1, 1]");
+  bytes = good;
+  test::poke<double>(bytes, at + 16, -4000.0);
+  test::refreshChecksums(bytes);
+  EXPECT_MESSAGE(bytes,
+                 "section CALR (calibration refinement): cy_shift -4000 is not within the image "
+                 "height");
+  auto split = test::splitSections(good);
+  split[7].second.resize(16);
+  EXPECT_MESSAGE(test::fileOf(split), "section CALR (calibration refinement): data ends early");
 }
 
 TEST(MapCodecBadInput, EveryPrefixAndEverySingleByteChangeIsRejectedCleanly) {

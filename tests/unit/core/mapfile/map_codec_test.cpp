@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 
 #include "ldsm/error.h"
@@ -73,23 +74,47 @@ TEST(MapCodec, UnknownSectionsAreSkipped) {
   test::expectSameMap(map, decodeMap(reordered.data(), reordered.size(), "reordered.ldsm"));
 }
 
+TEST(MapCodec, TheRefinementRoundTripsAndAFileWithoutItReadsAsNone) {
+  MapData map = test::syntheticMap({});
+  map.calibration.focal_log_scale = 0.0487;
+  map.calibration.cx_shift = -9.75;
+  map.calibration.cy_shift = 1.0 / 3.0;
+  const Bytes bytes = encodeMap(map);
+  const MapData back = decodeMap(bytes.data(), bytes.size(), "refined.ldsm");
+  test::expectSameMap(map, back);
+  EXPECT_EQ(encodeMap(back), bytes);
+  // An earlier build's file has no CALR: the same map, measured without a correction.
+  auto sections = test::splitSections(bytes);
+  sections.erase(std::remove_if(sections.begin(), sections.end(),
+                                [](const auto& s) { return s.first == mapfile::kRefinementTag; }),
+                 sections.end());
+  ASSERT_EQ(sections.size(), 7u);
+  const Bytes older = test::fileOf(sections);
+  const MapData old = decodeMap(older.data(), older.size(), "older.ldsm");
+  MapData expected = map;
+  expected.calibration.focal_log_scale = 0.0;
+  expected.calibration.cx_shift = 0.0;
+  expected.calibration.cy_shift = 0.0;
+  test::expectSameMap(expected, old);
+}
+
 TEST(MapCodec, TheFileStartsWithItsSignatureAndVersion) {
   const Bytes bytes = encodeMap(test::syntheticMap({}));
   ASSERT_GT(bytes.size(), 20u);
   EXPECT_EQ(std::string(reinterpret_cast<const char*>(bytes.data()), 8),
             std::string("LDSMMAP\0", 8));
   EXPECT_EQ(mapfile::loadU32(bytes.data() + 8), 1u);
-  EXPECT_EQ(mapfile::loadU32(bytes.data() + 12), 7u);
+  EXPECT_EQ(mapfile::loadU32(bytes.data() + 12), 8u);
   const auto sections = test::sectionsOf(bytes);
-  ASSERT_EQ(sections.size(), 7u);
-  const char* order[] = {"CALB", "KFRM", "KFDT", "PNTS", "COVI", "GRPH", "VOCB"};
-  for (std::size_t i = 0; i < 7; ++i) EXPECT_EQ(mapfile::tagText(sections[i].tag), order[i]);
+  ASSERT_EQ(sections.size(), 8u);
+  const char* order[] = {"CALB", "KFRM", "KFDT", "PNTS", "COVI", "GRPH", "VOCB", "CALR"};
+  for (std::size_t i = 0; i < 8; ++i) EXPECT_EQ(mapfile::tagText(sections[i].tag), order[i]);
 }
 
 TEST(MapCodec, SizesPerRecordAreAsDocumented) {
   // docs/map-file.md's tables: a keyframe pose 88 bytes, a data keyframe 141 + 84 per point +
   // 44 per described corner + 65 per link, a cloud point 37, a covisibility edge 12, a graph edge
-  // 465, the calibration 60.
+  // 465, the calibration 60, the calibration refinement 24.
   test::SyntheticMapSize size;
   size.keyframes = 5;
   size.points_per_keyframe = 10;
@@ -109,7 +134,8 @@ TEST(MapCodec, SizesPerRecordAreAsDocumented) {
   EXPECT_EQ(sections[4].size, 4u + 4 * 12);
   EXPECT_EQ(sections[5].size, 4u + 4 * 465);
   EXPECT_EQ(sections[6].size, 9u);
-  EXPECT_EQ(sections[0].offset, 20u + 7 * 24);
+  EXPECT_EQ(sections[7].size, 24u);
+  EXPECT_EQ(sections[0].offset, 20u + 8 * 24);
 }
 
 TEST(MapCodec, TheEncoderRefusesAMapTheDecoderWouldRefuse) {

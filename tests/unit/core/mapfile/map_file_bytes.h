@@ -98,6 +98,9 @@ inline void expectSameMap(const MapData& a, const MapData& b) {
   EXPECT_EQ(a.calibration.camera.cx, b.calibration.camera.cx);
   EXPECT_EQ(a.calibration.camera.cy, b.calibration.camera.cy);
   EXPECT_EQ(a.calibration.radial_k, b.calibration.radial_k);
+  EXPECT_EQ(a.calibration.focal_log_scale, b.calibration.focal_log_scale);
+  EXPECT_EQ(a.calibration.cx_shift, b.calibration.cx_shift);
+  EXPECT_EQ(a.calibration.cy_shift, b.calibration.cy_shift);
   EXPECT_EQ(a.calibration.has_response, b.calibration.has_response);
   EXPECT_EQ(a.calibration.has_vignette, b.calibration.has_vignette);
   EXPECT_EQ(a.calibration.photometric_hash, b.calibration.photometric_hash);

@@ -51,6 +51,12 @@ std::vector<Seed> seeds() {
   auto split = test::splitSections(three);
   split.push_back({mapfile::tagOf("NEXT"), Bytes{1, 2, 3, 4}});
   out.push_back({"valid-unknown-section.ldsmmap", test::fileOf(split), true});
+  // An earlier build's file: no calibration refinement section.
+  split = test::splitSections(three);
+  split.erase(std::remove_if(split.begin(), split.end(),
+                             [](const auto& s) { return s.first == mapfile::kRefinementTag; }),
+              split.end());
+  out.push_back({"valid-without-refinement.ldsmmap", test::fileOf(split), true});
 
   out.push_back({"truncated-header.ldsmmap", Bytes(three.begin(), three.begin() + 14), false});
   out.push_back({"truncated-table.ldsmmap", Bytes(three.begin(), three.begin() + 100), false});
@@ -66,6 +72,10 @@ std::vector<Seed> seeds() {
                      std::numeric_limits<double>::quiet_NaN());
   test::refreshChecksums(forged);
   out.push_back({"forged-nan-pose.ldsmmap", forged, false});
+  Bytes refinement = three;  // a focal correction of a factor e^2, checksums matching
+  test::poke<double>(refinement, test::sectionOffset(three, mapfile::kRefinementTag), 2.0);
+  test::refreshChecksums(refinement);
+  out.push_back({"forged-refinement.ldsmmap", refinement, false});
   Bytes counts = three;
   test::poke<std::uint32_t>(counts, test::sectionOffset(three, mapfile::kKeyframeDataTag) + 4 + 121,
                             0x10000000u);

@@ -33,9 +33,12 @@ TEST(MapSummary, DescribesWhatTheFileHolds) {
   EXPECT_EQ(s.radial_k, -0.0125);
   EXPECT_TRUE(s.has_response);
   EXPECT_EQ(s.total_bytes, bytes.size());
-  ASSERT_EQ(s.sections.size(), 7u);
+  EXPECT_EQ(s.focal_scale, 1.0);
+  EXPECT_EQ(s.cx_shift, 0.0);
+  ASSERT_EQ(s.sections.size(), 8u);
   EXPECT_EQ(s.sections[2].tag, "KFDT");
-  std::uint64_t sum = 20 + 7 * 24;
+  EXPECT_EQ(s.sections[7].tag, "CALR");
+  std::uint64_t sum = 20 + 8 * 24;
   for (const MapFileSection& section : s.sections) sum += section.bytes;
   EXPECT_EQ(sum, bytes.size());
   // The keyframe centres lie on an ellipse of radii 4 and 1.5 (syntheticMap).
@@ -53,7 +56,8 @@ TEST(MapSummary, ErrorsAreTheLoaders) {
     summarizeMap(bytes.data(), bytes.size(), "cut.ldsm");
     FAIL();
   } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()).rfind("cut.ldsm: section VOCB (vocabulary): ", 0), 0u)
+    EXPECT_EQ(std::string(e.what()).rfind("cut.ldsm: section CALR (calibration refinement): ", 0),
+              0u)
         << e.what();
   }
 }
