@@ -81,13 +81,9 @@ py::dict pinholeToDict(const PinholeIntrinsics& p) {
                   py::arg("cy") = p.cy, py::arg("width") = p.width, py::arg("height") = p.height);
 }
 
-/// The online calibration refinement: where it stands and how it got there (one entry per
-/// fused window, bounded as SystemStats::calibration_history is).
-py::dict calibrationToDict(const SystemStats& s) {
-  const CalibrationStats& c = s.calibration;
-  py::dict d;
-  d["configured"] = pinholeToDict(c.configured);
-  d["applied"] = pinholeToDict(c.applied);
+/// The estimate fields CalibrationStats and CalibrationSample share.
+template <typename T>
+void putEstimate(py::dict& d, const T& c) {
   d["radial_applied"] = c.radial_applied;
   d["radial_estimate"] = c.radial_estimate;
   d["focal_scale_estimate"] = c.focal_scale_estimate;
@@ -98,21 +94,21 @@ py::dict calibrationToDict(const SystemStats& s) {
   d["cx_sigma"] = c.cx_sigma;
   d["cy_sigma"] = c.cy_sigma;
   d["windows"] = c.windows;
+}
+
+/// The online calibration refinement: where it stands and how it got there (one entry per
+/// fused window, bounded as SystemStats::calibration_history is).
+py::dict calibrationToDict(const SystemStats& s) {
+  py::dict d;
+  d["configured"] = pinholeToDict(s.calibration.configured);
+  d["applied"] = pinholeToDict(s.calibration.applied);
+  putEstimate(d, s.calibration);
   py::list history;
   for (const CalibrationSample& h : s.calibration_history) {
     py::dict e;
-    e["windows"] = h.windows;
+    putEstimate(e, h);
     e["frame_index"] = h.frame_index;
     e["timestamp"] = h.timestamp;
-    e["radial_estimate"] = h.radial_estimate;
-    e["focal_scale_estimate"] = h.focal_scale_estimate;
-    e["cx_shift_estimate"] = h.cx_shift_estimate;
-    e["cy_shift_estimate"] = h.cy_shift_estimate;
-    e["radial_sigma"] = h.radial_sigma;
-    e["focal_scale_sigma"] = h.focal_scale_sigma;
-    e["cx_sigma"] = h.cx_sigma;
-    e["cy_sigma"] = h.cy_sigma;
-    e["radial_applied"] = h.radial_applied;
     e["applied"] = pinholeToDict(h.applied);
     history.append(e);
   }
