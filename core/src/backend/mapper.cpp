@@ -126,6 +126,10 @@ void Mapper::traceFrame(const ImagePyramid& frame, const MapperFrame& info) {
 
 void Mapper::startCalibrationAt(double focal_log_scale, double cx_shift, double cy_shift) {
   calibration_.startAt(focal_log_scale, cx_shift, cy_shift);
+  useAppliedCalibration();
+}
+
+void Mapper::useAppliedCalibration() {
   const CalibVector& c = calibration_.applied();
   camera_ = PyramidCamera(correctedIntrinsics(base_camera_.intrinsics(), c), base_camera_.levels());
   optimizer_.setCamera(camera_[0], c[kCalibRadial]);
@@ -142,9 +146,7 @@ void Mapper::refineCalibration(const WindowOptimizationResult& opt) {
   for (int p = 0; p < kCalibParams; ++p)
     was_engaged[static_cast<size_t>(p)] = calibration_.engaged(p);
   calibration_.addWindowStep(opt.calibration_step, opt.calibration_curvature);
-  const CalibVector& c = calibration_.applied();
-  camera_ = PyramidCamera(correctedIntrinsics(base_camera_.intrinsics(), c), base_camera_.levels());
-  optimizer_.setCamera(camera_[0], c[kCalibRadial]);
+  useAppliedCalibration();
   static constexpr const char* kNames[kCalibParams] = {"radial k", "focal scale", "cx", "cy"};
   const CalibVector& e = calibration_.estimate();
   for (int p = 0; p < kCalibParams; ++p)

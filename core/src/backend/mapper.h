@@ -184,6 +184,9 @@ class Mapper {
   void addResidualsToNewest();
   /// Fuses the window's calibration step and hands the resulting correction to the optimiser.
   void refineCalibration(const WindowOptimizationResult& opt);
+  /// The window's camera and the optimiser's become the configured one with the refinement's
+  /// applied correction.
+  void useAppliedCalibration();
   int activatePoints();
   bool optimizeNewPointDepth(ActivePoint& point, const std::vector<FramePairPrecalc>& pairs);
   /// Sets the keyframe's outlier threshold from the energies of the residuals aimed at it.

@@ -431,10 +431,7 @@ void MappingStage::publishSnapshot() {
   s->active_point_count = static_cast<int>(s->active_points.size());
   s->radial_estimate = mapper_.radialEstimate();
   s->radial_applied = mapper_.radialK();
-  const CalibVector& applied = mapper_.calibration().applied();
-  s->focal_log_applied = applied[kCalibFocal];
-  s->cx_shift_applied = applied[kCalibCx];
-  s->cy_shift_applied = applied[kCalibCy];
+  s->calibration_applied = mapper_.calibration().applied();
   s->calibration = calibrationStats(mapper_);
   if (s->has_window && s->calibration.windows > 0)
     calibration_history_.add(calibrationSample(s->calibration, mapper_.newestKeyframe()));

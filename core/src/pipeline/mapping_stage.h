@@ -58,8 +58,9 @@ struct MappingSnapshot {
   int active_point_count = 0;
   double radial_estimate = 0.0;
   double radial_applied = 0.0;
-  /// The focal (log scale) and principal point correction applied (the saved map's CALR).
-  double focal_log_applied = 0.0, cx_shift_applied = 0.0, cy_shift_applied = 0.0;
+  /// The refinement's applied correction (radial k, focal log-scale, cx, cy: what a saved map
+  /// records in CALB and CALR).
+  CalibVector calibration_applied = CalibVector::Zero();
   CalibrationStats calibration;
   /// The refinement's history (pipeline/calibration_history.h; never null once published).
   std::shared_ptr<const std::vector<CalibrationSample>> calibration_history;

@@ -50,9 +50,9 @@ MapData SlamPipeline::exportMap() {
   MapCalibration calibration = map_calibration_;
   const std::shared_ptr<const MappingSnapshot> snapshot = mapping_.snapshot();
   calibration.radial_k = snapshot->radial_applied;
-  calibration.focal_log_scale = snapshot->focal_log_applied;
-  calibration.cx_shift = snapshot->cx_shift_applied;
-  calibration.cy_shift = snapshot->cy_shift_applied;
+  calibration.focal_log_scale = snapshot->calibration_applied[kCalibFocal];
+  calibration.cx_shift = snapshot->calibration_applied[kCalibCx];
+  calibration.cy_shift = snapshot->calibration_applied[kCalibCy];
   MapExportScope scope;
   if (localize_only_) {
     scope.keyframes_below = loaded_keyframes_end_;
