@@ -21,11 +21,11 @@ void MapStore::publishLocked(bool keyframes_changed) {
   auto s = std::make_shared<MapSnapshot>();
   const std::shared_ptr<const MapSnapshot> previous = std::atomic_load(&snapshot_);
   if (keyframes_changed || !previous) {
-    s->keyframes = std::make_shared<const std::vector<KeyframeRecord>>(keyframes_);
+    s->keyframes = std::make_shared<const KeyframeTable>(keyframes_);
   } else {
     s->keyframes = previous->keyframes;
   }
-  for (const KeyframeRecord& kf : *s->keyframes) s->keyframe_count += kf.id >= 0 ? 1 : 0;
+  s->keyframe_count = s->keyframes->count();
   s->points = points_;
   s->point_count = point_count_;
   s->maps = maps_;
@@ -37,15 +37,10 @@ void MapStore::publishLocked(bool keyframes_changed) {
 }
 
 void MapStore::setKeyframeLocked(const KeyframeRecord& record) {
-  if (record.id >= static_cast<int>(keyframes_.size())) {
-    KeyframeRecord empty;
-    empty.id = -1;
-    keyframes_.resize(static_cast<size_t>(record.id) + 1, empty);
-  }
-  KeyframeRecord& kf = keyframes_[record.id];
-  const int map = kf.id < 0 ? maps_.current() : kf.map;
-  kf = record;
-  kf.map = map;
+  if (record.id < 0) return;  // "no keyframe" (keyframe() of an unknown id) has no place
+  KeyframeRecord kf = record;
+  kf.map = keyframes_.has(record.id) ? keyframes_[record.id].map : maps_.current();
+  keyframes_.set(kf);
 }
 
 int MapStore::startNewMap() {
@@ -71,7 +66,7 @@ bool MapStore::inCurrentMap(int keyframe_id) const {
 }
 
 bool MapStore::inCurrentMapLocked(int id) const {
-  if (id < 0 || id >= static_cast<int>(keyframes_.size()) || keyframes_[id].id < 0) return false;
+  if (!keyframes_.has(id)) return false;
   return maps_.root(keyframes_[id].map) == maps_.root(maps_.current());
 }
 
@@ -139,8 +134,7 @@ void MapStore::setKeyframeData(std::shared_ptr<const MarginalizedKeyframe> data)
   if (old != data_.end()) data_bytes_ -= bytesOf(*old->second);
   data_bytes_ += bytesOf(*data);
   data_[id] = std::move(data);
-  if (id >= 0 && id < static_cast<int>(keyframes_.size()) && keyframes_[id].id >= 0)
-    spatial_.set(id, keyframes_[id].T_w_c.translation());
+  if (keyframes_.has(id)) spatial_.set(id, keyframes_[id].T_w_c.translation());
   publishLocked(false);
 }
 
@@ -159,6 +153,11 @@ void MapStore::cullKeyframe(int id) {
   }
   spatial_.remove(id);
   covisibility_.remove(id);
+  if (id >= 0) {
+    if (culled_.size() <= static_cast<std::size_t>(id))
+      culled_.resize(static_cast<std::size_t>(id) + 1);
+    culled_[static_cast<std::size_t>(id)] = true;
+  }
   // Only the blocks holding the keyframe's points are copied (snapshots keep the old ones).
   const auto hosted = [&](const HostedPoint& p) { return p.host == id; };
   std::vector<std::shared_ptr<const MapSnapshot::PointBlock>> kept;
@@ -179,6 +178,11 @@ void MapStore::cullKeyframe(int id) {
 
 void MapStore::connect(int a, int b, int weight) {
   std::lock_guard<std::mutex> lock(mutex_);
+  const auto culled = [&](int id) {
+    return id >= 0 && static_cast<std::size_t>(id) < culled_.size() &&
+           culled_[static_cast<std::size_t>(id)];
+  };
+  if (culled(a) || culled(b)) return;
   covisibility_.connect(a, b, weight);
 }
 
@@ -203,11 +207,11 @@ StoredMap MapStore::firstMap() const {
   std::lock_guard<std::mutex> lock(mutex_);
   StoredMap out;
   const auto first = [&](int id) {
-    return id >= 0 && id < static_cast<int>(keyframes_.size()) && keyframes_[id].id >= 0 &&
-           maps_.label(keyframes_[id].map) == 0;
+    return keyframes_.has(id) && maps_.label(keyframes_[id].map) == 0;
   };
-  for (const KeyframeRecord& kf : keyframes_)
-    if (kf.id >= 0 && first(kf.id)) out.keyframes.push_back(kf);
+  keyframes_.forEach([&](const KeyframeRecord& kf) {
+    if (first(kf.id)) out.keyframes.push_back(kf);
+  });
   for (const auto& [id, data] : data_)
     if (first(id)) out.data.push_back(data);
   for (const auto& block : points_)
@@ -224,7 +228,7 @@ void MapStore::loadMap(const StoredMap& map) {
   for (KeyframeRecord kf : map.keyframes) {
     kf.map = 0;
     setKeyframeLocked(kf);
-    keyframes_[kf.id].map = 0;
+    keyframes_.edit(kf.id).map = 0;
   }
   for (const auto& data : map.data) {
     if (!data || data->id < 0 || data->id >= static_cast<int>(keyframes_.size())) continue;
@@ -286,8 +290,8 @@ int MapStore::applyCorrection(const std::map<int, Sim3d>& S_world_camera) {
   // Old -> new world transform of every keyframe that moves.
   std::map<int, Sim3d> moves;
   for (const auto& [id, S_new] : S_world_camera) {
-    if (id < 0 || id >= static_cast<int>(keyframes_.size()) || keyframes_[id].id < 0) continue;
-    KeyframeRecord& kf = keyframes_[id];
+    if (!keyframes_.has(id)) continue;
+    KeyframeRecord& kf = keyframes_.edit(id);
     const Sim3d S_old(kf.T_w_c.so3(), kf.T_w_c.translation(), kf.scale);
     moves[id] = S_new * S_old.inverse();
     kf.T_w_c = SE3d(S_new.so3(), S_new.translation());
@@ -332,8 +336,8 @@ int MapStore::applyCorrection(const std::map<int, Sim3d>& S_world_camera) {
       }
     }
     for (std::size_t id = 0; id < state.size() && id < keyframes_.size(); ++id) {
-      if (state[id] != kMoves || keyframes_[id].id < 0) continue;
-      KeyframeRecord& kf = keyframes_[id];
+      if (state[id] != kMoves || !keyframes_.has(static_cast<int>(id))) continue;
+      KeyframeRecord& kf = keyframes_.edit(static_cast<int>(id));
       const Sim3d S_new = move[id] * Sim3d(kf.T_w_c.so3(), kf.T_w_c.translation(), kf.scale);
       moves[static_cast<int>(id)] = move[id];
       kf.T_w_c = SE3d(S_new.so3(), S_new.translation());
@@ -373,7 +377,7 @@ Trajectory MapStore::frameTrajectory() const {
   // of the latest snapshot they are composed with.
   const std::size_t n = frames_.size();
   const std::shared_ptr<const MapSnapshot> s = snapshot();
-  const std::vector<KeyframeRecord>& keyframes = *s->keyframes;
+  const KeyframeTable& keyframes = *s->keyframes;
   const MapFrames& maps = s->maps;
   Trajectory out;
   out.reserve(n);
@@ -394,11 +398,11 @@ Trajectory MapStore::frameTrajectory() const {
 Trajectory MapStore::keyframeTrajectory() const {
   const std::shared_ptr<const MapSnapshot> s = snapshot();
   Trajectory out;
-  for (const KeyframeRecord& kf : *s->keyframes) {
-    if (kf.id < 0) continue;
+  out.reserve(s->keyframes->count());
+  s->keyframes->forEach([&](const KeyframeRecord& kf) {
     const int label = s->maps.label(kf.map);
     out.push_back({kf.timestamp, label == 0 ? s->maps.report(kf.T_w_c) : kf.T_w_c.toPose(), label});
-  }
+  });
   return out;
 }
 
@@ -406,7 +410,7 @@ std::vector<MapPoint> MapStore::points() const {
   const std::shared_ptr<const MapSnapshot> s = snapshot();
   std::vector<MapPoint> out;
   out.reserve(s->point_count);
-  const std::vector<KeyframeRecord>& keyframes = *s->keyframes;
+  const KeyframeTable& keyframes = *s->keyframes;
   for (const auto& block : s->points)
     for (const HostedPoint& p : *block) {
       MapPoint m = p.point;
@@ -424,7 +428,7 @@ std::size_t MapStore::keyframeCount() const {
 
 bool MapStore::hasKeyframe(int id) const {
   std::lock_guard<std::mutex> lock(mutex_);
-  return id >= 0 && id < static_cast<int>(keyframes_.size()) && keyframes_[id].id >= 0;
+  return keyframes_.has(id);
 }
 
 }  // namespace ldsm

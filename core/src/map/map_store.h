@@ -8,8 +8,9 @@
 // rest is guarded by one mutex, never held while the window is optimised. The queries
 // (frameTrajectory, keyframeTrajectory, points, the counts) take no lock either: every change
 // publishes an immutable MapSnapshot, which they read. The points are kept in immutable blocks
-// (one per addPoints call) that snapshots share; a correction or a cull copies only the blocks it
-// changes, so publishing costs a copy of the keyframe poses and of the block pointers.
+// (one per addPoints call) that snapshots share, and so are the keyframe poses (KeyframeTable); a
+// correction or a cull copies only the blocks it changes, so publishing costs a copy of block
+// pointers, not of the map.
 #pragma once
 
 #include <array>
@@ -22,6 +23,7 @@
 #include "concurrency/append_only_log.h"
 #include "ldsm/types.h"
 #include "map/covisibility_graph.h"
+#include "map/keyframe_table.h"
 #include "map/map_frames.h"
 #include "map/spatial_index.h"
 #include "math/sim3.h"
@@ -33,7 +35,7 @@ namespace ldsm {
 /// What the map store's queries read: the state after one change, never modified afterwards.
 struct MapSnapshot {
   using PointBlock = std::vector<HostedPoint>;
-  std::shared_ptr<const std::vector<KeyframeRecord>> keyframes;  ///< indexed by id (-1: none)
+  std::shared_ptr<const KeyframeTable> keyframes;  ///< by id, its blocks shared with the store
   std::vector<std::shared_ptr<const PointBlock>> points;         ///< in the order they were added
   std::size_t keyframe_count = 0;
   std::size_t data_keyframes = 0;
@@ -111,8 +113,11 @@ class MapStore {
   /// The kept data of a keyframe, null when none is kept (still in the window, or culled).
   std::shared_ptr<const MarginalizedKeyframe> keyframeData(int id) const;
   /// Drops a redundant keyframe's data and the points it hosted; its pose stays (frames were
-  /// tracked against it).
+  /// tracked against it). It leaves the covisibility graph for good.
   void cullKeyframe(int id);
+  /// Adds `weight` to the covisibility edge a - b. A culled keyframe has no place in the graph:
+  /// an edge to one (a loop found from a keyframe culled before the loop closer saw it) is left
+  /// out, so the graph stays as large as the map.
   void connect(int a, int b, int weight = 1);
   /// Keyframes with data within `hops` covisibility edges of `start`.
   std::vector<int> covisibleNeighbourhood(const std::vector<int>& start, int hops,
@@ -138,8 +143,9 @@ class MapStore {
 
   mutable std::mutex mutex_;
   MapFrames maps_;
-  std::vector<KeyframeRecord> keyframes_;  ///< indexed by id
+  KeyframeTable keyframes_;
   std::vector<int> follows_;               ///< indexed by id: the keyframe it moves with (-1)
+  std::vector<bool> culled_;               ///< indexed by id: its data was dropped (cullKeyframe)
   concurrency::AppendOnlyLog<FrameRecord> frames_;
   std::vector<std::shared_ptr<const MapSnapshot::PointBlock>> points_;
   std::size_t point_count_ = 0;

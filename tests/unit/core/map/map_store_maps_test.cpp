@@ -85,5 +85,28 @@ TEST(MapStoreMaps, MostRedundantKeyframeIsTheNearestToAnotherLookingTheSameWay) 
   EXPECT_EQ(store.dataKeyframeCount(), 3u);
 }
 
+TEST(MapStoreMaps, ACulledKeyframeNeverComesBackIntoTheCovisibilityGraph) {
+  // A loop is found from a keyframe after it was culled (the loop closer sees every keyframe
+  // that leaves the window, culled or kept): the edge would bring it back as a vertex that no
+  // cull removes again, one more per loop, and join the map keyframes through it.
+  MapStore store;
+  for (int id = 0; id < 3; ++id) {
+    store.setKeyframe({id, id, 0.1 * id, SE3d(SO3d(), Eigen::Vector3d(id, 0, 0))});
+    store.setKeyframeData(data(id));
+  }
+  store.connect(0, 1);
+  EXPECT_EQ(store.covisibleNeighbourhood({0}, 2, 10), std::vector<int>({1}));
+  store.cullKeyframe(1);
+  EXPECT_TRUE(store.covisibleNeighbourhood({0}, 2, 10).empty());
+  store.connect(1, 2);  // the loop found from the culled keyframe
+  store.connect(0, 1);
+  EXPECT_TRUE(store.covisibleNeighbourhood({0}, 2, 10).empty());
+  EXPECT_TRUE(store.covisibleNeighbourhood({2}, 2, 10).empty());
+  EXPECT_TRUE(store.firstMap().covisibility.empty());
+  store.connect(0, 2);
+  EXPECT_EQ(store.covisibleNeighbourhood({0}, 2, 10), std::vector<int>({2}));
+  ASSERT_EQ(store.firstMap().covisibility.size(), 1u);
+}
+
 }  // namespace
 }  // namespace ldsm
