@@ -92,10 +92,17 @@ void WindowOptimizer::precalcPairs(const std::vector<WindowKeyframe*>& window) {
   for (size_t i = 0; i < n; ++i) window[i]->window_index = static_cast<int>(i);
   for (size_t h = 0; h < n; ++h)
     for (size_t t = 0; t < n; ++t) {
-      if (h == t || !window[t]->hasImage()) continue;
+      // Every pair's adjoint, also towards a keyframe without an image (a reactivated map
+      // keyframe, never a residual's target): the pair sums multiply it by their zero terms, and
+      // an adjoint left from an earlier window, or never written, could be anything, NaN too.
+      if (h == t) {
+        adjoints_[h * n + t].setIdentity();
+        continue;
+      }
+      adjoints_[h * n + t] = (window[t]->T_c_w_eval * window[h]->T_c_w_eval.inverse()).adjoint();
+      if (!window[t]->hasImage()) continue;
       pairs_[h * n + t].set(*window[h], *window[t], camera_);
       pairs_[h * n + t].radial_k = static_cast<float>(radial_k_);
-      adjoints_[h * n + t] = (window[t]->T_c_w_eval * window[h]->T_c_w_eval.inverse()).adjoint();
     }
 }
 
