@@ -8,6 +8,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -25,6 +26,7 @@
 #include "ldsm/drivers/map_file_io.h"
 #include "ldsm/drivers/realtime_replay_source.h"
 #include "ldsm/drivers/trajectory_io.h"
+#include "ldsm/drivers/trajectory_spill.h"
 #include "ldsm/error.h"
 #include "ldsm/eval/ate.h"
 #include "ldsm/system.h"
@@ -283,6 +285,27 @@ int run(const RunOptions& o) {
   auto last_print = start;
   auto last_flush = start;
   std::string status = "finished";
+  // With a bounded frame history (system.frame_history; live input by default) the poses that
+  // leave memory are kept on disk beside the outputs until the whole trajectory is written.
+  drivers::TrajectorySpill spill(
+      (std::filesystem::path(o.out) / ".trajectory-retired.bin").string());
+  const auto keepRetired = [&] {
+    try {
+      spill.append(system.takeRetiredFrames());
+    } catch (const Error& e) {
+      spdlog::warn("{}", e.what());  // kept and tried again with the next ones
+    }
+  };
+  bool spill_read = true;
+  const auto wholeTrajectory = [&] {
+    try {
+      return spill.read(system.trajectory());
+    } catch (const Error& e) {
+      spill_read = false;
+      spdlog::error("{} (the trajectory written holds the frames in memory only)", e.what());
+      return system.trajectory();
+    }
+  };
   drivers::Frame frame;
   std::int64_t n = 0;
   try {
@@ -293,13 +316,15 @@ int run(const RunOptions& o) {
       }
       system.submit({frame.image.view(), frame.timestamp, frame.exposure_ms});
       ++n;
+      if (n % 256 == 0) keepRetired();
       const auto now = std::chrono::steady_clock::now();
       if (o.flush_every_s > 0.0 &&
           std::chrono::duration<double>(now - last_flush).count() >= o.flush_every_s) {
         // Published snapshots: tracking does not wait. A failed flush (full disk) is reported
         // and the run goes on; the previous files stay whole.
         try {
-          writeTrajectoriesSoFar(o.out, system);
+          keepRetired();
+          writeTrajectoriesSoFar(o.out, system, wholeTrajectory());
         } catch (const Error& e) {
           spdlog::warn("periodic flush: {}", e.what());
         }
@@ -344,11 +369,13 @@ int run(const RunOptions& o) {
   const SystemStats stats = system.stats();
   if (const StageTiming* t = findStage(stats.stages, "total")) summary.ms_per_frame = t->mean_ms;
   summary.peak_rss_mb = peakRssMb();
-  const Trajectory traj = system.trajectory();
+  keepRetired();
+  const Trajectory traj = wholeTrajectory();
   if (!o.no_eval && in.dataset) summary.ate = evaluate(*in.dataset, traj);
   bool written = true;
   try {
-    writeRunOutputs(o.out, system, summary);
+    writeRunOutputs(o.out, system, traj, summary);
+    if (spill_read) spill.remove();  // trajectory.txt holds its poses now
   } catch (const Error& e) {
     // The run's figures below still matter; the files that could be written were.
     std::fprintf(stderr, "ldsm: error: %s\n", e.what());

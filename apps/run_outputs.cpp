@@ -93,10 +93,9 @@ std::string outputBase(const std::string& dir) {
   return (std::filesystem::path(dir) / "").string();
 }
 
-void writeTrajectories(const std::string& base, const System& system,
+void writeTrajectories(const std::string& base, const System& system, const Trajectory& frames,
                        std::vector<std::string>& errors) {
-  attempt(errors,
-          [&] { drivers::writeTumTrajectory(base + "trajectory.txt", system.trajectory()); });
+  attempt(errors, [&] { drivers::writeTumTrajectory(base + "trajectory.txt", frames); });
   attempt(errors, [&] {
     drivers::writeTumTrajectory(base + "keyframes.txt", system.keyframeTrajectory());
   });
@@ -104,17 +103,19 @@ void writeTrajectories(const std::string& base, const System& system,
 
 }  // namespace
 
-void writeTrajectoriesSoFar(const std::string& dir, const System& system) {
+void writeTrajectoriesSoFar(const std::string& dir, const System& system,
+                            const Trajectory& frames) {
   const std::string base = outputBase(dir);
   std::vector<std::string> errors;
-  writeTrajectories(base, system, errors);
+  writeTrajectories(base, system, frames, errors);
   throwIfAny(errors);
 }
 
-void writeRunOutputs(const std::string& dir, const System& system, const RunSummary& summary) {
+void writeRunOutputs(const std::string& dir, const System& system, const Trajectory& frames,
+                     const RunSummary& summary) {
   const std::string base = outputBase(dir);
   std::vector<std::string> errors;
-  writeTrajectories(base, system, errors);
+  writeTrajectories(base, system, frames, errors);
 
   const std::vector<MapPoint> points = system.mapPoints();
   std::vector<Eigen::Vector3f> xyz;
@@ -262,6 +263,9 @@ void writeRunOutputs(const std::string& dir, const System& system, const RunSumm
   j.key("bytes_per_keyframe").value(s.map.bytes_per_keyframe);
   j.key("pose_graph_vertices").value(s.map.pose_graph_vertices);
   j.key("pose_graph_edges").value(s.map.pose_graph_edges);
+  // system.frame_history: frame poses that left memory (written to trajectory.txt all the same)
+  j.key("retired_frames").value(s.retired_frames);
+  j.key("lost_retired_frames").value(s.lost_retired_frames);
   j.endObject();
   j.key("stages");
   writeTimings(j, s.stages);
@@ -282,6 +286,7 @@ void writeRunOutputs(const std::string& dir, const System& system, const RunSumm
     j.key("max_source_lateness_ms").value(summary.max_source_lateness_ms);
   }
   j.endObject();
+  j.key("loops_closed").value(s.loops_closed);  // "loops" lists the newest kMaxLoopEvents
   j.key("loops").beginArray();
   for (const LoopClosureEvent& l : s.loops) {
     j.beginObject();

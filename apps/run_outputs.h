@@ -37,10 +37,12 @@ double peakRssMb();
 /// into `dir` (created when missing). Every file is replaced atomically (a crash or a full disk
 /// never leaves a truncated one); each is tried even when another failed, and the failures are
 /// thrown together as one Error naming the files.
-void writeRunOutputs(const std::string& dir, const System& system, const RunSummary& summary);
+/// `frames` is the trajectory written (System::trajectory(), after the frames it retired).
+void writeRunOutputs(const std::string& dir, const System& system, const Trajectory& frames,
+                     const RunSummary& summary);
 
-/// trajectory.txt and keyframes.txt alone, as far as the run has got (the periodic flush of a
-/// long run), the same way.
-void writeTrajectoriesSoFar(const std::string& dir, const System& system);
+/// trajectory.txt (`frames`) and keyframes.txt alone, as far as the run has got (the periodic
+/// flush of a long run), the same way.
+void writeTrajectoriesSoFar(const std::string& dir, const System& system, const Trajectory& frames);
 
 }  // namespace ldsm::app

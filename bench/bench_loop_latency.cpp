@@ -64,7 +64,7 @@ Result runOnce(const Sequence& s, const std::string& data, bool loop, double spe
   Result r;
   r.received = st.frames;
   r.dropped = st.dropped_frames;
-  r.loops = static_cast<long long>(st.loops.size());
+  r.loops = static_cast<long long>(st.loops_closed);
   if (const auto* t = find(st.latency, "submit_to_tracked")) {
     r.latency_p50 = t->p50_ms;
     r.latency_p99 = t->p99_ms;

@@ -5,7 +5,7 @@
 // keeps) and the latency of the pass. What map reuse must keep bounded:
 // after the first pass, memory should hardly grow.
 //
-//   bench_soak --dataset DIR --frames-per-pass K [--realtime] [--no-reuse] [--no-loop]
+//   bench_soak --dataset DIR --frames-per-pass K [--realtime | --threaded] [--no-reuse] [--no-loop]
 //              [--config FILE]   (a configuration YAML as `ldsm run --config` takes)
 //              [--log-level L]   (spdlog level, default warn; debug shows reuse decisions)
 //
@@ -16,13 +16,16 @@
 //
 // Default: deterministic, one thread, as fast as possible. --realtime: the live pipeline
 // (threaded, frames dropped when tracking is behind) paced at the recorded frame rate.
+// --threaded: the threaded pipeline offline (not paced, nothing dropped).
 #include <spdlog/spdlog.h>
 
 #include <malloc.h>
 #include <unistd.h>
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <string>
 #include <thread>
@@ -30,6 +33,7 @@
 #include "bench_input.h"
 #include "ldsm/drivers/config_yaml.h"
 #include "ldsm/drivers/machine_info.h"
+#include "ldsm/drivers/trajectory_spill.h"
 #include "ldsm/eval/ate.h"
 
 namespace {
@@ -74,6 +78,9 @@ int main(int argc, char** argv) {
   std::string dataset;
   std::int64_t per_pass = 0;
   bool realtime = false, reuse = true, loop = true;
+  // Threaded like --realtime, but offline: as fast as possible and nothing dropped (the threaded
+  // code paths without the timing of a live run, e.g. under a heap profiler).
+  bool threaded = false;
   // Leaves without tearing the system down, so that a heap profiler (heaptrack --print-leaks)
   // reports what is still allocated at the end of the run; two runs of different length compared
   // show what grows.
@@ -88,6 +95,8 @@ int main(int argc, char** argv) {
       per_pass = std::stoll(argv[++i]);
     } else if (a == "--realtime") {
       realtime = true;
+    } else if (a == "--threaded") {
+      threaded = true;
     } else if (a == "--no-reuse") {
       reuse = false;
     } else if (a == "--no-loop") {
@@ -99,10 +108,11 @@ int main(int argc, char** argv) {
     } else if (a == "--exit-without-teardown") {
       exit_without_teardown = true;
     } else {
-      std::fprintf(stderr,
-                   "usage: %s --dataset DIR --frames-per-pass K [--realtime] [--no-reuse] "
-                   "[--no-loop] [--config FILE] [--log-level L] [--exit-without-teardown]\n",
-                   argv[0]);
+      std::fprintf(
+          stderr,
+          "usage: %s --dataset DIR --frames-per-pass K [--realtime | --threaded] [--no-reuse] "
+          "[--no-loop] [--config FILE] [--log-level L] [--exit-without-teardown]\n",
+          argv[0]);
       return 2;
     }
   }
@@ -115,14 +125,16 @@ int main(int argc, char** argv) {
               ldsm::drivers::machineSummary(ldsm::drivers::describeMachine()).c_str());
   ldsm::Config config =
       config_path.empty() ? ldsm::Config{} : ldsm::drivers::loadConfigYaml(config_path);
-  config.system.deterministic = !realtime;
+  config.system.deterministic = !realtime && !threaded;
   config.system.live = realtime;
   config.reuse.enabled = reuse;
   config.loop.enabled = loop;
   ldsm::bench::BenchInput in = ldsm::bench::openBenchInput(config, dataset, "");
   std::printf("%s, %s, reuse %s, loop closure %s\n", dataset.c_str(),
-              realtime ? "real time, threaded" : "deterministic", reuse ? "on" : "off",
-              loop ? "on" : "off");
+              realtime   ? "real time, threaded"
+              : threaded ? "threaded, offline"
+                         : "deterministic",
+              reuse ? "on" : "off", loop ? "on" : "off");
   std::printf("%4s %8s %10s %10s %9s %9s %10s %11s %9s %9s %9s\n", "pass", "frames", "ATE pass",
               "ATE all", "keyframes", "kf data", "points", "graph v/e", "RSS MB", "heap MB",
               "ms/frame");
@@ -132,10 +144,18 @@ int main(int argc, char** argv) {
   auto wall0 = std::chrono::steady_clock::now();
   auto pass_wall = wall0;
   ldsm::ReuseStats last_reuse;
-  std::size_t last_loops = 0;
+  std::int64_t last_loops = 0;
+  // Frames beyond system.frame_history (by default 9000 in the live mode of --realtime) leave
+  // the engine's memory: they go to a file here, so that this process's memory stays the
+  // engine's. "ATE all" is then left out until the end (it would read them back every pass).
+  ldsm::drivers::TrajectorySpill spill((std::filesystem::temp_directory_path() /
+                                        ("ldsm-bench-soak-" + std::to_string(::getpid()) + ".bin"))
+                                           .string());
   const auto report = [&](std::int64_t pass, double t_end) {
     in.system->finish();
     const ldsm::SystemStats s = in.system->stats();
+    const double rss = residentMb(), heap = liveHeapMb();
+    spill.append(in.system->takeRetiredFrames());
     const ldsm::Trajectory est = in.system->trajectory();
     const auto now = std::chrono::steady_clock::now();
     const double ms = std::chrono::duration<double, std::milli>(now - pass_wall).count() /
@@ -150,26 +170,29 @@ int main(int argc, char** argv) {
             ate(between(in.ground_truth, pass_start_t, t_end), between(est, pass_start_t, t_end)),
             "%.5f")
             .c_str(),
-        ldsm::bench::cell(ate(in.ground_truth, est), "%.5f").c_str(),
+        spill.size() > 0 ? "-" : ldsm::bench::cell(ate(in.ground_truth, est), "%.5f").c_str(),
         static_cast<long long>(s.keyframes), static_cast<long long>(s.map.data_keyframes),
-        static_cast<long long>(s.map.points), graph.c_str(), residentMb(), liveHeapMb(), ms);
+        static_cast<long long>(s.map.points), graph.c_str(), rss, heap, ms);
     const ldsm::ReuseStats& r = s.reuse;
-    int loops = 0, applied = 0;
-    for (std::size_t i = last_loops; i < s.loops.size(); ++i) {
-      ++loops;
+    // stats().loops holds the newest events only: this pass's are its last ones.
+    const std::int64_t loops = s.loops_closed - last_loops;
+    int applied = 0;
+    const std::size_t listed =
+        std::min<std::size_t>(s.loops.size(), static_cast<std::size_t>(loops));
+    for (std::size_t i = s.loops.size() - listed; i < s.loops.size(); ++i)
       if (s.loops[i].corrected_keyframes > 0) ++applied;
-    }
     std::printf(
         "     reuse +%lld -%lld, turned down %lld geometry %lld ORB, culled %lld, map corrections "
-        "%lld; loops %d (%d moved keyframes)\n",
+        "%lld; loops %lld (%d moved keyframes)\n",
         static_cast<long long>(r.reactivations - last_reuse.reactivations),
         static_cast<long long>(r.deactivations - last_reuse.deactivations),
         static_cast<long long>(r.rejected_geometry - last_reuse.rejected_geometry),
         static_cast<long long>(r.rejected_features - last_reuse.rejected_features),
         static_cast<long long>(r.culled_keyframes - last_reuse.culled_keyframes),
-        static_cast<long long>(r.map_corrections - last_reuse.map_corrections), loops, applied);
+        static_cast<long long>(r.map_corrections - last_reuse.map_corrections),
+        static_cast<long long>(loops), applied);
     last_reuse = r;
-    last_loops = s.loops.size();
+    last_loops = s.loops_closed;
     std::fflush(stdout);
   };
   double first_t = 0.0;
@@ -198,6 +221,16 @@ int main(int argc, char** argv) {
   std::printf("reuse: %lld reactivations, %lld culled keyframes, %.1f KB per kept keyframe\n",
               static_cast<long long>(s.reuse.reactivations),
               static_cast<long long>(s.reuse.culled_keyframes), s.map.bytes_per_keyframe / 1024.0);
+  if (spill.size() > 0) {
+    spill.append(in.system->takeRetiredFrames());
+    const ldsm::Trajectory all = spill.read(in.system->trajectory());
+    std::printf(
+        "all passes: ATE %.5f m over %zu frame poses (%lld left the engine's memory, %lld "
+        "of them lost)\n",
+        ate(in.ground_truth, all), all.size(), static_cast<long long>(s.retired_frames),
+        static_cast<long long>(s.lost_retired_frames));
+  }
+  spill.remove();
   if (exit_without_teardown) {
     std::fflush(stdout);
     std::_Exit(0);

@@ -126,7 +126,7 @@ ViewerSnapshot LiveSource::snapshot(bool with_points) {
   f.tracked_frames = st.tracked_frames;
   f.dropped_frames = st.dropped_frames;
   f.keyframes = st.keyframes;
-  f.loops = static_cast<std::int64_t>(st.loops.size());
+  f.loops = st.loops_closed;
   f.reactivations = st.reuse.reactivations;
   if (with_points) point_count_ = static_cast<std::int64_t>(s.points.size() / kPointStride);
   f.map_points = point_count_;

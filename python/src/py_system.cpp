@@ -62,6 +62,10 @@ class PySystem {
     if (!system_) throw Error("System is closed");
     return *system_;
   }
+  System& system() {
+    if (!system_) throw Error("System is closed");
+    return *system_;
+  }
 
   py::object callback_ = py::none();
   EventQueue events_;
@@ -126,7 +130,8 @@ py::dict statsToDict(const SystemStats& s) {
   d["rejected_frames"] = s.rejected_frames;
   d["submitted_frames"] = s.submitted_frames;
   d["dropped_frames"] = s.dropped_frames;
-  d["loops"] = s.loops.size();
+  d["loops"] = s.loops_closed;
+  d["retired_frames"] = s.retired_frames;
   d["map_points"] = s.map.points;
   d["map_bytes"] = s.map.bytes;
   d["reactivations"] = s.reuse.reactivations;
@@ -160,6 +165,11 @@ void bindSystem(py::module_& m) {
           "trajectory",
           [](const PySystem& s) { return trajectoryToArray(s.system().trajectory()); },
           "(N, 8) float64 array: t tx ty tz qx qy qz qw per tracked frame (camera-to-world)")
+      .def(
+          "take_retired_frames",
+          [](PySystem& s) { return trajectoryToArray(s.system().takeRetiredFrames()); },
+          "(R, 8) float64 array: the frames that left memory since the last call "
+          "(system.frame_history; live mode), oldest first; trajectory() continues them")
       .def(
           "keyframe_trajectory",
           [](const PySystem& s) { return trajectoryToArray(s.system().keyframeTrajectory()); },

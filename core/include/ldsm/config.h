@@ -33,6 +33,17 @@ struct SystemConfig {
   /// Tracked frames the mapping queue holds (threaded mode): how far tracking may run ahead of
   /// mapping before it waits.
   int mapping_queue = 4;
+  /// Frame poses kept in memory (System::trajectory()); older ones are handed out by
+  /// System::takeRetiredFrames() with the poses they had then (later loop corrections no longer
+  /// move them), so that memory does not grow with the length of a run. 0: every frame.
+  /// -1 (automatic): every frame offline, kLiveFrameHistory frames when `live`.
+  int frame_history = -1;
+  static constexpr int kLiveFrameHistory = 9000;  ///< 5 minutes at 30 Hz
+
+  /// The number of frames frame_history keeps (0: every one).
+  int frameHistory() const {
+    return frame_history >= 0 ? frame_history : live ? kLiveFrameHistory : 0;
+  }
 
   template <typename V>
   void visit(V& v) {
@@ -49,6 +60,9 @@ struct SystemConfig {
             "CPU to pin the mapping thread to (-1: any)");
     v.field("mapping_queue", mapping_queue, Range<int>{1, 64},
             "tracked frames the mapping queue holds before tracking waits (threaded mode)");
+    v.field("frame_history", frame_history, Range<int>{-1, 1000000000},
+            "frame poses kept in memory; older ones go to System::takeRetiredFrames() (0: every "
+            "frame, -1: every frame offline, 9000 when live)");
   }
 };
 

@@ -108,7 +108,14 @@ struct SystemStats {
   std::int64_t tracking_losses = 0;
   std::int64_t rejected_frames = 0;  ///< frames refused as bad input (size, timestamp, content)
   std::vector<StageTiming> stages;
-  std::vector<LoopClosureEvent> loops;  ///< loops closed, in order
+  /// Loops closed, in order: the newest kMaxLoopEvents (loops_closed counts them all).
+  std::vector<LoopClosureEvent> loops;
+  std::int64_t loops_closed = 0;
+  static constexpr int kMaxLoopEvents = 1024;
+  /// Frames whose poses left memory (system.frame_history; System::takeRetiredFrames()), and of
+  /// those dropped because the application did not take them in time.
+  std::int64_t retired_frames = 0;
+  std::int64_t lost_retired_frames = 0;
   /// Online calibration refinement (config section calibration): the residual radial
   /// distortion k of the rectified images, x_image = x (1 + k |x|^2) in the rectified camera's
   /// normalized coordinates, as estimated and as applied (0 while inside the dead band).
@@ -203,8 +210,16 @@ class System {
   /// or without publishTrackedImages(). Lock-free like latestPose() (a triple buffer
   /// the tracking thread writes without allocating): call it from one thread at a time.
   std::optional<TrackedImage> latestTrackedImage() const;
-  /// The final estimate of every processed frame that has a pose (camera-to-world, TUM order).
+  /// The final estimate of every processed frame that has a pose (camera-to-world, TUM order)
+  /// and is still held in memory: every frame, unless system.frame_history bounds them (by
+  /// default in live mode), then the newest ones; takeRetiredFrames() hands out the older ones.
   Trajectory trajectory() const;
+  /// The poses of frames that left memory (system.frame_history) since the last call, oldest
+  /// first, as estimated when they left (later loop corrections do not move them);
+  /// trajectory() continues them. Call it now and then (every few seconds) in a long run and
+  /// write what it returns: at most 4 x 4096 frames wait, older ones are dropped and counted
+  /// (SystemStats::lost_retired_frames). Never waits for the optimiser.
+  Trajectory takeRetiredFrames();
   /// The keyframes' poses (final estimates).
   Trajectory keyframeTrajectory() const;
   /// Every point of the map (active and marginalised), world coordinates.

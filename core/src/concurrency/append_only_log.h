@@ -6,8 +6,13 @@
 // do while the reader copies). The writer allocates a chunk when it enters one (reserve() ahead of
 // time keeps it from allocating); a record, once written, is never changed.
 //
-// Threads: push() and reserve() from one writer thread; size(), operator[] and forEach() from any
-// thread.
+// A bounded history: releaseBefore(n) frees the chunks that hold only records before n; the
+// indices of the records after them do not change. The log does not know who reads what, so its
+// owner must keep readers away from the released records (MapStore takes a lock its readers take;
+// the writer never touches a record again once written).
+//
+// Threads: push() and reserve() from one writer thread; size(), first(), operator[] and forEach()
+// from any thread; releaseBefore() from any one thread at a time, with the caveat above.
 #pragma once
 
 #include <algorithm>
@@ -58,16 +63,31 @@ class AppendOnlyLog {
   /// Records published so far (any thread).
   std::size_t size() const { return count_.load(std::memory_order_acquire); }
 
-  /// Record i, for i < a value size() returned (any thread).
+  /// The first record not yet released (releaseBefore); size() counts the released ones too.
+  std::size_t first() const { return first_.load(std::memory_order_acquire); }
+
+  /// Frees the chunks whose records all come before `n` and before the chunk the writer is in;
+  /// returns first() after it (a multiple of the chunk size). No reader may be reading a record
+  /// before that index while this runs.
+  std::size_t releaseBefore(std::size_t n) {
+    const std::size_t end_chunk = std::min(n, size()) / kChunkSize;
+    std::size_t c = first() / kChunkSize;
+    for (; c < end_chunk; ++c) delete[] chunks_[c].exchange(nullptr, std::memory_order_acq_rel);
+    const std::size_t f = std::max(first(), end_chunk * kChunkSize);
+    first_.store(f, std::memory_order_release);
+    return f;
+  }
+
+  /// Record i, for first() <= i < a value size() returned (any thread).
   const T& operator[](std::size_t i) const {
     return chunks_[i / kChunkSize].load(std::memory_order_acquire)[i % kChunkSize];
   }
 
-  /// Calls f(record) for every record published when it starts (any thread).
+  /// Calls f(record) for every record from first() on published when it starts (any thread).
   template <typename F>
   void forEach(F&& f) const {
     const std::size_t n = size();
-    for (std::size_t c = 0; c * kChunkSize < n; ++c) {
+    for (std::size_t c = first() / kChunkSize; c * kChunkSize < n; ++c) {
       const T* chunk = chunks_[c].load(std::memory_order_acquire);
       const std::size_t end = std::min(kChunkSize, n - c * kChunkSize);
       for (std::size_t i = 0; i < end; ++i) f(chunk[i]);
@@ -89,6 +109,7 @@ class AppendOnlyLog {
   std::size_t max_chunks_;
   std::unique_ptr<std::atomic<T*>[]> chunks_;
   std::atomic<std::size_t> count_{0};
+  std::atomic<std::size_t> first_{0};
 };
 
 }  // namespace ldsm::concurrency

@@ -168,6 +168,9 @@ void MapStore::cullKeyframe(int id) {
       continue;
     }
     auto rest = std::make_shared<MapSnapshot::PointBlock>();
+    // Exactly as large as what stays: a long run culls and rebuilds blocks again and again.
+    rest->reserve(block->size() - static_cast<std::size_t>(
+                                      std::count_if(block->begin(), block->end(), hosted)));
     std::remove_copy_if(block->begin(), block->end(), std::back_inserter(*rest), hosted);
     point_count_ -= block->size() - rest->size();
     if (!rest->empty()) kept.push_back(std::move(rest));
@@ -372,27 +375,78 @@ void MapStore::followKeyframes(const std::vector<std::pair<int, int>>& folded) {
   }
 }
 
+bool MapStore::composeFrame(const FrameRecord& f, const MapSnapshot& s, StampedPose& out) {
+  const KeyframeTable& keyframes = *s.keyframes;
+  if (f.reference_keyframe < 0 || f.reference_keyframe >= static_cast<int>(keyframes.size()))
+    return false;
+  const KeyframeRecord& kf = keyframes[f.reference_keyframe];
+  if (kf.id < 0) return false;
+  const SE3d T_ref_c(f.T_ref_c.so3(), kf.scale * f.T_ref_c.translation());
+  const int label = s.maps.label(kf.map);
+  const SE3d T_w_c = kf.T_w_c * T_ref_c;
+  out = {f.timestamp, label == 0 ? s.maps.report(T_w_c) : T_w_c.toPose(), label};
+  return true;
+}
+
 Trajectory MapStore::frameTrajectory() const {
-  // The frames published so far (no lock: tracking keeps appending), then the keyframe poses
-  // of the latest snapshot they are composed with.
+  // The frames published so far (tracking keeps appending; the lock only keeps retireFrames()
+  // from freeing records while they are read), then the keyframe poses of the latest snapshot
+  // they are composed with.
+  std::lock_guard<std::mutex> lock(frames_mutex_);
+  const std::size_t first = frames_.first();
   const std::size_t n = frames_.size();
   const std::shared_ptr<const MapSnapshot> s = snapshot();
-  const KeyframeTable& keyframes = *s->keyframes;
-  const MapFrames& maps = s->maps;
   Trajectory out;
-  out.reserve(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const FrameRecord& f = frames_[i];
-    if (f.reference_keyframe < 0 || f.reference_keyframe >= static_cast<int>(keyframes.size()))
-      continue;
-    const KeyframeRecord& kf = keyframes[f.reference_keyframe];
-    if (kf.id < 0) continue;
-    const SE3d T_ref_c(f.T_ref_c.so3(), kf.scale * f.T_ref_c.translation());
-    const int label = maps.label(kf.map);
-    const SE3d T_w_c = kf.T_w_c * T_ref_c;
-    out.push_back({f.timestamp, label == 0 ? maps.report(T_w_c) : T_w_c.toPose(), label});
-  }
+  out.reserve(n - first);
+  StampedPose p;
+  for (std::size_t i = first; i < n; ++i)
+    if (composeFrame(frames_[i], *s, p)) out.push_back(p);
   return out;
+}
+
+void MapStore::setFrameHistory(std::size_t frames) {
+  frame_history_ = frames;
+}
+
+std::size_t MapStore::retireFrames() {
+  if (frame_history_ == 0) return 0;
+  const std::size_t n = frames_.size();
+  if (n < frame_history_ + kFrameChunk) return 0;
+  const std::size_t until = (n - frame_history_) / kFrameChunk * kFrameChunk;
+  std::lock_guard<std::mutex> lock(frames_mutex_);
+  const std::size_t first = frames_.first();
+  if (until <= first) return 0;
+  const std::shared_ptr<const MapSnapshot> s = snapshot();
+  StampedPose p;
+  for (std::size_t i = first; i < until; ++i)
+    if (composeFrame(frames_[i], *s, p)) retired_.push_back(p);
+  frames_.releaseBefore(until);
+  retired_count_ += static_cast<std::int64_t>(until - first);
+  // Nobody takes them: the oldest go, so that memory stays bounded all the same.
+  const std::size_t backlog = kRetiredBacklog * kFrameChunk;
+  if (retired_.size() > backlog) {
+    const std::size_t drop = retired_.size() - backlog;
+    retired_.erase(retired_.begin(), retired_.begin() + static_cast<std::ptrdiff_t>(drop));
+    retired_lost_ += static_cast<std::int64_t>(drop);
+  }
+  return until - first;
+}
+
+Trajectory MapStore::takeRetiredFrames() {
+  std::lock_guard<std::mutex> lock(frames_mutex_);
+  Trajectory out;
+  out.swap(retired_);
+  return out;
+}
+
+std::int64_t MapStore::retiredFrameCount() const {
+  std::lock_guard<std::mutex> lock(frames_mutex_);
+  return retired_count_;
+}
+
+std::int64_t MapStore::lostRetiredFrameCount() const {
+  std::lock_guard<std::mutex> lock(frames_mutex_);
+  return retired_lost_;
 }
 
 Trajectory MapStore::keyframeTrajectory() const {

@@ -4,8 +4,11 @@
 // with depths and pattern intensities, its corners with ORB descriptors), the covisibility graph
 // and a spatial index of keyframe centres. Thread-safe: tracking, mapping and readers of results
 // use it from different threads. The frame records are an append-only log written by tracking
-// alone: addFrame() takes no lock, and readers (frameTrajectory) never make tracking wait; the
-// rest is guarded by one mutex, never held while the window is optimised. The queries
+// alone: addFrame() takes no lock, and readers (frameTrajectory) never make tracking wait. With a
+// bounded frame history (setFrameHistory) the mapping stage retires the oldest frames: their
+// poses, composed with the keyframe poses of that moment, wait for takeRetiredFrames() and leave
+// memory, so that a long run's memory does not grow with the trajectory. The rest is guarded by
+// one mutex, never held while the window is optimised. The queries
 // (frameTrajectory, keyframeTrajectory, points, the counts) take no lock either: every change
 // publishes an immutable MapSnapshot, which they read. The points are kept in immutable blocks
 // (one per addPoints call) that snapshots share, and so are the keyframe poses (KeyframeTable); a
@@ -67,6 +70,22 @@ class MapStore {
   /// Tracking thread only: makes room for `n` more frame records, so that addFrame() does not
   /// allocate before them (called with each keyframe).
   void reserveFrames(std::size_t n);
+  /// Keep at least the newest `frames` frame records in memory (0: every one, the default).
+  /// Set before the first frame.
+  void setFrameHistory(std::size_t frames);
+  /// Mapping thread: retires the frame records beyond the history (in whole chunks of the log,
+  /// kFrameChunk): their world poses, composed with the keyframe poses now, wait for
+  /// takeRetiredFrames(); later corrections no longer move them. Never makes tracking wait.
+  /// When more than kRetiredBacklog chunks wait untaken, the oldest are dropped and counted.
+  /// Returns the number of frames retired.
+  std::size_t retireFrames();
+  /// The retired frames' poses not taken yet, oldest first (frameTrajectory() continues them).
+  Trajectory takeRetiredFrames();
+  /// Frames retired so far, and of those dropped because nobody took them.
+  std::int64_t retiredFrameCount() const;
+  std::int64_t lostRetiredFrameCount() const;
+  static constexpr std::size_t kFrameChunk = 4096;
+  static constexpr std::size_t kRetiredBacklog = 4;
   void addPoints(const std::vector<HostedPoint>& points);
   /// Loop closure: moves the given keyframes to their corrected Sim(3) world-from-camera poses,
   /// with their frames and the points they hosted. Returns the number of keyframes moved.
@@ -98,7 +117,7 @@ class MapStore {
 
   /// The state after the latest change; never waits for a writer.
   std::shared_ptr<const MapSnapshot> snapshot() const;
-  /// World pose of every recorded frame, composed with the current keyframe poses.
+  /// World pose of every recorded frame not retired, composed with the current keyframe poses.
   Trajectory frameTrajectory() const;
   Trajectory keyframeTrajectory() const;
   std::vector<MapPoint> points() const;
@@ -136,6 +155,9 @@ class MapStore {
  private:
   static std::size_t bytesOf(const MarginalizedKeyframe& kf);
   bool inCurrentMapLocked(int keyframe_id) const;
+  /// The frame's world pose with the snapshot's keyframe poses; false when its keyframe is
+  /// unknown.
+  static bool composeFrame(const FrameRecord& f, const MapSnapshot& s, StampedPose& out);
   void setKeyframeLocked(const KeyframeRecord& record);
   /// Under the mutex, after a change: publishes the state as the new snapshot (the keyframe
   /// poses copied only when `keyframes_changed`).
@@ -146,7 +168,14 @@ class MapStore {
   KeyframeTable keyframes_;
   std::vector<int> follows_;               ///< indexed by id: the keyframe it moves with (-1)
   std::vector<bool> culled_;               ///< indexed by id: its data was dropped (cullKeyframe)
-  concurrency::AppendOnlyLog<FrameRecord> frames_;
+  concurrency::AppendOnlyLog<FrameRecord, kFrameChunk> frames_;
+  std::size_t frame_history_ = 0;
+  /// Held by the frame log's readers and by retireFrames() (which frees records), never by
+  /// tracking (the writer); guards the retired frames too.
+  mutable std::mutex frames_mutex_;
+  std::vector<StampedPose> retired_;
+  std::int64_t retired_count_ = 0;
+  std::int64_t retired_lost_ = 0;
   std::vector<std::shared_ptr<const MapSnapshot::PointBlock>> points_;
   std::size_t point_count_ = 0;
   std::map<int, std::shared_ptr<const MarginalizedKeyframe>> data_;

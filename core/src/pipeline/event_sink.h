@@ -6,6 +6,8 @@
 // the end of a run, from the thread calling System::finish() (events.h).
 #pragma once
 
+#include <cstdint>
+#include <deque>
 #include <mutex>
 #include <vector>
 
@@ -40,6 +42,9 @@ class EventSink {
     {
       std::lock_guard<std::mutex> lock(loops_mutex_);
       loops_.push_back(e);
+      // A long run closes a loop every few seconds: only the newest are kept, and the count.
+      if (loops_.size() > kMaxLoopEvents) loops_.pop_front();
+      ++loops_closed_;
     }
     if (listener_) listener_->onLoopClosure(e);
   }
@@ -48,16 +53,23 @@ class EventSink {
     if (listener_) listener_->onMapsMerged(e);
   }
 
-  /// Every loop event so far, in order (a copy; never waits for the stages).
+  /// The newest kMaxLoopEvents loop events, in order (a copy; never waits for the stages).
   std::vector<LoopClosureEvent> loops() const {
     std::lock_guard<std::mutex> lock(loops_mutex_);
-    return loops_;
+    return {loops_.begin(), loops_.end()};
   }
+  /// Loop events so far, also those no longer kept.
+  std::int64_t loopsClosed() const {
+    std::lock_guard<std::mutex> lock(loops_mutex_);
+    return loops_closed_;
+  }
+  static constexpr std::size_t kMaxLoopEvents = 1024;
 
  private:
   SystemListener* listener_ = nullptr;
   mutable std::mutex loops_mutex_;
-  std::vector<LoopClosureEvent> loops_;
+  std::deque<LoopClosureEvent> loops_;
+  std::int64_t loops_closed_ = 0;
 };
 
 }  // namespace ldsm

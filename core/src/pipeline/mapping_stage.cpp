@@ -251,6 +251,7 @@ void MappingStage::reset() {
 
 void MappingStage::publishMap(MapUpdate&& update) {
   store_.setKeyframes(update.keyframes);
+  store_.retireFrames();  // beyond system.frame_history (none by default offline)
   // Localising only: the loaded map is never changed (what leaves the window is dropped).
   if (settings_.localize_only) return;
   store_.addPoints(update.points);

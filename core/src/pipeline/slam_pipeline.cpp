@@ -44,6 +44,7 @@ SlamPipeline::SlamPipeline(const Config& config, const GeometricCalibration& geo
           camera_, preprocessor_, pyramids_, store_, mapping_, events_) {
   map_calibration_ = mapCalibration(camera_[0], photometric, 0.0);
   localize_only_ = config.map.localize_only;
+  store_.setFrameHistory(static_cast<std::size_t>(config.system.frameHistory()));
 }
 
 MapData SlamPipeline::exportMap() {
@@ -90,6 +91,9 @@ void SlamPipeline::fillStats(SystemStats& stats) const {
                   t[TrackingStage::kTrack],      m[MappingStage::kTrace],
                   m[MappingStage::kMapping],     t[TrackingStage::kTotal]};
   stats.loops = events_.loops();
+  stats.loops_closed = events_.loopsClosed();
+  stats.retired_frames = store_.retiredFrameCount();
+  stats.lost_retired_frames = store_.lostRetiredFrameCount();
   const std::shared_ptr<const MappingSnapshot> s = mapping_.snapshot();
   stats.radial_estimate = s->radial_estimate;
   stats.radial_applied = s->radial_applied;

@@ -57,6 +57,7 @@ class SlamPipeline {
   // Queries, from any thread; they read published state and never wait for the optimiser.
   Trajectory trajectory() const { return store_.frameTrajectory(); }
   Trajectory keyframeTrajectory() const { return store_.keyframeTrajectory(); }
+  Trajectory takeRetiredFrames() { return store_.takeRetiredFrames(); }
   std::vector<MapPoint> mapPoints() const;
   /// Fills the engine's part of the statistics (counts, stage timings, loops, calibration).
   void fillStats(SystemStats& stats) const;

@@ -221,6 +221,10 @@ Trajectory System::trajectory() const {
   return impl_->pipeline.trajectory();
 }
 
+Trajectory System::takeRetiredFrames() {
+  return impl_->pipeline.takeRetiredFrames();
+}
+
 Trajectory System::keyframeTrajectory() const {
   return impl_->pipeline.keyframeTrajectory();
 }

@@ -82,5 +82,46 @@ TEST(AppendOnlyLog, AReaderSeesWholeRecordsInOrderWhileTheWriterAppends) {
   EXPECT_EQ(log.size(), static_cast<std::size_t>(kRecords));
 }
 
+TEST(AppendOnlyLog, ReleasedChunksGoAndTheRestKeepTheirIndices) {
+  AppendOnlyLog<Record, 8> log(16);
+  for (std::int64_t i = 0; i < 30; ++i) log.push(makeRecord(i));
+  EXPECT_EQ(log.releaseBefore(20), 16u);  // whole chunks only: 0-7 and 8-15
+  EXPECT_EQ(log.first(), 16u);
+  EXPECT_EQ(log.size(), 30u);
+  EXPECT_EQ(log[16].index, 16);
+  std::int64_t expected = 16;
+  log.forEach([&](const Record& r) { EXPECT_EQ(r.index, expected++); });
+  EXPECT_EQ(expected, 30);
+  EXPECT_EQ(log.releaseBefore(8), 16u);    // never backwards
+  EXPECT_EQ(log.releaseBefore(100), 24u);  // never the chunk the writer is in
+  for (std::int64_t i = 30; i < 40; ++i) log.push(makeRecord(i));
+  EXPECT_EQ(log[39].twice, 78);
+}
+
+TEST(AppendOnlyLog, ReleasingOldChunksNeverDisturbsTheWriter) {
+  constexpr std::int64_t kRecords = 200000;
+  AppendOnlyLog<Record, 64> log(kRecords / 64 + 1);
+  std::atomic<bool> done{false};
+  std::atomic<std::int64_t> bad{0};
+  std::thread releaser([&] {
+    // Keeps the newest 1000 records, like MapStore's retirement (which also locks out readers).
+    while (!done.load(std::memory_order_acquire)) {
+      const std::size_t n = log.size();
+      const std::size_t first = log.releaseBefore(n > 1000 ? n - 1000 : 0);
+      if (first > n || (first > 0 && log[first].index != static_cast<std::int64_t>(first)))
+        bad.fetch_add(1, std::memory_order_relaxed);
+    }
+  });
+  for (std::int64_t i = 0; i < kRecords; ++i) log.push(makeRecord(i));
+  done.store(true, std::memory_order_release);
+  releaser.join();
+  EXPECT_EQ(bad.load(), 0);
+  ASSERT_EQ(log.size(), static_cast<std::size_t>(kRecords));
+  EXPECT_EQ(log.releaseBefore(kRecords - 1000),
+            static_cast<std::size_t>(kRecords - 1000) / 64 * 64);
+  for (std::size_t i = log.first(); i < log.size(); ++i)
+    EXPECT_EQ(log[i].index, static_cast<std::int64_t>(i));
+}
+
 }  // namespace
 }  // namespace ldsm::concurrency

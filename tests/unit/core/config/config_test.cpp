@@ -52,6 +52,22 @@ TEST(Config, CrossFieldWindowBounds) {
   EXPECT_NE(problems[0].find("window.min_keyframes"), std::string::npos);
 }
 
+TEST(Config, FrameHistoryIsBoundedLiveAndWholeOfflineUnlessSet) {
+  Config c;
+  EXPECT_EQ(c.system.frameHistory(), 0);  // offline: every frame (loop corrections reach them)
+  c.system.live = true;
+  EXPECT_EQ(c.system.frameHistory(), SystemConfig::kLiveFrameHistory);  // hours on a robot
+  c.system.frame_history = 0;
+  EXPECT_EQ(c.system.frameHistory(), 0);
+  c.system.frame_history = 300;
+  c.system.live = false;
+  EXPECT_EQ(c.system.frameHistory(), 300);
+  c.system.frame_history = -2;
+  const auto problems = configProblems(c);
+  ASSERT_EQ(problems.size(), 1u);
+  EXPECT_NE(problems[0].find("system.frame_history"), std::string::npos) << problems[0];
+}
+
 TEST(ConfigYaml, DefaultsRoundTrip) {
   const std::string yaml = drivers::configToYaml(Config{});
   EXPECT_NE(yaml.find("points_per_keyframe: 2000"), std::string::npos);
