@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "ldsm/events.h"
+#include "ldsm/system.h"  // SystemStats::kMaxLoopEvents
 
 namespace ldsm {
 
@@ -63,7 +64,7 @@ class EventSink {
     std::lock_guard<std::mutex> lock(loops_mutex_);
     return loops_closed_;
   }
-  static constexpr std::size_t kMaxLoopEvents = 1024;
+  static constexpr std::size_t kMaxLoopEvents = SystemStats::kMaxLoopEvents;
 
  private:
   SystemListener* listener_ = nullptr;
