@@ -50,7 +50,6 @@ WindowKeyframe& Mapper::insertKeyframe(std::unique_ptr<ImagePyramid> pyramid,
   auto kf = std::make_unique<WindowKeyframe>(next_keyframe_id_++, info.frame_index, info.timestamp,
                                              info.exposure, std::move(pyramid));
   kf->setInitialState(info.T_c_w, info.aff);
-  kf->loop_corners = info.loop_corners;
   if (!window_.empty()) {
     const WindowKeyframe& prev = *window_.back();
     kf->path_length =
@@ -67,6 +66,12 @@ bool Mapper::initialize(const InitializationResult& result, const MapperFrame& r
   MapUpdate before = reset();
   WindowKeyframe& kf0 = insertKeyframe(std::move(reference_pyramid), reference);
   kf0.is_gauge_anchor = true;
+  // kf0 takes its points from the initialiser, not from a selection: its loop corners alone.
+  if (loop_corner_limits_.max_corners > 0) {
+    selector_.detectCorners(kf0.pyramid(), loop_corner_limits_.max_corners,
+                            loop_corner_limits_.min_score, loop_corner_scratch_);
+    takeLoopCorners(kf0);
+  }
   chain_start_id_ = kf0.id();
   // Keep about the configured number of active points, spread evenly over the result.
   std::vector<const InitializedPoint*> usable;
@@ -411,8 +416,19 @@ void Mapper::markMapCoverage(const WindowKeyframe& kf) {
       }
 }
 
+void Mapper::takeLoopCorners(WindowKeyframe& kf) {
+  kf.loop_corners.clear();
+  kf.loop_corners.reserve(loop_corner_scratch_.size());
+  for (const Corner& c : loop_corner_scratch_) kf.loop_corners.emplace_back(c.u, c.v);
+}
+
 void Mapper::makeImmaturePoints(WindowKeyframe& kf, bool use_coverage) {
-  selector_.select(kf.pyramid(), 1.f, selected_);
+  if (loop_corner_limits_.max_corners > 0) {
+    selector_.select(kf.pyramid(), 1.f, selected_, loop_corner_limits_, loop_corner_scratch_);
+    takeLoopCorners(kf);
+  } else {
+    selector_.select(kf.pyramid(), 1.f, selected_);
+  }
   kf.immature.clear();
   kf.immature.reserve(selected_.size());
   kf.corners.clear();

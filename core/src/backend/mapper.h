@@ -30,8 +30,6 @@ struct MapperFrame {
   double exposure = 1.0;  ///< exposure time (1 when unknown)
   SE3d T_c_w;
   AffineLight aff;
-  /// Keyframes only: corners for loop closure and reuse (see WindowKeyframe::loop_corners).
-  std::vector<Eigen::Vector2f> loop_corners;
 };
 
 /// The Mapper's settings: its sections of the configuration and what is derived from them.
@@ -156,8 +154,14 @@ class Mapper {
   void setCoverageRadius(float pixels) { coverage_radius_ = pixels; }
 
   /// Whether keyframes that leave the window are described for loop closure (more corners with
-  /// depths, the level-0 image in MapUpdate::left); off, they carry pose and points only.
-  void setDescribeLeavingKeyframes(bool on) { describe_leaving_ = on; }
+  /// depths, the level-0 image in MapUpdate::left); off, they carry pose and points only. When on,
+  /// each new keyframe gets up to `loop_corners.max_corners` Shi-Tomasi corners of at least
+  /// `loop_corners.min_score` (WindowKeyframe::loop_corners), from the scores its point selection
+  /// computes anyway.
+  void setDescribeLeavingKeyframes(bool on, PixelSelector::CornerLimits loop_corners = {}) {
+    describe_leaving_ = on;
+    loop_corner_limits_ = on ? loop_corners : PixelSelector::CornerLimits{};
+  }
 
   /// The radial correction the window applies (calibration_refinement.h).
   float radialK() const { return static_cast<float>(calibration_.applied()[kCalibRadial]); }
@@ -235,6 +239,10 @@ class Mapper {
   std::vector<ReactivatedFit> measureReactivatedFit() const;
   std::vector<std::uint8_t> coverage_;  ///< scratch of makeImmaturePoints()
   bool describe_leaving_ = false;
+  PixelSelector::CornerLimits loop_corner_limits_;
+  std::vector<Corner> loop_corner_scratch_;
+  /// Copies loop_corner_scratch_ into the keyframe's loop corners.
+  void takeLoopCorners(WindowKeyframe& kf);
   /// Corners detected on a keyframe leaving the window, for loop closure (at most
   /// loop.corners_per_keyframe, Shi-Tomasi score >= loop.corner_min_score).
 };

@@ -47,8 +47,24 @@ int CornerDetector::detect(ImageView<const GradientPixel> gradients, const Corne
   out.clear();
   score_.fill(0.f);
   candidates_.clear();
+  scores_border_ = -1;
   if (params.max_corners <= 0) return 0;
   computeScores(gradients, params.border);
+  scores_border_ = params.border;
+  collectLocalMaxima(params);
+  suppressByDistance(params, out);
+  return static_cast<int>(out.size());
+}
+
+int CornerDetector::reselect(const CornerParams& params, std::vector<Corner>& out) {
+  if (scores_border_ < 0) throw InputError("CornerDetector::reselect: no scores computed yet");
+  if (params.border != scores_border_) {
+    throw InputError("CornerDetector::reselect: border " + std::to_string(params.border) +
+                     " differs from the scores' border " + std::to_string(scores_border_));
+  }
+  out.clear();
+  candidates_.clear();
+  if (params.max_corners <= 0) return 0;
   collectLocalMaxima(params);
   suppressByDistance(params, out);
   return static_cast<int>(out.size());

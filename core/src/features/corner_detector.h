@@ -38,6 +38,12 @@ class CornerDetector {
   int detect(ImageView<const GradientPixel> gradients, const CornerParams& params,
              std::vector<Corner>& out);
 
+  /// Corners again from the score image of the last detect(), with other limits (count, score,
+  /// spacing): the same as detect() on the same gradients, without computing the scores again.
+  /// params.border must be that detect()'s border (the scores, and the zeros around them, depend
+  /// on it); else, or without an earlier detect() that computed scores, InputError.
+  int reselect(const CornerParams& params, std::vector<Corner>& out);
+
   /// The Shi-Tomasi score image of the last detect() (0 where not computed).
   ImageView<const float> scores() const { return score_.view(); }
 
@@ -65,6 +71,7 @@ class CornerDetector {
   std::vector<float> column_acc_;  ///< vertical sums: xx, xy and yy planes of width_ floats
   Image<float> score_;
   std::vector<Candidate> candidates_;
+  int scores_border_ = -1;  ///< border of the scores in score_, -1 when none were computed
 };
 
 }  // namespace ldsm

@@ -78,6 +78,18 @@ PixelSelector::PixelSelector(int width, int height, const PointSelectionConfig& 
 
 int PixelSelector::select(const ImagePyramid& pyramid, float density_factor,
                           std::vector<SelectedPixel>& out) {
+  return select(pyramid, density_factor, out, CornerLimits{}, nullptr);
+}
+
+int PixelSelector::select(const ImagePyramid& pyramid, float density_factor,
+                          std::vector<SelectedPixel>& out, const CornerLimits& more,
+                          std::vector<Corner>& more_out) {
+  return select(pyramid, density_factor, out, more, &more_out);
+}
+
+int PixelSelector::select(const ImagePyramid& pyramid, float density_factor,
+                          std::vector<SelectedPixel>& out, const CornerLimits& more,
+                          std::vector<Corner>* more_out) {
   if (pyramid.levels() < 1 || pyramid.width(0) != width_ || pyramid.height(0) != height_) {
     throw InputError(
         "PixelSelector: pyramid is " +
@@ -104,6 +116,15 @@ int PixelSelector::select(const ImagePyramid& pyramid, float density_factor,
   corner_params.min_distance = kCornerMinDistance;
   corner_params.border = kCornerBorder;
   corner_detector_.detect(grad0, corner_params, corners_);
+  if (more_out != nullptr) {
+    CornerParams more_params = corner_params;
+    more_params.max_corners = more.max_corners;
+    more_params.min_score = more.min_score;
+    if (corner_params.max_corners > 0)
+      corner_detector_.reselect(more_params, *more_out);
+    else
+      corner_detector_.detect(grad0, more_params, *more_out);
+  }
   markNearClipped(pyramid.clipped());
   dropCornersNearClipped();
   blockAroundCorners();

@@ -63,6 +63,16 @@ class PixelSelector {
   /// a positive finite number.
   int select(const ImagePyramid& pyramid, float density_factor, std::vector<SelectedPixel>& out);
 
+  /// What detectCorners() is asked for: up to max_corners corners with score >= min_score.
+  struct CornerLimits {
+    int max_corners = 0;
+    float min_score = 0.f;
+  };
+  /// select(), and the corners detectCorners(pyramid, more.max_corners, more.min_score, more_out)
+  /// gives, with the corner scores computed once for both.
+  int select(const ImagePyramid& pyramid, float density_factor, std::vector<SelectedPixel>& out,
+             const CornerLimits& more, std::vector<Corner>& more_out);
+
   /// More corners than the odometry wants, for place recognition: up to `max_corners` Shi-Tomasi
   /// corners of the pyramid's level 0 with score >= min_score (same spacing and border as the
   /// selection's corners), strongest first, into `out`. Reuses the selector's detector buffers;
@@ -77,6 +87,9 @@ class PixelSelector {
   const GradientThresholdMap& thresholds() const { return thresholds_; }
 
  private:
+  int select(const ImagePyramid& pyramid, float density_factor, std::vector<SelectedPixel>& out,
+             const CornerLimits& more, std::vector<Corner>* more_out);
+
   struct LevelGrid {
     ImageView<const GradientPixel> grad;
     float threshold_factor_sq;

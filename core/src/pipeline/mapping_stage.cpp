@@ -68,11 +68,10 @@ MappingStage::MappingStage(const MappingStageSettings& settings, const PyramidCa
       describe_(loop_closer != nullptr || settings.reuse.enabled),
       inline_mode_(inline_mode),
       snapshot_(std::make_shared<const MappingSnapshot>()) {
-  mapper_.setDescribeLeavingKeyframes(describe_);
-  if (describe_) {
-    orb_ = std::make_unique<OrbExtractor>(camera[0].width, camera[0].height);
-    loop_corner_detector_ = std::make_unique<CornerDetector>(camera[0].width, camera[0].height);
-  }
+  mapper_.setDescribeLeavingKeyframes(
+      describe_,
+      PixelSelector::CornerLimits{settings.loop_corners, settings.loop_corner_min_score});
+  if (describe_) orb_ = std::make_unique<OrbExtractor>(camera[0].width, camera[0].height);
   if (settings.reuse.enabled) {
     reuse_ = std::make_unique<ReactivationSearch>(settings.reuse);
     mapper_.setCoverageRadius(static_cast<float>(settings.reuse.coverage_radius_px));
@@ -160,7 +159,6 @@ void MappingStage::integrateKeyframe(MappingJob& job) {
     mapper_.traceFrame(*job.pyramid, job.info);
   }
   StageTimer::Scope t(timer_, kMapping);
-  detectLoopCorners(*job.pyramid, job.info);
   KeyframeInsertion ins = mapper_.addKeyframe(std::move(job.pyramid), job.info);
   keyframes_.fetch_add(1, std::memory_order_relaxed);
   reuse_stats_.map_points_seen += ins.map_points_in_view;
@@ -180,23 +178,8 @@ void MappingStage::integrateKeyframe(MappingJob& job) {
       ins.marginalized_frames, ins.optimization.rmse, ins.retired_points);
 }
 
-void MappingStage::detectLoopCorners(const ImagePyramid& pyramid, MapperFrame& info) {
-  info.loop_corners.clear();
-  if (!loop_corner_detector_) return;
-  CornerParams params;
-  params.max_corners = settings_.loop_corners;
-  params.min_score = settings_.loop_corner_min_score;
-  params.min_distance = PixelSelector::kCornerMinDistance;
-  params.border = PixelSelector::kCornerBorder;
-  loop_corner_detector_->detect(pyramid.gradients(0), params, loop_corner_scratch_);
-  info.loop_corners.reserve(loop_corner_scratch_.size());
-  for (const Corner& c : loop_corner_scratch_) info.loop_corners.emplace_back(c.u, c.v);
-}
-
 void MappingStage::initialize(MappingJob& job) {
   KeyframeInsertion ins;
-  detectLoopCorners(*job.reference_pyramid, job.reference_info);
-  detectLoopCorners(*job.pyramid, job.info);
   const bool ok =
       mapper_.initialize(job.initialization, job.reference_info, std::move(job.reference_pyramid),
                          job.info, std::move(job.pyramid), &ins);
@@ -214,7 +197,6 @@ void MappingStage::relocalize(MappingJob& job) {
       store_.keyframeData(job.anchor_keyframe);
   const KeyframeRecord pose = store_.keyframe(job.anchor_keyframe);
   if (!anchor || pose.id < 0) return;
-  detectLoopCorners(*job.pyramid, job.info);
   KeyframeInsertion ins =
       mapper_.relocalize(std::move(job.pyramid), job.info, *anchor, pose.T_w_c, pose.scale);
   publishMap(std::move(ins.map));

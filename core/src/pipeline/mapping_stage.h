@@ -22,7 +22,6 @@
 
 #include "backend/mapper.h"
 #include "concurrency/background_task.h"
-#include "features/corner_detector.h"
 #include "features/orb_extractor.h"
 #include "frontend/coarse_tracker.h"
 #include "image/pyramid_pool.h"
@@ -176,7 +175,6 @@ class MappingStage {
   void describeOrb(MarginalizedKeyframe& kf);
   /// A new keyframe's corners for loop closure and reuse (when keyframes are described), kept
   /// with it until it leaves the window.
-  void detectLoopCorners(const ImagePyramid& pyramid, MapperFrame& info);
   /// Map reuse after a keyframe (mapping_stage_reuse.cpp): take back reactivated keyframes that
   /// no longer fit, bring back those that see the newest keyframe.
   void reuseMap(int newest_frame_index, double newest_timestamp);
@@ -204,8 +202,6 @@ class MappingStage {
   bool describe_;     ///< keyframes leaving the window are described (loop closure or reuse)
   bool inline_mode_;  ///< deterministic: jobs run in the submitting thread
   std::unique_ptr<OrbExtractor> orb_;
-  std::unique_ptr<CornerDetector> loop_corner_detector_;
-  std::vector<Corner> loop_corner_scratch_;
   std::vector<std::uint32_t> orb_kept_;
   std::vector<float> idepths_;  ///< scratch of medianDepth
   static double medianDepth(const std::vector<DepthPoint>& points, std::vector<float>& scratch);

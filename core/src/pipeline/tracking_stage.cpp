@@ -68,7 +68,7 @@ void TrackingStage::initializeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent
     // This frame became the initializer's reference: keep its pyramid for the first keyframe.
     pyramids_.release(std::move(init_reference_));
     init_reference_ = std::move(pyr);
-    init_reference_info_ = {index, frame.timestamp, exposure, world_anchor_, AffineLight{}, {}};
+    init_reference_info_ = {index, frame.timestamp, exposure, world_anchor_, AffineLight{}};
     return;
   }
   if (!done) {
@@ -83,7 +83,7 @@ void TrackingStage::initializeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent
   MappingJob job;
   job.kind = MappingJob::Kind::kInitialize;
   job.pyramid = std::move(pyr);
-  job.info = {index, frame.timestamp, exposure, r.T_frame_ref * world_anchor_, r.affine_frame, {}};
+  job.info = {index, frame.timestamp, exposure, r.T_frame_ref * world_anchor_, r.affine_frame};
   job.initialization = r;
   job.reference_pyramid = std::move(init_reference_);
   job.reference_info = init_reference_info_;
@@ -160,7 +160,7 @@ void TrackingStage::acceptTrackedFrame(std::unique_ptr<ImagePyramid> pyr, FrameE
   MappingJob job;
   job.kind = outcome.wants_keyframe ? MappingJob::Kind::kKeyframe : MappingJob::Kind::kTrace;
   job.pyramid = std::move(pyr);
-  job.info = {frame.frame_index, frame.timestamp, exposure, outcome.T_c_w, outcome.aff, {}};
+  job.info = {frame.frame_index, frame.timestamp, exposure, outcome.T_c_w, outcome.aff};
   if (outcome.wants_keyframe) {
     mapping_.setKeyframeInFlight();
     // Room for the frames until the next keyframe (this thread is the frame log's writer).
@@ -311,7 +311,7 @@ void TrackingStage::relocalizeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent
   MappingJob job;
   job.kind = MappingJob::Kind::kRelocalize;
   job.pyramid = std::move(pyr);
-  job.info = {frame.frame_index, frame.timestamp, exposure, r.T_c_w, r.aff, {}};
+  job.info = {frame.frame_index, frame.timestamp, exposure, r.T_c_w, r.aff};
   job.anchor_keyframe = r.keyframe_id;
   mapping_.submit(std::move(job));
   mapping_.waitIdle();

@@ -25,7 +25,7 @@ Config mapperConfig() {
 }
 
 MapperFrame frameInfo(const SyntheticWindow& /*w*/, int i, const SE3d& T_c_w) {
-  return {i, 0.1 * i, 1.0, T_c_w, AffineLight{}, {}};
+  return {i, 0.1 * i, 1.0, T_c_w, AffineLight{}};
 }
 
 /// A start 5.4 mrad off the truth in rotation, as tracking might give.
@@ -90,35 +90,34 @@ TEST(Mapper, KeyframesConvergeToTheTruthAndTheWindowStaysBounded) {
 
 TEST(Mapper, LeavingKeyframesAreDescribedForLoopClosureWhenAsked) {
   SyntheticWindow w(40);
-  Mapper mapper(mapperSettings(mapperConfig(), false), w.camera(), w.pool());
-  mapper.setDescribeLeavingKeyframes(true);
-  // The loop corners the mapping stage detects come with each keyframe; here a fixed grid.
-  std::vector<Eigen::Vector2f> grid;
-  for (int y = 20; y < SyntheticWindow::kH - 20; y += 40)
-    for (int x = 20; x < SyntheticWindow::kW - 20; x += 40) grid.emplace_back(x + 0.5f, y + 0.5f);
-  const auto withCorners = [&](MapperFrame f) {
-    f.loop_corners = grid;
-    return f;
-  };
+  const Config config = mapperConfig();
+  Mapper mapper(mapperSettings(config, false), w.camera(), w.pool());
+  const PixelSelector::CornerLimits limits{150, 9.f};
+  mapper.setDescribeLeavingKeyframes(true, limits);
+  // The loop corners each keyframe gets are those a detector of their own finds in its image.
+  PixelSelector reference(SyntheticWindow::kW, SyntheticWindow::kH, config.points);
+  std::vector<Corner> expected;
   KeyframeInsertion init;
-  ASSERT_TRUE(mapper.initialize(w.initialization(2), withCorners(frameInfo(w, 0, w.T_c_w(0))),
-                                w.pyramid(0), withCorners(frameInfo(w, 2, w.T_c_w(2))),
-                                w.pyramid(2), &init));
+  ASSERT_TRUE(mapper.initialize(w.initialization(2), frameInfo(w, 0, w.T_c_w(0)), w.pyramid(0),
+                                frameInfo(w, 2, w.T_c_w(2)), w.pyramid(2), &init));
   int described = 0;
   for (int i = 4; i < w.frames(); i += 3) {
-    const KeyframeInsertion ins =
-        mapper.addKeyframe(w.pyramid(i), withCorners(frameInfo(w, i, w.T_c_w(i))));
+    const KeyframeInsertion ins = mapper.addKeyframe(w.pyramid(i), frameInfo(w, i, w.T_c_w(i)));
     for (const MarginalizedKeyframe& kf : ins.map.left) {
       ++described;
       EXPECT_EQ(kf.image.width(), SyntheticWindow::kW);
       EXPECT_EQ(kf.corner_idepth.size(), kf.corners.size());
-      // Every grid corner is there, or an odometry corner within 4 px of it.
-      for (const Eigen::Vector2f& g : grid) {
+      reference.detectCorners(*w.pyramid(static_cast<int>(kf.frame_index)), limits.max_corners,
+                              limits.min_score, expected);
+      ASSERT_GE(expected.size(), 10u) << "keyframe " << kf.id;
+      // Every loop corner is there, or an odometry corner within 4 px of it.
+      for (const Corner& g : expected) {
         bool found = false;
-        for (const Eigen::Vector2f& c : kf.corners) found = found || (c - g).squaredNorm() < 16.f;
-        EXPECT_TRUE(found) << "keyframe " << kf.id << ": loop corner " << g.transpose();
+        for (const Eigen::Vector2f& c : kf.corners)
+          found = found || (c - Eigen::Vector2f(g.u, g.v)).squaredNorm() < 16.f;
+        EXPECT_TRUE(found) << "keyframe " << kf.id << ": loop corner " << g.u << " " << g.v;
       }
-      EXPECT_GE(kf.corners.size(), grid.size());
+      EXPECT_GE(kf.corners.size(), expected.size());
     }
   }
   EXPECT_GT(described, 0);

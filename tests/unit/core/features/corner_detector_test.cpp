@@ -163,6 +163,56 @@ TEST(CornerDetector, IgnoresFlatAndNoisyImages) {
   EXPECT_TRUE(detect(img).empty());
 }
 
+void expectSameCorners(const std::vector<Corner>& a, const std::vector<Corner>& b) {
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].u, b[i].u) << i;
+    EXPECT_EQ(a[i].v, b[i].v) << i;
+    EXPECT_EQ(a[i].score, b[i].score) << i;
+  }
+}
+
+TEST(CornerDetector, ReselectingFromTheScoresEqualsDetectingAgain) {
+  const ImageF img =
+      renderSupersampled(kW, kH, [](double x, double y) { return test::texture(x, y, 12.0); });
+  const ImagePyramid pyr = makePyramid(img, 1);
+  CornerParams first;
+  first.max_corners = 40;
+  first.min_score = 60.f;
+  first.border = 16;
+  CornerParams second = first;
+  second.max_corners = 200;
+  second.min_score = 9.f;
+  second.min_distance = 6.f;
+  CornerDetector detector(kW, kH), fresh(kW, kH);
+  std::vector<Corner> a, b, c;
+  ASSERT_EQ(detector.detect(pyr.gradients(0), first, a), 40);
+  const int n = detector.reselect(second, b);
+  EXPECT_GT(n, 40);
+  fresh.detect(pyr.gradients(0), second, c);
+  expectSameCorners(b, c);
+  // And back: the scores are unchanged by a reselection.
+  detector.reselect(first, c);
+  expectSameCorners(a, c);
+}
+
+TEST(CornerDetector, ReselectingNeedsScoresWithTheSameBorder) {
+  const ImageF img =
+      renderSupersampled(kW, kH, [](double x, double y) { return test::texture(x, y, 12.0); });
+  const ImagePyramid pyr = makePyramid(img, 1);
+  CornerDetector detector(kW, kH);
+  std::vector<Corner> corners;
+  EXPECT_THROW(detector.reselect(CornerParams{}, corners), InputError);  // nothing computed yet
+  CornerParams params;
+  detector.detect(pyr.gradients(0), params, corners);
+  params.border = 20;
+  EXPECT_THROW(detector.reselect(params, corners), InputError);
+  params.max_corners = 0;  // a detect() that computed no scores
+  detector.detect(pyr.gradients(0), params, corners);
+  params.max_corners = 10;
+  EXPECT_THROW(detector.reselect(params, corners), InputError);
+}
+
 TEST(CornerDetector, RejectsWrongImageSize) {
   CornerDetector detector(kW, kH);
   const ImagePyramid pyr = makePyramid(ImageF(100, 80, 0.f), 1);

@@ -211,6 +211,33 @@ TEST(PixelSelector, IsDeterministic) {
   }
 }
 
+TEST(PixelSelector, MoreCornersFromTheSameScoresAreThoseDetectCornersGives) {
+  const ImagePyramid a = makePyramid(texturedImage(21), 4);
+  for (const double corner_fraction : {0.1, 0.0}) {
+    PointSelectionConfig config;
+    config.corner_fraction = corner_fraction;
+    PixelSelector s1(kW, kH, config), s2(kW, kH, config);
+    std::vector<SelectedPixel> p1, p2;
+    std::vector<Corner> c1, c2;
+    s1.select(a, 1.f, p1, PixelSelector::CornerLimits{300, 9.f}, c1);
+    s2.select(a, 1.f, p2);
+    s2.detectCorners(a, 300, 9.f, c2);
+    ASSERT_EQ(p1.size(), p2.size()) << corner_fraction;
+    for (std::size_t i = 0; i < p1.size(); ++i) {
+      EXPECT_EQ(p1[i].u, p2[i].u);
+      EXPECT_EQ(p1[i].v, p2[i].v);
+      EXPECT_EQ(p1[i].is_corner, p2[i].is_corner);
+    }
+    EXPECT_GT(c1.size(), 100u);
+    ASSERT_EQ(c1.size(), c2.size()) << corner_fraction;
+    for (std::size_t i = 0; i < c1.size(); ++i) {
+      EXPECT_EQ(c1[i].u, c2[i].u);
+      EXPECT_EQ(c1[i].v, c2[i].v);
+      EXPECT_EQ(c1[i].score, c2[i].score);
+    }
+  }
+}
+
 TEST(PixelSelector, FavoursDiverseGradientDirections) {
   // Bands of 12 rows alternate between diagonal stripes (|grad I| up to 42) and vertical stripes
   // (|grad I| up to 34, gradient along x). Every cell holds both; picking by magnitude alone

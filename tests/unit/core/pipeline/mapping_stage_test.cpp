@@ -56,9 +56,9 @@ MappingJob initJob(SyntheticWindow& w) {
   job.kind = MappingJob::Kind::kInitialize;
   job.initialization = w.initialization(2);
   job.reference_pyramid = w.pyramid(0);
-  job.reference_info = {0, 0.0, 1.0, w.T_c_w(0), AffineLight{}, {}};
+  job.reference_info = {0, 0.0, 1.0, w.T_c_w(0), AffineLight{}};
   job.pyramid = w.pyramid(2);
-  job.info = {2, 0.2, 1.0, w.T_c_w(2), AffineLight{}, {}};
+  job.info = {2, 0.2, 1.0, w.T_c_w(2), AffineLight{}};
   return job;
 }
 
@@ -66,7 +66,7 @@ MappingJob frameJob(SyntheticWindow& w, int i, bool keyframe) {
   MappingJob job;
   job.kind = keyframe ? MappingJob::Kind::kKeyframe : MappingJob::Kind::kTrace;
   job.pyramid = w.pyramid(i);
-  job.info = {i, 0.1 * i, 1.0, w.T_c_w(i), AffineLight{}, {}};
+  job.info = {i, 0.1 * i, 1.0, w.T_c_w(i), AffineLight{}};
   return job;
 }
 
@@ -270,7 +270,7 @@ TEST(MappingStage, RelocalizeStartsAWindowAtAMapKeyframe) {
   MappingJob job;
   job.kind = MappingJob::Kind::kRelocalize;
   job.pyramid = m.w.pyramid(frame);
-  job.info = {frame, 0.1 * frame, 1.0, m.w.T_c_w(frame), AffineLight{}, {}};
+  job.info = {frame, 0.1 * frame, 1.0, m.w.T_c_w(frame), AffineLight{}};
   job.anchor_keyframe = anchor;
   m.stage.submit(std::move(job));
 
