@@ -225,6 +225,7 @@ void MappingStage::continueAfterLoadedMap(int next_keyframe_id, const MapCalibra
 
 void MappingStage::reset() {
   publishMap(mapper_.reset());
+  window_descriptions_.clear();
   last_left_id_ = -1;
   references_.clear();
   keyframe_in_flight_.store(false, std::memory_order_release);
@@ -306,7 +307,15 @@ void MappingStage::keepMapBudget() {
 
 void MappingStage::describeOrb(MarginalizedKeyframe& kf) {
   if (kf.image.empty()) return;
-  orb_->compute(kf.image.view(), kf.corners, kf.descriptors, orb_kept_);
+  const auto made = std::find_if(window_descriptions_.begin(), window_descriptions_.end(),
+                                 [&](const OrbDescription& d) { return d.keyframe_id == kf.id; });
+  if (made != window_descriptions_.end() && made->corners == kf.corners) {
+    kf.descriptors = std::move(made->descriptors);
+    orb_kept_ = std::move(made->kept);
+  } else {
+    orb_->compute(kf.image.view(), kf.corners, kf.descriptors, orb_kept_);
+  }
+  if (made != window_descriptions_.end()) window_descriptions_.erase(made);
   std::vector<Eigen::Vector2f> corners;
   std::vector<float> idepth;
   corners.reserve(orb_kept_.size());

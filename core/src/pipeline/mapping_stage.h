@@ -203,6 +203,18 @@ class MappingStage {
   bool inline_mode_;  ///< deterministic: jobs run in the submitting thread
   std::unique_ptr<OrbExtractor> orb_;
   std::vector<std::uint32_t> orb_kept_;
+  /// ORB descriptions of window keyframes made for the reuse search, kept until the keyframe
+  /// leaves the window and is described for the map: the same image and corners give the same
+  /// descriptors, so they are not computed twice.
+  struct OrbDescription {
+    int keyframe_id = -1;
+    std::vector<Eigen::Vector2f> corners;  ///< the corners described
+    std::vector<OrbDescriptor> descriptors;
+    std::vector<std::uint32_t> kept;  ///< indices into corners of the described ones
+  };
+  std::vector<OrbDescription> window_descriptions_;
+  /// More than a window ever holds; the oldest go first.
+  static constexpr std::size_t kMaxWindowDescriptions = 64;
   std::vector<float> idepths_;  ///< scratch of medianDepth
   static double medianDepth(const std::vector<DepthPoint>& points, std::vector<float>& scratch);
   std::unique_ptr<ReactivationSearch> reuse_;

@@ -306,5 +306,31 @@ TEST(MappingStage, ReturningCameraBringsMapKeyframesBack) {
   EXPECT_GT(m.stage.snapshot()->reuse.reactivations, 0);
 }
 
+TEST(MappingStage, MapKeyframesCarryTheDescriptorsOfTheirOwnImageAndCorners) {
+  // With reuse on, a keyframe is described when it is made (for the search) and that description
+  // is kept for when it leaves the window: it must be what describing it then would give.
+  Config config = stageConfig();
+  config.reuse.enabled = true;
+  config.reuse.cull_redundant = false;
+  MappedWindow m(26, config);
+  m.keyframes(3, 24, 3);
+  OrbExtractor orb(SyntheticWindow::kW, SyntheticWindow::kH);
+  std::vector<OrbDescriptor> descriptors;
+  std::vector<std::uint32_t> kept;
+  int checked = 0;
+  for (int id = 0; id < 100; ++id) {
+    const std::shared_ptr<const MarginalizedKeyframe> kf = m.store.keyframeData(id);
+    if (!kf) continue;
+    ASSERT_FALSE(kf->corners.empty()) << "keyframe " << id;
+    ASSERT_EQ(kf->descriptors.size(), kf->corners.size()) << "keyframe " << id;
+    orb.compute(m.w.pyramid(static_cast<int>(kf->frame_index))->intensity(0), kf->corners,
+                descriptors, kept);
+    ASSERT_EQ(kept.size(), kf->corners.size()) << "keyframe " << id;
+    EXPECT_TRUE(descriptors == kf->descriptors) << "keyframe " << id;
+    ++checked;
+  }
+  EXPECT_GE(checked, 3);
+}
+
 }  // namespace
 }  // namespace ldsm
