@@ -6,35 +6,31 @@
 #include <string>
 
 #include "image/interpolation.h"
+#include "kernels/coarse_warp.h"
 #include "ldsm/error.h"
 
 namespace ldsm {
 
 namespace {
 
+using simd::CoarseWarpedPoint;
+using simd::CoarseWarpParams;
+
 // Everything the warp of one level needs, in float.
-struct LevelWarp {
-  Eigen::Matrix3f KRKi;  // K R K^-1
-  Eigen::Vector3f Kt;    // K t
-  float fx, fy, fxi, fyi, cxi, cyi;
-  float margin;
-  float scale, b_ref, b;
-  ImageView<const GradientPixel> image;
-};
-
-struct WarpedPoint {
-  float dx_fx, dy_fy, nx, ny, iz, ref_term, residual;
-};
-
-LevelWarp makeLevelWarp(const LevelCamera& cam, const SE3d& T, const Eigen::Vector2d& transfer,
-                        double b_ref, const AffineLight& affine,
-                        ImageView<const GradientPixel> image, float margin) {
-  LevelWarp w;
+CoarseWarpParams makeLevelWarp(const LevelCamera& cam, const SE3d& T,
+                               const Eigen::Vector2d& transfer, double b_ref,
+                               const AffineLight& affine, ImageView<const GradientPixel> image,
+                               float margin) {
+  CoarseWarpParams w;
   const Eigen::Matrix3f K = cam.K();
   Eigen::Matrix3f Ki;
   Ki << cam.fxi, 0, cam.cxi, 0, cam.fyi, cam.cyi, 0, 0, 1;
-  w.KRKi = K * T.rotationMatrix().cast<float>() * Ki;
-  w.Kt = K * T.translation().cast<float>();
+  const Eigen::Matrix3f KRKi = K * T.rotationMatrix().cast<float>() * Ki;
+  const Eigen::Vector3f Kt = K * T.translation().cast<float>();
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) w.KRKi[3 * r + c] = KRKi(r, c);
+    w.Kt[r] = Kt(r);
+  }
   w.fx = cam.fx;
   w.fy = cam.fy;
   w.fxi = cam.fxi;
@@ -47,27 +43,6 @@ LevelWarp makeLevelWarp(const LevelCamera& cam, const SE3d& T, const Eigen::Vect
   w.b = static_cast<float>(affine.b);
   w.image = image;
   return w;
-}
-
-// Projects reference pixel (x, y) with inverse depth `idepth` into the frame and computes its
-// residual. False when it lands outside the frame (with margin) or behind the camera.
-[[gnu::always_inline]] inline bool warpPoint(const LevelWarp& w, float x, float y, float idepth,
-                                             float ref_intensity, WarpedPoint& out) {
-  const Eigen::Vector3f p = w.KRKi * Eigen::Vector3f(x, y, 1.f) + w.Kt * idepth;
-  if (!(p.z() > 0.f)) return false;
-  const float zi = 1.f / p.z();
-  const float u = p.x() * zi;
-  const float v = p.y() * zi;
-  if (!isInsideForBilinear(w.image, u, v, w.margin)) return false;
-  const GradientPixel g = interpolateBilinear(w.image, u, v);
-  out.dx_fx = g.dx * w.fx;
-  out.dy_fy = g.dy * w.fy;
-  out.nx = w.fxi * u + w.cxi;
-  out.ny = w.fyi * v + w.cyi;
-  out.iz = idepth * zi;
-  out.ref_term = w.scale * (ref_intensity - w.b_ref);
-  out.residual = g.intensity - out.ref_term - w.b;
-  return true;
 }
 
 void checkExposure(double exposure, const char* what) {
@@ -151,7 +126,7 @@ double CoarseTracker::scaleOf(double exposure, const AffineLight& affine) const 
 CoarseTracker::Evaluation CoarseTracker::evaluate(const ImagePyramid& frame, double exposure,
                                                   int level, const SE3d& T,
                                                   const AffineLight& affine, float cutoff) {
-  const LevelWarp w =
+  const CoarseWarpParams w =
       makeLevelWarp(camera_[level], T, affineTransfer(ref_exposure_, exposure, ref_affine_, affine),
                     ref_affine_.b, affine, frame.gradients(level), settings_.border_margin);
   const LevelPoints& pts = depth_maps_.points(level);
@@ -163,9 +138,9 @@ CoarseTracker::Evaluation CoarseTracker::evaluate(const ImagePyramid& frame, dou
   Evaluation ev;
   float energy = 0.f, huber_sq = 0.f;  // partial sums, flushed to double every block
   int n = 0, in_image = 0, base_outliers = 0;
-  for (int i = 0; i < pts.count; ++i) {
-    WarpedPoint wp;
-    if (!warpPoint(w, pts.x[i], pts.y[i], pts.idepth[i], pts.intensity[i], wp)) continue;
+  // One warped point into the sums and the residual arrays, in point order (the float partial
+  // sums are flushed into double when an inlier makes the count in the image a multiple of 256).
+  const auto add = [&](const CoarseWarpedPoint& wp, int i) {
     ++in_image;
     const float r = wp.residual;
     const float abs_r = std::abs(r);
@@ -175,7 +150,7 @@ CoarseTracker::Evaluation CoarseTracker::evaluate(const ImagePyramid& frame, dou
       ++ev.outliers;
       energy += gw * outlier_cost;
       huber_sq += outlier_cost;
-      continue;
+      return;  // (the partial sums are flushed after inliers only)
     }
     const float hw = abs_r < k ? 1.f : k / abs_r;
     const float cost = hw * (2.f - hw) * r * r;
@@ -195,6 +170,24 @@ CoarseTracker::Evaluation CoarseTracker::evaluate(const ImagePyramid& frame, dou
       ev.huber_sq_sum += huber_sq;
       energy = huber_sq = 0.f;
     }
+  };
+  int i = 0;
+  simd::CoarseWarp4 block;
+  for (; i + 4 <= pts.count; i += 4) {
+    simd::warpCoarse4<simd::Vec4>(w, &pts.x[i], &pts.y[i], &pts.idepth[i], &pts.intensity[i],
+                                  block);
+    for (int l = 0; l < 4; ++l) {
+      if (((block.inside >> l) & 1) == 0) continue;
+      add({block.dx_fx[l], block.dy_fy[l], block.nx[l], block.ny[l], block.iz[l], block.ref_term[l],
+           block.residual[l]},
+          i + l);
+    }
+  }
+  for (; i < pts.count; ++i) {
+    CoarseWarpedPoint wp;
+    if (simd::reference::warpCoarsePoint(w, pts.x[i], pts.y[i], pts.idepth[i], pts.intensity[i],
+                                         wp))
+      add(wp, i);
   }
   ev.energy += energy;
   ev.huber_sq_sum += huber_sq;
@@ -392,11 +385,12 @@ bool CoarseTracker::pointResidual(const ImagePyramid& frame, double exposure,
                                   int index, float* residual, float* jacobian) const {
   const LevelPoints& pts = depth_maps_.points(level);
   if (!has_reference_ || index < 0 || index >= pts.count) return false;
-  const LevelWarp w = makeLevelWarp(
+  const CoarseWarpParams w = makeLevelWarp(
       camera_[level], T_frame_ref, affineTransfer(ref_exposure_, exposure, ref_affine_, affine),
       ref_affine_.b, affine, frame.gradients(level), settings_.border_margin);
-  WarpedPoint wp;
-  if (!warpPoint(w, pts.x[index], pts.y[index], pts.idepth[index], pts.intensity[index], wp)) {
+  CoarseWarpedPoint wp;
+  if (!simd::reference::warpCoarsePoint(w, pts.x[index], pts.y[index], pts.idepth[index],
+                                        pts.intensity[index], wp)) {
     return false;
   }
   if (residual != nullptr) *residual = wp.residual;

@@ -65,6 +65,12 @@ inline bool allOf(Mask4Neon a) {
   const uint32x2_t m = vand_u32(vget_low_u32(a.n), vget_high_u32(a.n));
   return vget_lane_u32(vpmin_u32(m, m), 0) != 0u;
 }
+inline int laneBits(Mask4Neon a) {
+  alignas(16) std::uint32_t m[4];
+  vst1q_u32(m, a.n);
+  return static_cast<int>((m[0] & 1u) | ((m[1] & 1u) << 1) | ((m[2] & 1u) << 2) |
+                          ((m[3] & 1u) << 3));
+}
 inline Vec4Neon select(Mask4Neon m, Vec4Neon a, Vec4Neon b) {
   return {vbslq_f32(m.n, a.n, b.n)};
 }

@@ -51,6 +51,9 @@ inline Mask4Scalar operator&(const Mask4Scalar& a, const Mask4Scalar& b) {
 inline bool allOf(const Mask4Scalar& a) {
   return a.m[0] && a.m[1] && a.m[2] && a.m[3];
 }
+inline int laneBits(const Mask4Scalar& a) {
+  return (a.m[0] ? 1 : 0) | (a.m[1] ? 2 : 0) | (a.m[2] ? 4 : 0) | (a.m[3] ? 8 : 0);
+}
 inline Vec4Scalar select(const Mask4Scalar& m, const Vec4Scalar& a, const Vec4Scalar& b) {
   return {{m.m[0] ? a.v[0] : b.v[0], m.m[1] ? a.v[1] : b.v[1], m.m[2] ? a.v[2] : b.v[2],
            m.m[3] ? a.v[3] : b.v[3]}};

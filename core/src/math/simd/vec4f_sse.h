@@ -52,6 +52,9 @@ inline Mask4Sse operator&(Mask4Sse a, Mask4Sse b) {
 inline bool allOf(Mask4Sse a) {
   return _mm_movemask_ps(a.n) == 0xF;
 }
+inline int laneBits(Mask4Sse a) {
+  return _mm_movemask_ps(a.n);
+}
 inline Vec4Sse select(Mask4Sse m, Vec4Sse a, Vec4Sse b) {
   return {_mm_or_ps(_mm_and_ps(m.n, a.n), _mm_andnot_ps(m.n, b.n))};
 }

@@ -57,6 +57,10 @@ TYPED_TEST(Vec4fTest, ComparisonsAndSelect) {
   EXPECT_TRUE(allOf(V::loadu(b) < V::set1(4.f)));
   EXPECT_FALSE(allOf(V::loadu(b) < V::set1(1.f)));
   EXPECT_FALSE(allOf(V::loadu(a) < V::set1(4.f)));  // NaN fails
+  EXPECT_EQ(laneBits(V::loadu(b) < V::set1(4.f)), 0xF);
+  EXPECT_EQ(laneBits(V::loadu(b) < V::set1(1.f)), 0b1100);
+  EXPECT_EQ(laneBits(V::loadu(a) < V::set1(4.f)), 0b1011);  // NaN fails
+  EXPECT_EQ(laneBits(V::loadu(b) > V::set1(9.f)), 0);
   EXPECT_FALSE(allOf((V::loadu(b) < V::set1(4.f)) & (V::loadu(b) > V::set1(-1.f))));
 }
 

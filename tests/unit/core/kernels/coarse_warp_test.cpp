@@ -1,0 +1,135 @@
+// The coarse tracker's warp: the SIMD kernel (selected instruction set and plain C++) against the
+// per-point reference, bit for bit, on random warps of a smooth texture with points inside, near
+// the border, outside, behind the camera and not finite.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include "kernels/coarse_warp.h"
+
+namespace ldsm {
+namespace simd {
+namespace {
+
+template <class V>
+class CoarseWarpTest : public ::testing::Test {};
+using VecTypes = ::testing::Types<Vec4, Vec4Scalar>;
+TYPED_TEST_SUITE(CoarseWarpTest, VecTypes, );
+
+Image<GradientPixel> texture(int w, int h) {
+  Image<GradientPixel> g(w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const float fx = static_cast<float>(x), fy = static_cast<float>(y);
+      g(x, y) = {120.f + 60.f * std::sin(0.31f * fx) * std::cos(0.23f * fy),
+                 18.f * std::cos(0.31f * fx) * std::cos(0.23f * fy),
+                 -13.f * std::sin(0.31f * fx) * std::sin(0.23f * fy)};
+    }
+  return g;
+}
+
+CoarseWarpParams randomWarp(const Image<GradientPixel>& img, std::mt19937& rng) {
+  std::uniform_real_distribution<float> U(-1.f, 1.f);
+  CoarseWarpParams w;
+  const float e[9] = {1.f + 0.05f * U(rng), 0.05f * U(rng),       4.f * U(rng),
+                      0.05f * U(rng),       1.f + 0.05f * U(rng), 4.f * U(rng),
+                      1e-4f * U(rng),       1e-4f * U(rng),       1.f + 0.01f * U(rng)};
+  for (int i = 0; i < 9; ++i) w.KRKi[i] = e[i];
+  for (float& t : w.Kt) t = 6.f * U(rng);
+  w.Kt[2] = 0.05f * U(rng);
+  w.fx = 300.f + 50.f * U(rng);
+  w.fy = 300.f + 50.f * U(rng);
+  w.fxi = 1.f / w.fx;
+  w.fyi = 1.f / w.fy;
+  w.cxi = -0.5f * img.width() * w.fxi;
+  w.cyi = -0.5f * img.height() * w.fyi;
+  w.margin = 2.f;
+  w.scale = 1.f + 0.2f * U(rng);
+  w.b_ref = 5.f * U(rng);
+  w.b = 5.f * U(rng);
+  w.image = img.view();
+  return w;
+}
+
+TYPED_TEST(CoarseWarpTest, FourPointsAtOnceEqualThePointByPointWarp) {
+  using V = TypeParam;
+  const Image<GradientPixel> img = texture(97, 61);
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<float> X(-8.f, 105.f), Y(-8.f, 69.f), D(0.f, 1.f);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  int inside = 0, outside = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    const CoarseWarpParams w = randomWarp(img, rng);
+    std::vector<float> x(64), y(64), idepth(64), intensity(64);
+    for (int i = 0; i < 64; ++i) {
+      x[i] = std::floor(X(rng));
+      y[i] = std::floor(Y(rng));
+      idepth[i] = D(rng);
+      intensity[i] = 255.f * D(rng);
+    }
+    idepth[5] = -40.f;  // behind the camera
+    x[9] = nan;
+    idepth[13] = nan;
+    x[17] = 2.f;  // at the margin
+    y[17] = 2.f;
+    for (int i = 0; i < 64; i += 4) {
+      CoarseWarp4 block;
+      warpCoarse4<V>(w, &x[i], &y[i], &idepth[i], &intensity[i], block);
+      for (int l = 0; l < 4; ++l) {
+        CoarseWarpedPoint ref;
+        const bool in =
+            reference::warpCoarsePoint(w, x[i + l], y[i + l], idepth[i + l], intensity[i + l], ref);
+        ASSERT_EQ(((block.inside >> l) & 1) != 0, in) << "trial " << trial << " point " << i + l;
+        if (!in) {
+          ++outside;
+          continue;
+        }
+        ++inside;
+        EXPECT_EQ(block.dx_fx[l], ref.dx_fx);
+        EXPECT_EQ(block.dy_fy[l], ref.dy_fy);
+        EXPECT_EQ(block.nx[l], ref.nx);
+        EXPECT_EQ(block.ny[l], ref.ny);
+        EXPECT_EQ(block.iz[l], ref.iz);
+        EXPECT_EQ(block.ref_term[l], ref.ref_term);
+        EXPECT_EQ(block.residual[l], ref.residual);
+      }
+    }
+  }
+  EXPECT_GT(inside, 5000);
+  EXPECT_GT(outside, 1000);
+}
+
+TEST(CoarseWarp, ReferenceIsTheBilinearWarpOfThePoint) {
+  const Image<GradientPixel> img = texture(97, 61);
+  std::mt19937 rng(3);
+  const CoarseWarpParams w = randomWarp(img, rng);
+  const float x = 40.f, y = 30.f, d = 0.3f, I_ref = 100.f;
+  CoarseWarpedPoint out;
+  ASSERT_TRUE(reference::warpCoarsePoint(w, x, y, d, I_ref, out));
+  // The same in double, from the definitions.
+  const float* K = w.KRKi;
+  const double px = K[0] * x + K[1] * y + K[2] + w.Kt[0] * d;
+  const double py = K[3] * x + K[4] * y + K[5] + w.Kt[1] * d;
+  const double pz = K[6] * x + K[7] * y + K[8] + w.Kt[2] * d;
+  const double u = px / pz, v = py / pz;
+  const GradientPixel g =
+      interpolateBilinear(img.view(), static_cast<float>(u), static_cast<float>(v));
+  EXPECT_NEAR(out.iz, d / pz, 1e-6);
+  EXPECT_NEAR(out.nx, w.fxi * u + w.cxi, 1e-5);
+  EXPECT_NEAR(out.ny, w.fyi * v + w.cyi, 1e-5);
+  EXPECT_NEAR(out.dx_fx, g.dx * w.fx, 1e-2);
+  EXPECT_NEAR(out.dy_fy, g.dy * w.fy, 1e-2);
+  const double ref = w.scale * (I_ref - w.b_ref);
+  EXPECT_NEAR(out.ref_term, ref, 1e-4);
+  EXPECT_NEAR(out.residual, g.intensity - ref - w.b, 1e-3);
+  // Behind the camera and outside: no warp.
+  EXPECT_FALSE(reference::warpCoarsePoint(w, x, y, -1e3f, I_ref, out));
+  EXPECT_FALSE(reference::warpCoarsePoint(w, 500.f, y, d, I_ref, out));
+}
+
+}  // namespace
+}  // namespace simd
+}  // namespace ldsm
