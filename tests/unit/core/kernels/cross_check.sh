@@ -1,8 +1,10 @@
 #!/bin/sh
 # Builds the SIMD tests for the kernels the host build does not use and runs them: NEON with
 # cross compilers under qemu-user (AArch64, and ARMv7 hard float with -mfpu=neon), and the plain
-# C++ fallback (LDSM_SIMD=scalar) natively. Needs g++-aarch64-linux-gnu, g++-arm-linux-gnueabihf,
-# qemu-user and the GoogleTest sources in /usr/src/googletest.
+# C++ fallback (LDSM_SIMD=scalar) natively. Compiled as the project is (-ffp-contract=off, see
+# cmake/LdsmCompilerFlags.cmake): several kernels must equal their references bit for bit.
+# Needs g++-aarch64-linux-gnu, g++-arm-linux-gnueabihf, qemu-user and the GoogleTest sources in
+# /usr/src/googletest.
 #   tests/unit/core/kernels/cross_check.sh [work dir, default /tmp/ldsm-simd-check]
 set -eu
 root=$(cd "$(dirname "$0")/../../../.." && pwd)
@@ -31,7 +33,7 @@ check() {  # name, compiler, SIMD, runner ("" = native), sysroot, extra flags
     ar rcs "$dir/gtest.a" "$dir/gtest-all.o" "$dir/gtest_main.o"
   fi
   # shellcheck disable=SC2086
-  $cxx -O2 -std=c++17 "$@" -Wall -Wextra -Wpedantic -Wshadow=local -Wcast-align -Werror \
+  $cxx -O2 -std=c++17 -ffp-contract=off "$@" -Wall -Wextra -Wpedantic -Wshadow=local -Wcast-align -Werror \
     -DLDSM_SIMD_$simd=1 -I"$root/core/include" -I"$root/core/src" -I"$root/tests/support" \
     -isystem /usr/include/eigen3 -isystem "$gtest/include" $tests $sources "$dir/gtest.a" \
     -lpthread -o "$dir/test_simd"
