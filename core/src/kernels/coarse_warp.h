@@ -75,7 +75,8 @@ namespace reference {
 namespace detail {
 
 /// (intensity, dx, dy, -) at the 2x2 block with top-left pixel (x, y), weights from lane K, summed
-/// in interpolateBilinear's order ((w00 p00 + w10 p10) + w01 p01) + w11 p11.
+/// in interpolateBilinear's order ((w00 p00 + w10 p10) + w01 p01) + w11 p11 (pattern_sampling.h's
+/// bilinearPixel sums the columns first: the same loads, another rounding).
 template <class V, int K>
 inline V coarseBilinear(const ImageView<const GradientPixel>& img, std::int32_t x, std::int32_t y,
                         V w00, V w10, V w01, V w11) {

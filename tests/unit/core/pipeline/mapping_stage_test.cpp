@@ -51,6 +51,14 @@ Config stageConfig() {
   return c;
 }
 
+/// stageConfig() with map reuse on and every keyframe that leaves kept in the map.
+Config reuseConfig() {
+  Config c = stageConfig();
+  c.reuse.enabled = true;
+  c.reuse.cull_redundant = false;
+  return c;
+}
+
 MappingJob initJob(SyntheticWindow& w) {
   MappingJob job;
   job.kind = MappingJob::Kind::kInitialize;
@@ -248,10 +256,7 @@ TEST(MappingStage, LoopCorrectionsMoveTheMapButNotTheWindow) {
 }
 
 TEST(MappingStage, RelocalizeStartsAWindowAtAMapKeyframe) {
-  Config config = stageConfig();
-  config.reuse.enabled = true;
-  config.reuse.cull_redundant = false;
-  MappedWindow m(26, config);
+  MappedWindow m(26, reuseConfig());
   m.keyframes(3, 24, 3);
   MappingJob reset;
   reset.kind = MappingJob::Kind::kReset;
@@ -291,9 +296,7 @@ TEST(MappingStage, RelocalizeStartsAWindowAtAMapKeyframe) {
 }
 
 TEST(MappingStage, ReturningCameraBringsMapKeyframesBack) {
-  Config config = stageConfig();
-  config.reuse.enabled = true;
-  config.reuse.cull_redundant = false;
+  Config config = reuseConfig();
   config.reuse.min_keyframe_age = 2;
   MappedWindow m(34, config);
   m.keyframes(3, 33, 3);   // out ...
@@ -309,10 +312,7 @@ TEST(MappingStage, ReturningCameraBringsMapKeyframesBack) {
 TEST(MappingStage, MapKeyframesCarryTheDescriptorsOfTheirOwnImageAndCorners) {
   // With reuse on, a keyframe is described when it is made (for the search) and that description
   // is kept for when it leaves the window: it must be what describing it then would give.
-  Config config = stageConfig();
-  config.reuse.enabled = true;
-  config.reuse.cull_redundant = false;
-  MappedWindow m(26, config);
+  MappedWindow m(26, reuseConfig());
   m.keyframes(3, 24, 3);
   OrbExtractor orb(SyntheticWindow::kW, SyntheticWindow::kH);
   std::vector<OrbDescriptor> descriptors;
