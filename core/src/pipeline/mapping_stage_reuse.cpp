@@ -82,9 +82,11 @@ ReuseView MappingStage::reuseView(const WindowKeyframe& newest) {
   std::vector<Eigen::Vector2f> corners = mapper_.newestDescribableCorners();
   orb_->compute(newest.pyramid().intensity(0), corners, view.descriptors, orb_kept_);
   for (const std::uint32_t i : orb_kept_) view.corners.push_back(corners[i]);
-  if (window_descriptions_.size() >= kMaxWindowDescriptions)
-    window_descriptions_.erase(window_descriptions_.begin());
-  window_descriptions_.push_back({newest.id(), std::move(corners), view.descriptors, orb_kept_});
+  if (!settings_.localize_only) {  // (localising only, nothing that leaves is described)
+    if (window_descriptions_.size() >= kMaxWindowDescriptions)
+      window_descriptions_.erase(window_descriptions_.begin());
+    window_descriptions_.push_back({newest.id(), std::move(corners), view.descriptors, orb_kept_});
+  }
   mapper_.trackingPoints(depth_points_);
   if (!depth_points_.empty()) view.median_depth = medianDepth(depth_points_, idepths_);
   for (const KeyframeRecord& r : mapper_.windowPoses()) view.window_ids.push_back(r.id);
