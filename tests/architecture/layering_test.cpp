@@ -45,7 +45,7 @@ const std::map<std::string, std::set<std::string>>& allowedModules() {
       {"math", {}},
       {"concurrency", {}},
       {"config", {}},
-      {"camera", {}},
+      {"camera", {"math"}},
       {"image", {}},
       {"eval", {}},
       {"model", {"math", "image"}},

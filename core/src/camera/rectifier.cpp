@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "camera/remap_bilinear.h"
 #include "camera_common.h"
 #include "ldsm/error.h"
 
@@ -54,29 +55,10 @@ void Rectifier::remap(ImageView<const T> in, ImageF& out, float invalid_value) c
     }
     return;
   }
-  const int max_x0 = std::max(w - 2, 0), max_y0 = std::max(h - 2, 0);
-  const std::ptrdiff_t dx1 = w > 1 ? 1 : 0;
-  const std::ptrdiff_t dy1 = h > 1 ? in.stride : 0;
-  for (int v = 0; v < output_.height; ++v) {
-    const float* mx = map_x_.row(v);
-    const float* my = map_y_.row(v);
-    float* dst = out.row(v);
-    for (int u = 0; u < output_.width; ++u) {
-      const float x = mx[u], y = my[u];
-      if (x < 0.0f) {
-        dst[u] = invalid_value;
-        continue;
-      }
-      const int x0 = std::min(static_cast<int>(x), max_x0);
-      const int y0 = std::min(static_cast<int>(y), max_y0);
-      const float ax = x - static_cast<float>(x0), ay = y - static_cast<float>(y0);
-      const T* p = in.row(y0) + x0;
-      const float top = static_cast<float>(p[0]) + ax * (static_cast<float>(p[dx1]) - p[0]);
-      const float bottom =
-          static_cast<float>(p[dy1]) + ax * (static_cast<float>(p[dy1 + dx1]) - p[dy1]);
-      dst[u] = top + ay * (bottom - top);
-    }
-  }
+  const simd::RemapInput<T> input{in.data, in.stride, in.width, in.height};
+  for (int v = 0; v < output_.height; ++v)
+    simd::remapRow<simd::Vec4>(input, map_x_.row(v), map_y_.row(v), output_.width, invalid_value,
+                               out.row(v));
 }
 
 void Rectifier::rectify(ImageView<const std::uint8_t> in, ImageF& out, float invalid_value) const {

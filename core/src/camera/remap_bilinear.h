@@ -1,0 +1,99 @@
+// The rectifier's remap of one output row: output pixel u samples the input bilinearly at
+// (map_x[u], map_y[u]) (clamped so that the 2x2 block stays in the image; map_x < 0 marks a pixel
+// that sees no input, which gets `invalid`):
+//   top = p00 + ax (p10 - p00), bottom = p01 + ax (p11 - p01), out = top + ay (bottom - top).
+// remapRow<V> does four output pixels per vector (positions and weights in SIMD, the 2x2 blocks
+// loaded per pixel; V from math/simd/vec4f.h); reference::remapRow is the per-pixel formulation,
+// with the same operations in the same order, so the two are bit-identical (tested for every vector
+// type).
+#pragma once
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+
+#include "math/simd/vec4f.h"
+
+namespace ldsm {
+namespace simd {
+
+/// The input image: `height` rows of `width` pixels, `stride` pixels apart.
+template <typename T>
+struct RemapInput {
+  const T* data;
+  std::ptrdiff_t stride;
+  int width, height;
+  const T* row(int y) const { return data + static_cast<std::ptrdiff_t>(y) * stride; }
+};
+
+namespace reference {
+
+template <typename T>
+inline void remapRow(const RemapInput<T>& in, const float* map_x, const float* map_y, int width,
+                     float invalid, float* out) {
+  const int max_x0 = std::max(in.width - 2, 0), max_y0 = std::max(in.height - 2, 0);
+  const std::ptrdiff_t dx1 = in.width > 1 ? 1 : 0;
+  const std::ptrdiff_t dy1 = in.height > 1 ? in.stride : 0;
+  for (int u = 0; u < width; ++u) {
+    const float x = map_x[u], y = map_y[u];
+    if (x < 0.0f) {
+      out[u] = invalid;
+      continue;
+    }
+    const int x0 = std::min(static_cast<int>(x), max_x0);
+    const int y0 = std::min(static_cast<int>(y), max_y0);
+    const float ax = x - static_cast<float>(x0), ay = y - static_cast<float>(y0);
+    const T* p = in.row(y0) + x0;
+    const float top = static_cast<float>(p[0]) + ax * (static_cast<float>(p[dx1]) - p[0]);
+    const float bottom =
+        static_cast<float>(p[dy1]) + ax * (static_cast<float>(p[dy1 + dx1]) - p[dy1]);
+    out[u] = top + ay * (bottom - top);
+  }
+}
+
+}  // namespace reference
+
+/// remap of `width` output pixels (see above); map values are >= 0 or exactly -1 (no input).
+template <class V, typename T>
+inline void remapRow(const RemapInput<T>& in, const float* map_x, const float* map_y, int width,
+                     float invalid, float* out) {
+  const int max_x0 = std::max(in.width - 2, 0), max_y0 = std::max(in.height - 2, 0);
+  const std::ptrdiff_t dx1 = in.width > 1 ? 1 : 0;
+  const std::ptrdiff_t dy1 = in.height > 1 ? in.stride : 0;
+  const V zero = V::zero();
+  const V x_max = V::set1(static_cast<float>(max_x0));
+  const V y_max = V::set1(static_cast<float>(max_y0));
+  const V bad = V::set1(invalid);
+  int u = 0;
+  for (; u + 4 <= width; u += 4) {
+    const V x = V::loadu(map_x + u), y = V::loadu(map_y + u);
+    const typename V::Mask valid = x >= zero;
+    // Pixels without input read the block at (0, 0) and are replaced afterwards.
+    const V xv = select(valid, x, zero), yv = select(valid, y, zero);
+    alignas(16) std::int32_t ix[4], iy[4];
+    // The truncation is the floor (>= 0) and exact in float, so the clamp in float equals
+    // std::min on the integers; truncating the clamped values again gives their integers.
+    V x0 = truncate(xv, ix), y0 = truncate(yv, iy);
+    x0 = select(x0 > x_max, x_max, x0);
+    y0 = select(y0 > y_max, y_max, y0);
+    truncate(x0, ix);
+    truncate(y0, iy);
+    const V ax = x - x0, ay = y - y0;
+    alignas(16) float p00[4], p10[4], p01[4], p11[4];
+    for (int k = 0; k < 4; ++k) {
+      const T* p = in.row(iy[k]) + ix[k];
+      p00[k] = static_cast<float>(p[0]);
+      p10[k] = static_cast<float>(p[dx1]);
+      p01[k] = static_cast<float>(p[dy1]);
+      p11[k] = static_cast<float>(p[dy1 + dx1]);
+    }
+    const V a = V::load(p00), b = V::load(p10), c = V::load(p01), d = V::load(p11);
+    const V top = a + ax * (b - a);
+    const V bottom = c + ax * (d - c);
+    select(valid, top + ay * (bottom - top), bad).storeu(out + u);
+  }
+  reference::remapRow(in, map_x + u, map_y + u, width - u, invalid, out + u);
+}
+
+}  // namespace simd
+}  // namespace ldsm
