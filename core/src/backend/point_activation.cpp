@@ -3,54 +3,11 @@
 // spacing adapts so that the window keeps about window.active_points points.
 #include <algorithm>
 #include <cmath>
-#include <deque>
 
+#include "backend/distance_map.h"
 #include "backend/mapper.h"
 
 namespace ldsm {
-namespace {
-
-/// City-block distance (level-1 pixels) to the nearest occupied cell, by breadth-first search.
-class DistanceMap {
- public:
-  DistanceMap(int w, int h) : w_(w), h_(h), d_(static_cast<size_t>(w) * h, kFar) {}
-  void mark(float u0, float v0) {
-    const int x = static_cast<int>(u0 * 0.5f + 0.5f), y = static_cast<int>(v0 * 0.5f + 0.5f);
-    if (x < 0 || y < 0 || x >= w_ || y >= h_) return;
-    d_[static_cast<size_t>(y) * w_ + x] = 0;
-    queue_.push_back(y * w_ + x);
-  }
-  void propagate() {
-    while (!queue_.empty()) {
-      const int i = queue_.front();
-      queue_.pop_front();
-      const int x = i % w_, y = i / w_;
-      const int nd = d_[i] + 1;
-      const int nb[4][2] = {{x - 1, y}, {x + 1, y}, {x, y - 1}, {x, y + 1}};
-      for (const auto& n : nb) {
-        if (n[0] < 0 || n[1] < 0 || n[0] >= w_ || n[1] >= h_) continue;
-        const int j = n[1] * w_ + n[0];
-        if (d_[j] > nd) {
-          d_[j] = nd;
-          queue_.push_back(j);
-        }
-      }
-    }
-  }
-  int at(float u0, float v0) const {
-    const int x = static_cast<int>(u0 * 0.5f + 0.5f), y = static_cast<int>(v0 * 0.5f + 0.5f);
-    if (x < 0 || y < 0 || x >= w_ || y >= h_) return -1;
-    return d_[static_cast<size_t>(y) * w_ + x];
-  }
-
- private:
-  static constexpr int kFar = 1 << 20;
-  int w_, h_;
-  std::vector<int> d_;
-  std::deque<int> queue_;
-};
-
-}  // namespace
 
 bool Mapper::optimizeNewPointDepth(ActivePoint& point, const std::vector<FramePairPrecalc>& pairs) {
   const int n = static_cast<int>(window_.size());
@@ -197,7 +154,6 @@ int Mapper::activatePoints() {
     }
     cands.erase(cands.begin() + static_cast<std::ptrdiff_t>(out), cands.end());
   }
-  dist.propagate();
   return activated;
 }
 
