@@ -39,6 +39,13 @@ struct SystemConfig {
   /// -1 (automatic): every frame offline, kLiveFrameHistory frames when `live`.
   int frame_history = -1;
   static constexpr int kLiveFrameHistory = 9000;  ///< 5 minutes at 30 Hz
+  /// Threads for data-parallel work inside a stage (today: the initializer's motion hypotheses,
+  /// while the mapping thread has nothing to do), the stage's own thread included. The work is
+  /// split into independent tasks combined in a fixed order, so the results do not depend on it.
+  /// 0 (automatic): 1 in deterministic mode, else the cores available, at most
+  /// kMaxAutomaticParallelThreads.
+  int parallel_threads = 0;
+  static constexpr int kMaxAutomaticParallelThreads = 4;
 
   /// The number of frames frame_history keeps (0: every one).
   int frameHistory() const {
@@ -63,6 +70,9 @@ struct SystemConfig {
     v.field("frame_history", frame_history, Range<int>{-1, 1000000000},
             "frame poses kept in memory; older ones go to System::takeRetiredFrames() (0: every "
             "frame, -1: every frame offline, 9000 when live)");
+    v.field("parallel_threads", parallel_threads, Range<int>{0, 64},
+            "threads for data-parallel work inside a stage, its own included (0: 1 when "
+            "deterministic, else the cores available, at most 4); results do not depend on it");
   }
 };
 

@@ -139,8 +139,10 @@ struct SystemStats {
   int max_queue_depth = 0;            ///< frames waiting for tracking, sampled after each submit()
   double mean_queue_depth = 0.0;
   /// Latency per stage, measured from submit(): "queue_wait" (until tracking starts on the
-  /// frame) and "submit_to_tracked" (until its pose is known and published). In deterministic
-  /// mode only the latter (the time submit() took).
+  /// frame), "submit_to_processed" (until tracking is done with it, every frame that reached the
+  /// odometry: also those of the initialisation and those without a pose) and
+  /// "submit_to_tracked" (until its pose is known and published: the frames with a pose). In
+  /// deterministic mode no "queue_wait" (the others are the time submit() took).
   std::vector<StageTiming> latency;
   /// Frames tracked but not yet integrated by the mapping thread, sampled after each tracked
   /// frame (0 in deterministic mode), and at the time of the call.

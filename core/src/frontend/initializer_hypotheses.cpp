@@ -40,6 +40,7 @@ InitializerHypotheses::InitializerHypotheses(const PyramidCamera& camera,
                       "] (got " + std::to_string(hypotheses) + ")");
   }
   members_.resize(static_cast<std::size_t>(hypotheses));
+  alive_scratch_.reserve(static_cast<std::size_t>(hypotheses));
   // Only the first selects reference points; the others adopt them.
   CoarseInitializerSettings follower = settings;
   follower.use_pixel_selector = false;
@@ -152,10 +153,22 @@ bool InitializerHypotheses::addFrame(const ImagePyramid& pyramid, double exposur
     return false;
   }
   ++frames_;
+  alive_scratch_.clear();
+  for (std::size_t i = 0; i < members_.size(); ++i)
+    if (members_[i].alive) alive_scratch_.push_back(static_cast<int>(i));
+  const auto track = [&](int k) {
+    members_[static_cast<std::size_t>(alive_scratch_[static_cast<std::size_t>(k)])]
+        .initializer->addFrame(pyramid, exposure);
+  };
+  const int live = static_cast<int>(alive_scratch_.size());
+  if (tasks_ != nullptr) {
+    tasks_->run(live, track);
+  } else {
+    for (int k = 0; k < live; ++k) track(k);
+  }
   for (std::size_t i = 0; i < members_.size(); ++i) {
     Member& m = members_[i];
     if (!m.alive) continue;
-    m.initializer->addFrame(pyramid, exposure);
     if (m.initializer->failed()) {
       m.alive = false;
       if (i == 0 || failure_ == InitFailure::kNone) failure_ = m.initializer->failure();

@@ -21,6 +21,7 @@
 #include <memory>
 #include <vector>
 
+#include "concurrency/parallel_tasks.h"
 #include "frontend/coarse_initializer.h"
 
 namespace ldsm {
@@ -70,6 +71,10 @@ class InitializerHypotheses {
   int leader() const { return leader_; }
   int alive() const;
   int hypotheses() const { return static_cast<int>(members_.size()); }
+  /// From now on the hypotheses of a frame are tracked as parallel tasks on `tasks` (not owned;
+  /// null: one after the other). Each hypothesis only touches its own state and the results are
+  /// combined in hypothesis order, so they are the same either way.
+  void setParallelTasks(concurrency::ParallelTasks* tasks) { tasks_ = tasks; }
   /// Seed translation of hypothesis i.
   static Eigen::Vector3d seed(int i);
 
@@ -88,6 +93,8 @@ class InitializerHypotheses {
   InitFailure failure_ = InitFailure::kNone;
   int frames_ = 0;
   int leader_ = 0;
+  concurrency::ParallelTasks* tasks_ = nullptr;
+  std::vector<int> alive_scratch_;  ///< indices of the live hypotheses of the frame
 };
 
 }  // namespace ldsm

@@ -1,6 +1,7 @@
 #include "pipeline/stage_settings.h"
 
 #include <algorithm>
+#include <thread>
 
 namespace ldsm {
 namespace {
@@ -28,6 +29,13 @@ WindowOptimizerSettings optimizerSettings(const Config& c, bool photometry_known
 concurrency::TaskMode stageMode(const Config& config) {
   return config.system.deterministic ? concurrency::TaskMode::kInline
                                      : concurrency::TaskMode::kThreaded;
+}
+
+int parallelThreads(const Config& config) {
+  if (config.system.parallel_threads > 0) return config.system.parallel_threads;
+  if (config.system.deterministic) return 1;
+  const int cores = static_cast<int>(std::thread::hardware_concurrency());
+  return std::clamp(cores, 1, SystemConfig::kMaxAutomaticParallelThreads);
 }
 
 CoarseTrackerSettings coarseTrackerSettings(const Config& config, bool exposures_known) {
@@ -86,6 +94,7 @@ TrackingStageSettings trackingStageSettings(const Config& config, int levels,
   s.reuse = config.reuse;
   s.localize_only = config.map.localize_only;
   s.wait_for_keyframes = !config.system.live && !config.system.deterministic;
+  s.parallel_threads = parallelThreads(config);
   return s;
 }
 

@@ -19,6 +19,8 @@ namespace ldsm {
 /// The one choice of the mode, for every stage (input, mapping, loop closure): inline on the
 /// caller's thread (system.deterministic) or each on a thread of its own.
 concurrency::TaskMode stageMode(const Config& config);
+/// system.parallel_threads resolved (0: automatic) to a number of threads >= 1.
+int parallelThreads(const Config& config);
 
 /// tracking.huber_threshold, tracking.max_iterations_per_level (for level 0; level 1 gets twice
 /// and coarser levels five times as many, as coarse levels are cheap and start furthest from the

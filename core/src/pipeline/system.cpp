@@ -29,14 +29,14 @@ const char* toString(TrackingStatus status) {
 }
 
 struct System::Impl {
-  enum LatencyStage { kQueueWait, kSubmitToTracked };
+  enum LatencyStage { kQueueWait, kSubmitToProcessed, kSubmitToTracked };
 
   Impl(const Config& c, const GeometricCalibration& g, const PhotometricCalibration& p)
       : config(c),
         pipeline(c, g, p),
         input_width(g.input.width),
         input_height(g.input.height),
-        latency({"queue_wait", "submit_to_tracked"}, 20000) {}
+        latency({"queue_wait", "submit_to_processed", "submit_to_tracked"}, 20000) {}
 
   /// Checks a frame's metadata and content; returns an empty string when it can be used.
   std::string rejectReason(const FrameView& f) {
@@ -100,7 +100,9 @@ struct System::Impl {
     backlog_samples.fetch_add(1, std::memory_order_relaxed);
     if (backlog > max_backlog.load(std::memory_order_relaxed))
       max_backlog.store(backlog, std::memory_order_relaxed);
-    latency.record(kSubmitToTracked, msSince(submitted_ns));
+    const double done_ms = msSince(submitted_ns);
+    latency.record(kSubmitToProcessed, done_ms);
+    if (frame.has_pose) latency.record(kSubmitToTracked, done_ms);
   }
 
   Config config;

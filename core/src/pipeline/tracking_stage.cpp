@@ -26,6 +26,10 @@ TrackingStage::TrackingStage(const TrackingStageSettings& settings, const Pyrami
       wait_for_keyframes_(settings.wait_for_keyframes) {
   if (settings.reuse.enabled && relocalization_timeout_s_ > 0.0)
     relocalizer_ = std::make_unique<Relocalizer>(settings.reuse, camera);
+  if (settings.parallel_threads > 1) {
+    parallel_ = std::make_unique<concurrency::ParallelTasks>(settings.parallel_threads);
+    initializer_.setParallelTasks(parallel_.get());
+  }
 }
 
 FrameEvent TrackingStage::process(ImageView<const std::uint8_t> image, std::int64_t index,

@@ -43,6 +43,8 @@ struct TrackingStageSettings {
   /// against it, as in deterministic mode, instead of against the one before it (live mode never
   /// waits: a late pose costs more than a frame tracked against an older reference).
   bool wait_for_keyframes = false;
+  /// Threads for the initializer's hypotheses (system.parallel_threads resolved), >= 1.
+  int parallel_threads = 1;
 };
 
 class TrackingStage {
@@ -104,6 +106,8 @@ class TrackingStage {
   MapStore& store_;
   MappingStage& mapping_;
   EventSink& events_;
+  /// Helper threads for the initializer's hypotheses (null with one thread).
+  std::unique_ptr<concurrency::ParallelTasks> parallel_;
   InitializerHypotheses initializer_;
   FrameTracker tracker_;
   StageTimer timer_;

@@ -108,6 +108,35 @@ TEST(InitializerHypotheses, CorridorStartFindsTheTrueMotion) {
   EXPECT_LE(multi_frames, single_frames + 3);
 }
 
+TEST(InitializerHypotheses, ParallelTasksGiveTheSameResultBitForBit) {
+  // The hypotheses of a frame run as parallel tasks (system.parallel_threads): each touches only
+  // its own state, so the result must equal the one-thread result exactly.
+  const PyramidCamera camera = loopCamera();
+  const CoarseInitializerSettings settings;
+  InitializerHypotheses serial(camera, settings, InitializerHypotheses::kMaxHypotheses);
+  int serial_frames = 0;
+  ASSERT_TRUE(initialiseOnLoopCorridor(serial, &serial_frames).has_value());
+  for (int threads : {2, 3}) {
+    concurrency::ParallelTasks tasks(threads);
+    InitializerHypotheses parallel(camera, settings, InitializerHypotheses::kMaxHypotheses);
+    parallel.setParallelTasks(&tasks);
+    int parallel_frames = 0;
+    ASSERT_TRUE(initialiseOnLoopCorridor(parallel, &parallel_frames).has_value()) << threads;
+    EXPECT_EQ(parallel_frames, serial_frames) << threads;
+    EXPECT_EQ(parallel.leader(), serial.leader()) << threads;
+    const InitializationResult& a = serial.result();
+    const InitializationResult& b = parallel.result();
+    EXPECT_EQ(b.T_frame_ref.matrix(), a.T_frame_ref.matrix()) << threads;
+    ASSERT_EQ(b.points.size(), a.points.size()) << threads;
+    for (std::size_t i = 0; i < a.points.size(); ++i) {
+      ASSERT_EQ(b.points[i].u, a.points[i].u) << i;
+      ASSERT_EQ(b.points[i].v, a.points[i].v) << i;
+      ASSERT_EQ(b.points[i].idepth, a.points[i].idepth) << i;
+      ASSERT_EQ(b.points[i].hessian, a.points[i].hessian) << i;
+    }
+  }
+}
+
 TEST(InitializerHypotheses, SeedsAreRestAndSignedAxes) {
   EXPECT_EQ(InitializerHypotheses::seed(0), Eigen::Vector3d::Zero());
   for (int i = 1; i < InitializerHypotheses::kMaxHypotheses; ++i) {

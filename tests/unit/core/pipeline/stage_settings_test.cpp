@@ -83,3 +83,28 @@ TEST(StageSettings, StructDefaultsAgreeWithTheConfigurationDefaults) {
 
 }  // namespace
 }  // namespace ldsm
+
+namespace ldsm {
+namespace {
+
+TEST(StageSettings, ParallelThreadsAreOneWhenDeterministicAndTheCoresOtherwise) {
+  Config config;
+  config.system.deterministic = true;
+  EXPECT_EQ(parallelThreads(config), 1);
+  EXPECT_EQ(trackingStageSettings(config, 5, false).parallel_threads, 1);
+  config.system.deterministic = false;
+  const int automatic = parallelThreads(config);
+  EXPECT_GE(automatic, 1);
+  EXPECT_LE(automatic, SystemConfig::kMaxAutomaticParallelThreads);
+  config.system.parallel_threads = 3;  // given: also in deterministic mode (results equal)
+  config.system.deterministic = true;
+  EXPECT_EQ(parallelThreads(config), 3);
+  EXPECT_EQ(trackingStageSettings(config, 5, false).parallel_threads, 3);
+  config.system.parallel_threads = 65;
+  const auto problems = configProblems(config);
+  ASSERT_EQ(problems.size(), 1u);
+  EXPECT_NE(problems[0].find("system.parallel_threads"), std::string::npos) << problems[0];
+}
+
+}  // namespace
+}  // namespace ldsm
