@@ -4,6 +4,8 @@
 # present), with and without loop closure, and prints one line per run:
 #   <md5 of trajectory.txt>  <run name>
 # Usage: scripts/trajectory-checksums.sh [BUILD_DIR] > checksums.txt ; diff against an earlier list.
+# LDSM_RUN_ARGS adds arguments to every run, e.g. LDSM_RUN_ARGS="--config threads.yaml" with
+# system.parallel_threads: 2 (the lists must then be identical to the one-thread lists).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD_DIR=${1:-build}
@@ -27,7 +29,7 @@ for r in "${runs[@]}"; do
     [ "$mode" = no-loop ] && flag=--no-loop
     out="$WORK/out"
     rm -rf "$out"
-    "$LDSM" run --dataset "$path" --out "$out" --deterministic --no-eval $flag >/dev/null 2>&1
+    "$LDSM" run --dataset "$path" --out "$out" --deterministic --no-eval $flag ${LDSM_RUN_ARGS:-} >/dev/null 2>&1
     echo "$(md5sum < "$out/trajectory.txt" | cut -d' ' -f1)  $name ($mode)"
   done
 done

@@ -110,12 +110,14 @@ bool Mapper::initialize(const InitializationResult& result, const MapperFrame& r
 
 void Mapper::traceFrame(const ImagePyramid& frame, const MapperFrame& info) {
   const ImageView<const GradientPixel> target = frame.gradients(0);
-  for (auto& kf : window_) {
-    if (kf->immature.empty()) continue;
-    const SE3f T_th = (info.T_c_w * kf->T_c_w.inverse()).cast<float>();
+  // Each keyframe's candidates are traced and filtered on their own: one task per keyframe.
+  const auto traceKeyframe = [&](int k) {
+    WindowKeyframe& kf = *window_[static_cast<size_t>(k)];
+    if (kf.immature.empty()) return;
+    const SE3f T_th = (info.T_c_w * kf.T_c_w.inverse()).cast<float>();
     const Eigen::Vector2f aff =
-        affineTransfer(kf->exposure(), info.exposure, kf->aff, info.aff).cast<float>();
-    auto& cands = kf->immature;
+        affineTransfer(kf.exposure(), info.exposure, kf.aff, info.aff).cast<float>();
+    auto& cands = kf.immature;
     size_t out = 0;
     for (size_t i = 0; i < cands.size(); ++i) {
       const TraceStatus st = cands[i].point.trace(target, camera_[0], T_th, aff, trace_settings_);
@@ -126,6 +128,12 @@ void Mapper::traceFrame(const ImagePyramid& frame, const MapperFrame& info) {
       }
     }
     cands.erase(cands.begin() + static_cast<std::ptrdiff_t>(out), cands.end());
+  };
+  const int n = static_cast<int>(window_.size());
+  if (tasks_ != nullptr) {
+    tasks_->run(n, traceKeyframe);
+  } else {
+    for (int k = 0; k < n; ++k) traceKeyframe(k);
   }
 }
 

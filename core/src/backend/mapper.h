@@ -69,6 +69,13 @@ class Mapper {
   ~Mapper();
 
   bool initialized() const { return !window_.empty(); }
+  /// The tracing (per keyframe) and the window optimisation's linearisation (per host keyframe)
+  /// run as parallel tasks on `tasks` from now on (not owned; null: one thread); bit-identical
+  /// results either way.
+  void setParallelTasks(concurrency::ParallelTasks* tasks) {
+    tasks_ = tasks;
+    optimizer_.setParallelTasks(tasks);
+  }
 
   /// Starts the window from a finished initialisation: the reference frame becomes keyframe 0
   /// (gauge anchor, identity pose) with the initializer's points; the last frame is inserted as
@@ -220,6 +227,7 @@ class Mapper {
   PyramidCamera camera_;       ///< with the calibration correction applied
   PyramidPool& pyramids_;
   WindowOptimizer optimizer_;
+  concurrency::ParallelTasks* tasks_ = nullptr;
   CalibrationRefinement calibration_;
   MarginalizationPrior prior_;
   PixelSelector selector_;

@@ -195,11 +195,26 @@ void WindowOptimizer::linearize(const std::vector<WindowKeyframe*>& window,
   for (const auto* kf : window) num_points += kf->points.size();
   sys.coupling.setZero(dim, static_cast<Eigen::Index>(num_points));
 
-  double residual_energy = 0.0;
+  // The hosts' points are independent (each writes its own points, its own pair blocks and its
+  // own coupling columns), so they are linearised as parallel tasks, one per host; the energies
+  // are then summed in the one-thread order (host, point, residual) from what the tasks kept.
+  sys.points.resize(num_points);
+  sys.H_dd.resize(num_points);
+  sys.b_d.resize(num_points);
+  host_terms_.resize(static_cast<size_t>(n));
+  size_t first = 0;
   for (int h = 0; h < n; ++h) {
-    for (auto& pt : window[h]->points) {
+    host_terms_[static_cast<size_t>(h)].first_point = first;
+    first += window[static_cast<size_t>(h)]->points.size();
+  }
+  const auto linearizeHost = [&](int h) {
+    HostTerms& ht = host_terms_[static_cast<size_t>(h)];
+    ht.energies.clear();
+    ht.inlier.clear();
+    ht.outliers = 0;
+    Eigen::Index col = static_cast<Eigen::Index>(ht.first_point);
+    for (auto& pt : window[static_cast<size_t>(h)]->points) {
       ActivePoint& p = *pt;
-      const Eigen::Index col = static_cast<Eigen::Index>(sys.points.size());
       double H_dd = 0.0, b_d = 0.0;
       int inl = 0;
       for (auto& res : p.residuals) {
@@ -209,25 +224,43 @@ void WindowOptimizer::linearize(const std::vector<WindowKeyframe*>& window,
         acc.pair = &pair_acc_[pi];
         const float e = evaluateResidual(p, res, pairs_[pi], settings_.residual, &acc);
         if (res.state == ResidualState::Inlier) {
-          residual_energy += e;
-          sys.inlier_energy += e;
-          ++sys.inliers;
+          ht.energies.push_back(e);
+          ht.inlier.push_back(1);
           ++inl;
           H_dd += acc.H_dd;
           b_d += acc.b_d;
           addCoupling(adjoints_[pi], acc.coupling, h, t, sys.coupling.col(col));
         } else {
-          residual_energy += outlierEnergy(pairs_[pi], settings_.residual);
-          if (res.state == ResidualState::Outlier) ++sys.outliers;
+          ht.energies.push_back(outlierEnergy(pairs_[pi], settings_.residual));
+          ht.inlier.push_back(0);
+          if (res.state == ResidualState::Outlier) ++ht.outliers;
         }
       }
       p.hessian_idepth = static_cast<float>(H_dd);
       p.gradient_idepth = static_cast<float>(b_d);
       p.inlier_residuals = inl;
-      sys.points.push_back(&p);
-      sys.H_dd.push_back(H_dd);
-      sys.b_d.push_back(b_d);
+      sys.points[static_cast<size_t>(col)] = &p;
+      sys.H_dd[static_cast<size_t>(col)] = H_dd;
+      sys.b_d[static_cast<size_t>(col)] = b_d;
+      ++col;
     }
+  };
+  if (tasks_ != nullptr) {
+    tasks_->run(n, linearizeHost);
+  } else {
+    for (int h = 0; h < n; ++h) linearizeHost(h);
+  }
+  double residual_energy = 0.0;
+  for (const HostTerms& ht : host_terms_) {
+    for (size_t i = 0; i < ht.energies.size(); ++i) {
+      const float e = ht.energies[i];
+      residual_energy += e;
+      if (ht.inlier[i] != 0) {
+        sys.inlier_energy += e;
+        ++sys.inliers;
+      }
+    }
+    sys.outliers += ht.outliers;
   }
   addPairAccumulators(n, pair_acc_, pairs_, adjoints_, sys.H, sys.b);
   sys.energy = 0.5 * residual_energy + addPriors(window, prior, &sys.H, &sys.b);

@@ -13,6 +13,7 @@
 #include "backend/photometric_residual.h"
 #include "backend/window_keyframe.h"
 #include "camera/pyramid_camera.h"
+#include "concurrency/parallel_tasks.h"
 
 namespace ldsm {
 
@@ -53,6 +54,10 @@ class WindowOptimizer {
  public:
   WindowOptimizer(const WindowOptimizerSettings& settings, const LevelCamera& camera)
       : settings_(settings), camera_(camera) {}
+
+  /// From now on the residuals are linearised as parallel tasks on `tasks` (one per host
+  /// keyframe; not owned; null: one after the other). The results are bit-identical either way.
+  void setParallelTasks(concurrency::ParallelTasks* tasks) { tasks_ = tasks; }
 
   /// Optimises all keyframes of `window` (in window order) and their points.
   WindowOptimizationResult optimize(const std::vector<WindowKeyframe*>& window,
@@ -148,6 +153,15 @@ class WindowOptimizer {
   std::vector<FramePairPrecalc> pairs_;                ///< n x n, [host * n + target]
   std::vector<Eigen::Matrix<double, 6, 6>> adjoints_;  ///< Ad(T_th) at the linearisation points
   std::vector<PairAccumulator> pair_acc_;  ///< n x n, the pairs' blocks during a linearisation
+  /// What a host's linearisation task keeps for the energy sums made afterwards in order.
+  struct HostTerms {
+    size_t first_point = 0;       ///< its first point's column in the system
+    std::vector<float> energies;  ///< per residual: the energy it adds (outliers: the cap)
+    std::vector<unsigned char> inlier;
+    int outliers = 0;
+  };
+  std::vector<HostTerms> host_terms_;
+  concurrency::ParallelTasks* tasks_ = nullptr;
 };
 
 }  // namespace ldsm

@@ -72,6 +72,10 @@ MappingStage::MappingStage(const MappingStageSettings& settings, const PyramidCa
       describe_,
       PixelSelector::CornerLimits{settings.loop_corners, settings.loop_corner_min_score});
   if (describe_) orb_ = std::make_unique<OrbExtractor>(camera[0].width, camera[0].height);
+  if (settings.parallel_threads > 1) {
+    parallel_ = std::make_unique<concurrency::ParallelTasks>(settings.parallel_threads);
+    mapper_.setParallelTasks(parallel_.get());
+  }
   if (settings.reuse.enabled) {
     reuse_ = std::make_unique<ReactivationSearch>(settings.reuse);
     mapper_.setCoverageRadius(static_cast<float>(settings.reuse.coverage_radius_px));

@@ -90,6 +90,8 @@ struct MappingStageSettings {
   float loop_corner_min_score = 9.f;  ///< loop.corner_min_score
   /// map.localize_only: keyframes that leave the window are dropped; the map never changes.
   bool localize_only = false;
+  /// Threads for the window's linearisation (system.parallel_threads resolved for mapping), >= 1.
+  int parallel_threads = 1;
 };
 
 class MappingStage {
@@ -195,6 +197,8 @@ class MappingStage {
   MapStore& store_;
   EventSink& events_;
   loop::LoopCloser* loop_closer_;
+  /// Helper threads for the window's linearisation (null with one thread).
+  std::unique_ptr<concurrency::ParallelTasks> parallel_;
   Mapper mapper_;
   ReferenceExchange references_;
   StageTimer timer_;

@@ -38,6 +38,14 @@ int parallelThreads(const Config& config) {
   return std::clamp(cores, 1, SystemConfig::kMaxAutomaticParallelThreads);
 }
 
+int mappingParallelThreads(const Config& config) {
+  if (config.system.parallel_threads > 0) return config.system.parallel_threads;
+  if (config.system.deterministic) return 1;
+  // Tracking keeps a core of its own: the mapping takes the others.
+  const int cores = static_cast<int>(std::thread::hardware_concurrency());
+  return std::clamp(cores - 1, 1, SystemConfig::kMaxAutomaticParallelThreads);
+}
+
 CoarseTrackerSettings coarseTrackerSettings(const Config& config, bool exposures_known) {
   CoarseTrackerSettings s;
   s.huber_threshold = static_cast<float>(config.tracking.huber_threshold);
@@ -107,6 +115,7 @@ MappingStageSettings mappingStageSettings(const Config& config, bool photometry_
   s.loop_corners = config.loop.corners_per_keyframe;
   s.loop_corner_min_score = static_cast<float>(config.loop.corner_min_score);
   s.localize_only = config.map.localize_only;
+  s.parallel_threads = mappingParallelThreads(config);
   return s;
 }
 

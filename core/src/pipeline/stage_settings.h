@@ -21,6 +21,8 @@ namespace ldsm {
 concurrency::TaskMode stageMode(const Config& config);
 /// system.parallel_threads resolved (0: automatic) to a number of threads >= 1.
 int parallelThreads(const Config& config);
+/// The same for the mapping stage: automatic leaves one core to tracking.
+int mappingParallelThreads(const Config& config);
 
 /// tracking.huber_threshold, tracking.max_iterations_per_level (for level 0; level 1 gets twice
 /// and coarser levels five times as many, as coarse levels are cheap and start furthest from the

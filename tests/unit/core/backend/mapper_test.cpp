@@ -88,6 +88,41 @@ TEST(Mapper, KeyframesConvergeToTheTruthAndTheWindowStaysBounded) {
   }
 }
 
+TEST(Mapper, ParallelTracingAndLinearisationGiveTheSameWindowBitForBit) {
+  // system.parallel_threads: tracing one task per keyframe, linearising one per host keyframe.
+  SyntheticWindow w(24);
+  const Config config = mapperConfig();
+  const auto run = [&](concurrency::ParallelTasks* tasks) {
+    Mapper mapper(mapperSettings(config, false), w.camera(), w.pool());
+    mapper.setParallelTasks(tasks);
+    KeyframeInsertion init;
+    EXPECT_TRUE(mapper.initialize(w.initialization(2), frameInfo(w, 0, w.T_c_w(0)), w.pyramid(0),
+                                  frameInfo(w, 2, w.T_c_w(2)), w.pyramid(2), &init));
+    for (int i = 3; i < w.frames(); ++i) {
+      if (i % 3 != 0)
+        mapper.traceFrame(*w.pyramid(i), frameInfo(w, i, w.T_c_w(i)));
+      else
+        mapper.addKeyframe(w.pyramid(i), frameInfo(w, i, perturbed(w.T_c_w(i))));
+    }
+    std::vector<DepthPoint> depth;
+    mapper.trackingPoints(depth);
+    return std::make_pair(mapper.windowPoses(), depth);
+  };
+  const auto serial = run(nullptr);
+  concurrency::ParallelTasks tasks(2);
+  const auto parallel = run(&tasks);
+  ASSERT_EQ(parallel.first.size(), serial.first.size());
+  for (std::size_t k = 0; k < serial.first.size(); ++k)
+    EXPECT_EQ(parallel.first[k].T_w_c.matrix(), serial.first[k].T_w_c.matrix()) << k;
+  ASSERT_EQ(parallel.second.size(), serial.second.size());
+  ASSERT_GT(serial.second.size(), 300u);
+  for (std::size_t i = 0; i < serial.second.size(); ++i) {
+    ASSERT_EQ(parallel.second[i].u, serial.second[i].u) << i;
+    ASSERT_EQ(parallel.second[i].v, serial.second[i].v) << i;
+    ASSERT_EQ(parallel.second[i].idepth, serial.second[i].idepth) << i;
+  }
+}
+
 TEST(Mapper, LeavingKeyframesAreDescribedForLoopClosureWhenAsked) {
   SyntheticWindow w(40);
   const Config config = mapperConfig();
