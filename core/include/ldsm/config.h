@@ -39,10 +39,12 @@ struct SystemConfig {
   /// -1 (automatic): every frame offline, kLiveFrameHistory frames when `live`.
   int frame_history = -1;
   static constexpr int kLiveFrameHistory = 9000;  ///< 5 minutes at 30 Hz
-  /// Threads for data-parallel work inside a stage (today: the initializer's motion hypotheses,
-  /// while the mapping thread has nothing to do), the stage's own thread included. The work is
-  /// split into independent tasks combined in a fixed order, so the results do not depend on it.
-  /// 0 (automatic): 1 in deterministic mode, else the cores available, at most
+  /// Threads for data-parallel work inside a stage, the stage's own thread included: the
+  /// initializer's motion hypotheses (tracking stage, while the mapping thread is idle), the
+  /// tracing and the window optimisation's linearisation (mapping stage). The work is split into
+  /// independent tasks combined in a fixed order, so the results do not depend on it.
+  /// 0 (automatic): 1 in deterministic mode; else the cores available for the tracking stage and
+  /// the cores but one for the mapping stage (tracking keeps its own), each at most
   /// kMaxAutomaticParallelThreads.
   int parallel_threads = 0;
   static constexpr int kMaxAutomaticParallelThreads = 4;
@@ -72,7 +74,8 @@ struct SystemConfig {
             "frame, -1: every frame offline, 9000 when live)");
     v.field("parallel_threads", parallel_threads, Range<int>{0, 64},
             "threads for data-parallel work inside a stage, its own included (0: 1 when "
-            "deterministic, else the cores available, at most 4); results do not depend on it");
+            "deterministic, else the cores, but one for mapping, at most 4); results do not "
+            "depend on it");
   }
 };
 
