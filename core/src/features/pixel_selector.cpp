@@ -1,6 +1,7 @@
 #include "features/pixel_selector.h"
 
 #include <algorithm>
+#include <cstring>
 #include <cmath>
 #include <string>
 
@@ -184,31 +185,40 @@ int PixelSelector::select(const ImagePyramid& pyramid, float density_factor,
 
 void PixelSelector::markNearClipped(ImageView<const std::uint8_t> clipped) {
   const int r = config_.clipped_margin;
+  // The sizes as locals: the byte stores below could alias the members (char aliasing), which
+  // would reload them every iteration and keep the loops from vectorising.
+  const int w = width_, h = height_;
+  if (w <= 0 || h <= 0) return;
+  const auto row_bytes = static_cast<std::size_t>(w);
+  int* last_clipped = last_clipped_.data();
   // A pixel is near when a clipped pixel lies within r in x and in y: the union of the shifted
   // masks, first along the rows, then along the columns (byte loops the compiler vectorises).
-  // Most rows have no clipped pixel at all (last_clipped_[y] < 0 marks them).
-  for (int y = 0; y < height_; ++y) {
+  // Most rows have no clipped pixel at all (last_clipped[y] < 0 marks them).
+  for (int y = 0; y < h; ++y) {
     const std::uint8_t* in = clipped.row(y);
     std::uint8_t* out = near_clipped_row_.row(y);
     std::uint8_t any = 0;
-    for (int x = 0; x < width_; ++x) any |= in[x];
-    last_clipped_[y] = any != 0 ? y : -1;
-    std::fill(out, out + width_, std::uint8_t{0});
+    for (int x = 0; x < w; ++x) any |= in[x];
+    last_clipped[y] = any != 0 ? y : -1;
+    std::memset(out, 0, row_bytes);
     if (any == 0) continue;
     for (int d = -r; d <= r; ++d) {
-      const int x0 = std::max(0, -d), x1 = std::min(width_, width_ - d);
+      const int x0 = std::max(0, -d), x1 = std::min(w, w - d);
       for (int x = x0; x < x1; ++x) out[x] |= in[x + d];
     }
   }
-  for (int y = 0; y < height_; ++y) {
+  for (int y = 0; y < h; ++y) {
     std::uint8_t* out = near_clipped_.row(y);
-    std::fill(out, out + width_, std::uint8_t{0});
-    for (int yy = std::max(0, y - r); yy <= std::min(height_ - 1, y + r); ++yy) {
-      if (last_clipped_[yy] < 0) continue;
+    std::memset(out, 0, row_bytes);
+    bool near = false;
+    for (int yy = std::max(0, y - r); yy <= std::min(h - 1, y + r); ++yy) {
+      if (last_clipped[yy] < 0) continue;
+      near = true;
       const std::uint8_t* in = near_clipped_row_.row(yy);
-      for (int x = 0; x < width_; ++x) out[x] |= in[x];
+      for (int x = 0; x < w; ++x) out[x] |= in[x];
     }
-    for (int x = 0; x < width_; ++x) out[x] = out[x] != 0 ? 1 : 0;
+    if (!near) continue;  // all zero already
+    for (int x = 0; x < w; ++x) out[x] = out[x] != 0 ? 1 : 0;
   }
 }
 
