@@ -431,12 +431,10 @@ void Mapper::takeLoopCorners(WindowKeyframe& kf) {
 }
 
 void Mapper::makeImmaturePoints(WindowKeyframe& kf, bool use_coverage) {
-  if (loop_corner_limits_.max_corners > 0) {
-    selector_.select(kf.pyramid(), 1.f, selected_, loop_corner_limits_, loop_corner_scratch_);
-    takeLoopCorners(kf);
-  } else {
-    selector_.select(kf.pyramid(), 1.f, selected_);
-  }
+  const bool loop_corners = loop_corner_limits_.max_corners > 0;
+  selector_.select(kf.pyramid(), 1.f, selected_, loop_corner_limits_,
+                   loop_corners ? &loop_corner_scratch_ : nullptr);
+  if (loop_corners) takeLoopCorners(kf);
   kf.immature.clear();
   kf.immature.reserve(selected_.size());
   kf.corners.clear();

@@ -78,17 +78,6 @@ PixelSelector::PixelSelector(int width, int height, const PointSelectionConfig& 
 }
 
 int PixelSelector::select(const ImagePyramid& pyramid, float density_factor,
-                          std::vector<SelectedPixel>& out) {
-  return select(pyramid, density_factor, out, CornerLimits{}, nullptr);
-}
-
-int PixelSelector::select(const ImagePyramid& pyramid, float density_factor,
-                          std::vector<SelectedPixel>& out, const CornerLimits& more,
-                          std::vector<Corner>& more_out) {
-  return select(pyramid, density_factor, out, more, &more_out);
-}
-
-int PixelSelector::select(const ImagePyramid& pyramid, float density_factor,
                           std::vector<SelectedPixel>& out, const CornerLimits& more,
                           std::vector<Corner>* more_out) {
   if (pyramid.levels() < 1 || pyramid.width(0) != width_ || pyramid.height(0) != height_) {

@@ -56,22 +56,24 @@ class PixelSelector {
   /// range and InputError when the size is not positive.
   PixelSelector(int width, int height, const PointSelectionConfig& config);
 
-  /// Selects about points_per_keyframe * density_factor pixels of the pyramid's level 0 (of which
-  /// corner_fraction are corners, listed first) into `out` (cleared; capacity reused). Returns the
-  /// count. No pixel within clipped_margin of one of the pyramid's clipped pixels is selected.
-  /// Throws InputError when the pyramid's size differs from the selector's or density_factor is not
-  /// a positive finite number.
-  int select(const ImagePyramid& pyramid, float density_factor, std::vector<SelectedPixel>& out);
-
   /// What detectCorners() is asked for: up to max_corners corners with score >= min_score.
   struct CornerLimits {
     int max_corners = 0;
     float min_score = 0.f;
   };
-  /// select(), and the corners detectCorners(pyramid, more.max_corners, more.min_score, more_out)
-  /// gives, with the corner scores computed once for both.
+
+  /// Selects about points_per_keyframe * density_factor pixels of the pyramid's level 0 (of which
+  /// corner_fraction are corners, listed first) into `out` (cleared; capacity reused). Returns the
+  /// count. No pixel within clipped_margin of one of the pyramid's clipped pixels is selected.
+  /// Throws InputError when the pyramid's size differs from the selector's or density_factor is not
+  /// a positive finite number.
+  /// With `more_out`, also the corners detectCorners(pyramid, more.max_corners, more.min_score,
+  /// *more_out) gives, with the corner scores computed once for both.
   int select(const ImagePyramid& pyramid, float density_factor, std::vector<SelectedPixel>& out,
-             const CornerLimits& more, std::vector<Corner>& more_out);
+             const CornerLimits& more, std::vector<Corner>* more_out);
+  int select(const ImagePyramid& pyramid, float density_factor, std::vector<SelectedPixel>& out) {
+    return select(pyramid, density_factor, out, CornerLimits{}, nullptr);
+  }
 
   /// More corners than the odometry wants, for place recognition: up to `max_corners` Shi-Tomasi
   /// corners of the pyramid's level 0 with score >= min_score (same spacing and border as the
@@ -87,9 +89,6 @@ class PixelSelector {
   const GradientThresholdMap& thresholds() const { return thresholds_; }
 
  private:
-  int select(const ImagePyramid& pyramid, float density_factor, std::vector<SelectedPixel>& out,
-             const CornerLimits& more, std::vector<Corner>* more_out);
-
   struct LevelGrid {
     ImageView<const GradientPixel> grad;
     float threshold_factor_sq;

@@ -219,7 +219,7 @@ TEST(PixelSelector, MoreCornersFromTheSameScoresAreThoseDetectCornersGives) {
     PixelSelector s1(kW, kH, config), s2(kW, kH, config);
     std::vector<SelectedPixel> p1, p2;
     std::vector<Corner> c1, c2;
-    s1.select(a, 1.f, p1, PixelSelector::CornerLimits{300, 9.f}, c1);
+    s1.select(a, 1.f, p1, PixelSelector::CornerLimits{300, 9.f}, &c1);
     s2.select(a, 1.f, p2);
     s2.detectCorners(a, 300, 9.f, c2);
     ASSERT_EQ(p1.size(), p2.size()) << corner_fraction;
