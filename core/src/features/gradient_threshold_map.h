@@ -28,6 +28,13 @@ class GradientThresholdMap {
   float thresholdSq(int x, int y) const {
     return smoothed_sq_[static_cast<std::size_t>(row_block_[y] * blocks_x_ + col_block_[x])];
   }
+  /// The squared thresholds of the blocks of pixel row y, indexed by blockColumns()[x]: for
+  /// loops over a row (thresholdSq(x, y) == rowThresholdsSq(y)[blockColumns()[x]]).
+  const float* rowThresholdsSq(int y) const {
+    return smoothed_sq_.data() + static_cast<std::size_t>(row_block_[y] * blocks_x_);
+  }
+  /// The block column of each pixel column.
+  const int* blockColumns() const { return col_block_.data(); }
   /// Smoothed threshold of block (bx, by), grey levels per pixel.
   float blockThreshold(int bx, int by) const { return smoothed_[by * blocks_x_ + bx]; }
   int blocksX() const { return blocks_x_; }

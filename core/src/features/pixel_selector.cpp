@@ -121,6 +121,7 @@ int PixelSelector::select(const ImagePyramid& pyramid, float density_factor,
 
   // 2. Gradient points on the adaptive grid.
   thresholds_.compute(grad0, static_cast<float>(config_.min_gradient));
+  markBelowThreshold(grad0);
   num_levels_ = std::min(pyramid.levels(), static_cast<int>(levels_.size()));
   float factor = 1.f;
   for (int l = 0; l < num_levels_; ++l) {
@@ -229,7 +230,27 @@ void PixelSelector::blockAroundCorners() {
     const int cx = static_cast<int>(std::lround(c.u));
     const int cy = static_cast<int>(std::lround(c.v));
     for (int y = std::max(cy - r, 0); y <= std::min(cy + r, height_ - 1); ++y) {
-      for (int x = std::max(cx - r, 0); x <= std::min(cx + r, width_ - 1); ++x) blocked_(x, y) = 1;
+      for (int x = std::max(cx - r, 0); x <= std::min(cx + r, width_ - 1); ++x)
+        blocked_(x, y) = kNearCorner;
+    }
+  }
+}
+
+void PixelSelector::markBelowThreshold(ImageView<const GradientPixel> grad0) {
+  // The grid passes look at [kBorder, width - kBorder) x [kBorder, height - kBorder) only. The
+  // bounds and table pointers as locals: the byte stores may alias members (char aliasing).
+  const int x_end = width_ - kBorder, y_end = height_ - kBorder;
+  const int* column_block = thresholds_.blockColumns();
+  for (int y = kBorder; y < y_end; ++y) {
+    const GradientPixel* row = grad0.row(y);
+    const float* thresholds_sq = thresholds_.rowThresholdsSq(y);
+    std::uint8_t* blocked = blocked_.row(y);
+    for (int x = kBorder; x < x_end; ++x) {
+      const float gx = row[x].dx;
+      const float gy = row[x].dy;
+      const float mag_sq = gx * gx + gy * gy;
+      const bool weak = mag_sq <= thresholds_sq[column_block[x]];
+      blocked[x] = static_cast<std::uint8_t>(blocked[x] | (weak ? kBelowThreshold : 0));
     }
   }
 }
@@ -287,10 +308,10 @@ bool PixelSelector::pickLevel0(int x0, int x1, int y0, int y1, unsigned cell_has
     const GradientPixel* row = grad.row(y);
     const std::uint8_t* blocked = blocked_.row(y);
     for (int x = x0; x < x1; ++x) {
+      if (blocked[x] != 0) continue;  // near a corner or below its threshold
       const float gx = row[x].dx;
       const float gy = row[x].dy;
       const float mag_sq = gx * gx + gy * gy;
-      if (mag_sq <= thresholds_.thresholdSq(x, y) || blocked[x]) continue;
       const float along = gx * dx_dir + gy * dy_dir;
       const float score = along * along + kMagnitudeWeight * mag_sq;
       if (score > best_score) {
@@ -340,7 +361,7 @@ bool PixelSelector::pickCoarse(int level, int x0, int x1, int y0, int y1, unsign
       for (int y = ly * scale; y < (ly + 1) * scale; ++y) {
         const GradientPixel* row0 = grad0.row(y);
         for (int x = lx * scale; x < (lx + 1) * scale; ++x) {
-          if (blocked_(x, y)) continue;
+          if ((blocked_(x, y) & kNearCorner) != 0) continue;
           const float m = row0[x].dx * row0[x].dx + row0[x].dy * row0[x].dy;
           if (m > child_best) {
             child_best = m;

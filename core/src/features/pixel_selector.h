@@ -99,6 +99,9 @@ class PixelSelector {
   /// Drops the corners near clipped pixels.
   void dropCornersNearClipped();
   void blockAroundCorners();
+  /// Sets kBelowThreshold in blocked_ where a level-0 pixel of the grid region does not exceed
+  /// its gradient threshold: every grid pass then tests one byte instead of the threshold map.
+  void markBelowThreshold(ImageView<const GradientPixel> grad0);
   int gridPass(float cell, std::vector<SelectedPixel>& picks) const;
   bool pickLevel0(int x0, int x1, int y0, int y1, unsigned cell_hash,
                   std::vector<SelectedPixel>& picks) const;
@@ -111,7 +114,11 @@ class PixelSelector {
   GradientThresholdMap thresholds_;
   CornerDetector corner_detector_;
   std::vector<Corner> corners_;
-  Image<std::uint8_t> blocked_;  ///< 1 where no gradient point may be taken (near corners)
+  /// Per level-0 pixel: kNearCorner where no gradient point may be taken, kBelowThreshold where
+  /// the gradient is too weak for a level-0 pick (coarse levels test only kNearCorner).
+  Image<std::uint8_t> blocked_;
+  static constexpr std::uint8_t kNearCorner = 1;
+  static constexpr std::uint8_t kBelowThreshold = 2;
   /// 1 near a clipped pixel: a grid cell whose best pixel lies there gives no point, since its
   /// gradient comes from the clipping (the next best one in the cell mostly too).
   Image<std::uint8_t> near_clipped_;
