@@ -4,10 +4,12 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <vector>
 
 #include "alloc_counter.h"
 #include "concurrency/drop_oldest_ring.h"
 #include "concurrency/latest_value.h"
+#include "concurrency/parallel_tasks.h"
 #include "concurrency/spsc_ring.h"
 #include "ldsm/types.h"
 #include "pipeline/frame_pool.h"
@@ -53,3 +55,23 @@ TEST(PipelineAllocation, SteadyStateFrameFlowAllocatesNothing) {
 
 }  // namespace
 }  // namespace ldsm::pipeline
+
+namespace ldsm::concurrency {
+namespace {
+
+TEST(PipelineAllocation, ParallelTasksRunWithoutAllocating) {
+  // The window's linearisation and the tracing hand lambdas with several captures to run() once
+  // per keyframe and per frame: no std::function, no heap.
+  ParallelTasks tasks(2);
+  std::vector<double> out(8, 0.0);
+  const double a = 1.5, b = 2.5, c = 3.5;
+  const test::AllocationScope scope;
+  for (int round = 0; round < 200; ++round) {
+    tasks.run(8, [&](int i) { out[static_cast<std::size_t>(i)] += a * i + b * round + c; });
+  }
+  EXPECT_EQ(scope.count(), 0u);
+  EXPECT_DOUBLE_EQ(out[3], 200 * (a * 3 + c) + b * 199 * 200 / 2);
+}
+
+}  // namespace
+}  // namespace ldsm::concurrency

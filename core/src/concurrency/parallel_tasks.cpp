@@ -20,15 +20,16 @@ ParallelTasks::~ParallelTasks() {
   for (std::thread& t : helpers_) t.join();
 }
 
-void ParallelTasks::run(int count, const std::function<void(int)>& task) {
+void ParallelTasks::runTasks(int count, TaskFunction function, void* task) {
   if (count <= 0) return;
   if (helpers_.empty() || count == 1) {
-    for (int i = 0; i < count; ++i) task(i);
+    for (int i = 0; i < count; ++i) function(task, i);
     return;
   }
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    task_ = &task;
+    function_ = function;
+    task_ = task;
     count_ = count;
     next_.store(0, std::memory_order_relaxed);
     error_ = nullptr;
@@ -54,7 +55,7 @@ void ParallelTasks::work() {
     const int i = next_.fetch_add(1, std::memory_order_relaxed);
     if (i >= count_) return;
     try {
-      (*task_)(i);
+      function_(task_, i);
     } catch (...) {
       std::lock_guard<std::mutex> lock(mutex_);
       if (i < error_index_) {

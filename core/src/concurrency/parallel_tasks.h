@@ -11,9 +11,9 @@
 #include <condition_variable>
 #include <cstdint>
 #include <exception>
-#include <functional>
 #include <mutex>
 #include <thread>
+#include <type_traits>
 #include <vector>
 
 namespace ldsm::concurrency {
@@ -35,9 +35,19 @@ class ParallelTasks {
   /// lowest-numbered failing task is rethrown after all started tasks ended (with several
   /// threads the tasks after it may have run too). Not reentrant: one run() at a time, and
   /// tasks must not call run().
-  void run(int count, const std::function<void(int)>& task);
+  /// `task` is any callable taking the task index; it is called by reference (no copy, no
+  /// allocation).
+  template <class Task>
+  void run(int count, Task&& task) {
+    using T = std::remove_reference_t<Task>;
+    runTasks(
+        count, [](void* t, int i) { (*static_cast<T*>(t))(i); },
+        const_cast<void*>(static_cast<const void*>(&task)));
+  }
 
  private:
+  using TaskFunction = void (*)(void* task, int index);
+  void runTasks(int count, TaskFunction function, void* task);
   void helperLoop();
   void work();
 
@@ -46,7 +56,8 @@ class ParallelTasks {
   std::condition_variable work_ready_;
   std::condition_variable work_done_;
   // The current run; written under mutex_ before generation_ changes.
-  const std::function<void(int)>* task_ = nullptr;
+  TaskFunction function_ = nullptr;
+  void* task_ = nullptr;
   int count_ = 0;
   std::atomic<int> next_{0};
   std::uint64_t generation_ = 0;
