@@ -130,11 +130,7 @@ void Mapper::traceFrame(const ImagePyramid& frame, const MapperFrame& info) {
     cands.erase(cands.begin() + static_cast<std::ptrdiff_t>(out), cands.end());
   };
   const int n = static_cast<int>(window_.size());
-  if (tasks_ != nullptr) {
-    tasks_->run(n, traceKeyframe);
-  } else {
-    for (int k = 0; k < n; ++k) traceKeyframe(k);
-  }
+  concurrency::runTasks(tasks_, n, traceKeyframe);
 }
 
 void Mapper::startCalibrationAt(double focal_log_scale, double cx_shift, double cy_shift) {

@@ -245,11 +245,7 @@ void WindowOptimizer::linearize(const std::vector<WindowKeyframe*>& window,
       ++col;
     }
   };
-  if (tasks_ != nullptr) {
-    tasks_->run(n, linearizeHost);
-  } else {
-    for (int h = 0; h < n; ++h) linearizeHost(h);
-  }
+  concurrency::runTasks(tasks_, n, linearizeHost);
   double residual_energy = 0.0;
   for (const HostTerms& ht : host_terms_) {
     for (size_t i = 0; i < ht.energies.size(); ++i) {

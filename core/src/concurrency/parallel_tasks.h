@@ -67,4 +67,15 @@ class ParallelTasks {
   int error_index_ = 0;
 };
 
+/// `pool`->run(count, task), or the tasks in order on the caller when there is no pool: for
+/// stages that run with or without one.
+template <class Task>
+void runTasks(ParallelTasks* pool, int count, Task&& task) {
+  if (pool != nullptr) {
+    pool->run(count, task);
+  } else {
+    for (int i = 0; i < count; ++i) task(i);
+  }
+}
+
 }  // namespace ldsm::concurrency

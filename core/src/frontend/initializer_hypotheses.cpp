@@ -161,11 +161,7 @@ bool InitializerHypotheses::addFrame(const ImagePyramid& pyramid, double exposur
         .initializer->addFrame(pyramid, exposure);
   };
   const int live = static_cast<int>(alive_scratch_.size());
-  if (tasks_ != nullptr) {
-    tasks_->run(live, track);
-  } else {
-    for (int k = 0; k < live; ++k) track(k);
-  }
+  concurrency::runTasks(tasks_, live, track);
   for (std::size_t i = 0; i < members_.size(); ++i) {
     Member& m = members_[i];
     if (!m.alive) continue;

@@ -31,19 +31,24 @@ concurrency::TaskMode stageMode(const Config& config) {
                                      : concurrency::TaskMode::kThreaded;
 }
 
-int parallelThreads(const Config& config) {
+namespace {
+
+/// system.parallel_threads resolved for a stage that leaves `reserved` cores to the others.
+int resolvedThreads(const Config& config, int reserved) {
   if (config.system.parallel_threads > 0) return config.system.parallel_threads;
   if (config.system.deterministic) return 1;
   const int cores = static_cast<int>(std::thread::hardware_concurrency());
-  return std::clamp(cores, 1, SystemConfig::kMaxAutomaticParallelThreads);
+  return std::clamp(cores - reserved, 1, SystemConfig::kMaxAutomaticParallelThreads);
+}
+
+}  // namespace
+
+int parallelThreads(const Config& config) {
+  return resolvedThreads(config, 0);
 }
 
 int mappingParallelThreads(const Config& config) {
-  if (config.system.parallel_threads > 0) return config.system.parallel_threads;
-  if (config.system.deterministic) return 1;
-  // Tracking keeps a core of its own: the mapping takes the others.
-  const int cores = static_cast<int>(std::thread::hardware_concurrency());
-  return std::clamp(cores - 1, 1, SystemConfig::kMaxAutomaticParallelThreads);
+  return resolvedThreads(config, 1);  // tracking keeps a core of its own
 }
 
 CoarseTrackerSettings coarseTrackerSettings(const Config& config, bool exposures_known) {
