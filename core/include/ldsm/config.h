@@ -439,6 +439,24 @@ struct ReuseConfig {
   /// real-time mode dropped frames (docs/map-reuse.md).
   bool trial_check = false;
   int trial_rest_keyframes = 5;
+  /// The direct check, after the feature check: the candidate's points are aligned to the newest
+  /// keyframe's image coarse to fine (from the relative pose the window and the map give), as
+  /// the odometry measures. A candidate is brought back only when that alignment is good (at
+  /// least direct_min_inliers of its points in view are inliers, their patterns correlate at
+  /// least direct_min_correlation with the image) and lies in the window optimisation's basin:
+  /// the window is optimised at full resolution only, so an alignment at full resolution alone,
+  /// started from the window's pose, must reach the coarse-to-fine pose within direct_basin_px
+  /// (mean shift of the points). A map keyframe further off does not fit after the optimisation
+  /// and pulls the window towards a wrong place meanwhile (docs/map-reuse.md); how far the basin
+  /// reaches depends on the texture (a few pixels on a fine-grained desk, more on smooth
+  /// surfaces), hence the test rather than a fixed distance. direct_max_shift_px (0: none) bounds
+  /// the distance itself. Costs one or two alignments of a few hundred points per candidate that
+  /// passed the feature check.
+  bool direct_check = true;
+  double direct_min_inliers = 0.85;
+  double direct_min_correlation = 0.7;
+  double direct_basin_px = 1.0;
+  double direct_max_shift_px = 0.0;
   double coverage_radius_px = 3.0;  ///< no new point this close to a map point seen (0: off)
   /// A keyframe leaving the window keeps only its pose when a map keyframe of an earlier visit
   /// stands within redundancy_distance times its median depth, looks within
@@ -505,6 +523,18 @@ struct ReuseConfig {
             "try new map keyframes in an undone window optimisation before bringing them back");
     v.field("trial_rest_keyframes", trial_rest_keyframes, Range<int>{0, 1000},
             "keyframes a candidate turned down by the trial is not searched again");
+    v.field("direct_check", direct_check,
+            "align a candidate's points to the newest keyframe before bringing it back");
+    v.field("direct_min_inliers", direct_min_inliers, Range<double>{0.0, 1.0},
+            "share of a candidate's points in view that must be inliers of the alignment");
+    v.field("direct_min_correlation", direct_min_correlation, Range<double>{-1.0, 1.0},
+            "mean pattern correlation of the aligned points with the newest keyframe");
+    v.field("direct_basin_px", direct_basin_px, Range<double>{0.0, 1000.0},
+            "a full-resolution alignment from the window's pose must reach the coarse-to-fine "
+            "one within this (pixels; 0: not tested)");
+    v.field("direct_max_shift_px", direct_max_shift_px, Range<double>{0.0, 1000.0},
+            "largest mean shift of the candidate's points between the window's pose and the "
+            "aligned one (pixels; 0: no limit)");
     v.field("coverage_radius_px", coverage_radius_px, Range<double>{0.0, 50.0},
             "no new point this close to a map point seen in the keyframe (0: off)");
     v.field("cull_redundant", cull_redundant,

@@ -43,7 +43,7 @@ struct ReuseStats {
   std::int64_t candidates_checked = 0;
   std::int64_t rejected_geometry = 0;     ///< failed the viewing-angle or projection check
   std::int64_t rejected_features = 0;     ///< failed the ORB check
-  std::int64_t rejected_photometric = 0;  ///< passed both; misfit after a trial optimisation
+  std::int64_t rejected_photometric = 0;  ///< passed both; failed the direct check or the trial
   std::int64_t culled_keyframes = 0;      ///< kept as poses only (redundant with the map)
   std::int64_t map_points_seen = 0;       ///< inlier map points in new keyframes, summed
   std::int64_t relocalizations = 0;       ///< tracking resumed in the existing map after a loss

@@ -159,6 +159,10 @@ class Mapper {
   /// New points are not selected within this many pixels of a map point seen in the new keyframe
   /// (0: no such check).
   void setCoverageRadius(float pixels) { coverage_radius_ = pixels; }
+  /// Selects the newest keyframe's immature points again, with the coverage of the map keyframes
+  /// in the window now: after map keyframes were taken out, the pixels only they covered get
+  /// points of the keyframe's own (else the window loses them with the map keyframe).
+  void reselectNewestPoints() { makeImmaturePoints(*window_.back()); }
 
   /// Whether keyframes that leave the window are described for loop closure (more corners with
   /// depths, the level-0 image in MapUpdate::left); off, they carry pose and points only. When on,

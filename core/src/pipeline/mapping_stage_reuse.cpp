@@ -11,7 +11,8 @@
 namespace ldsm {
 
 void MappingStage::reuseMap(int newest_frame_index, double newest_timestamp) {
-  takeBackMisfits();
+  if (takeBackMisfits() > 0 && settings_.reuse.coverage_radius_px > 0.0)
+    mapper_.reselectNewestPoints();
   std::vector<std::pair<int, int>> held = replaceableReactivated();
   const int room =
       settings_.reuse.max_reactivated - static_cast<int>(mapper_.reactivatedIds().size());
@@ -35,8 +36,9 @@ void MappingStage::reuseMap(int newest_frame_index, double newest_timestamp) {
   if (!event.reactivated.empty()) events_.reactivated(event);
 }
 
-void MappingStage::takeBackMisfits() {
+int MappingStage::takeBackMisfits() {
   // From a copy: deactivate() edits the list.
+  int taken = 0;
   const std::vector<Mapper::ReactivatedFit> fit = mapper_.reactivatedFit();
   for (const Mapper::ReactivatedFit& f : fit) {
     const bool fits = f.residuals > 0 && f.inliers >= settings_.reuse.min_inlier_fraction *
@@ -46,7 +48,9 @@ void MappingStage::takeBackMisfits() {
                   f.id, f.inliers, f.residuals);
     mapper_.deactivate(f.id);
     ++reuse_stats_.deactivations;
+    ++taken;
   }
+  return taken;
 }
 
 std::vector<std::pair<int, int>> MappingStage::replaceableReactivated() {
@@ -79,6 +83,10 @@ ReuseView MappingStage::reuseView(const WindowKeyframe& newest) {
   view.radial_k = mapper_.radialK();
   view.path_length = newest.path_length;
   view.chain_start_id = mapper_.chainStartId();
+  view.pyramid = &newest.pyramid();
+  view.pyramid_camera = &mapper_.camera();
+  view.exposure = newest.exposure();
+  view.aff = newest.aff;
   std::vector<Eigen::Vector2f> corners = mapper_.newestDescribableCorners();
   orb_->compute(newest.pyramid().intensity(0), corners, view.descriptors, orb_kept_);
   for (const std::uint32_t i : orb_kept_) view.corners.push_back(corners[i]);
@@ -110,10 +118,13 @@ void MappingStage::bringBack(const std::vector<ReuseCheck>& checks,
   for (const ReuseCheck& c : checks) {
     ++reuse_stats_.candidates_checked;
     if (!c.accepted) {
-      ++(c.matches > 0 || c.reason.find("ORB") != std::string::npos
-             ? reuse_stats_.rejected_features
-             : reuse_stats_.rejected_geometry);
-      spdlog::trace("reuse: keyframe {} for {} rejected: {}", c.id, event.keyframe_id, c.reason);
+      ++(c.stage == ReuseStage::Direct     ? reuse_stats_.rejected_photometric
+         : c.stage == ReuseStage::Features ? reuse_stats_.rejected_features
+                                           : reuse_stats_.rejected_geometry);
+      if (c.stage == ReuseStage::Direct)
+        spdlog::debug("reuse: keyframe {} for {} rejected: {}", c.id, event.keyframe_id, c.reason);
+      else
+        spdlog::trace("reuse: keyframe {} for {} rejected: {}", c.id, event.keyframe_id, c.reason);
       continue;
     }
     const std::shared_ptr<const MarginalizedKeyframe> data = store_.keyframeData(c.id);
@@ -138,8 +149,9 @@ void MappingStage::bringBack(const std::vector<ReuseCheck>& checks,
     event.reactivated.push_back(c.id);
     spdlog::debug(
         "reuse: keyframe {} brought back for keyframe {} ({} points in view, {} %, {} "
-        "ORB matches)",
-        c.id, event.keyframe_id, c.in_view, static_cast<int>(100 * c.overlap), c.matches);
+        "ORB matches; direct: {:.0f} % fit, correlation {:.2f}, {:.2f} px)",
+        c.id, event.keyframe_id, c.in_view, static_cast<int>(100 * c.overlap), c.matches,
+        100 * c.direct_inliers, c.correlation, c.shift_px);
   }
 }
 

@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include <spdlog/spdlog.h>
 
+#include "alignment/direct_alignment.h"
 #include "camera/radial_distortion.h"
 #include "features/orb_matching.h"
 
@@ -29,6 +31,24 @@ bool projectInto(const ReuseView& view, const Eigen::Vector3d& X_w, Eigen::Vecto
   return px->x() >= kBorder && px->y() >= kBorder &&
          px->x() <= static_cast<float>(view.camera.width) - 1.f - kBorder &&
          px->y() <= static_cast<float>(view.camera.height) - 1.f - kBorder;
+}
+
+/// The mean distance between the projections of the points under two host-to-view poses.
+double meanShift(const ReuseView& view, float host_k, const std::vector<PatchPoint>& points,
+                 const SE3d& T_a, const SE3d& T_b) {
+  double shift = 0.0;
+  int shifted = 0;
+  for (const PatchPoint& p : points) {
+    const Eigen::Vector3d X = radialRay(view.camera, host_k, p.u, p.v).cast<double>() / p.idepth;
+    const Eigen::Vector3d a = T_a * X;
+    const Eigen::Vector3d b = T_b * X;
+    if (!(a.z() > 1e-6) || !(b.z() > 1e-6)) continue;
+    shift += (radialProject(view.camera, view.radial_k, a.cast<float>()) -
+              radialProject(view.camera, view.radial_k, b.cast<float>()))
+                 .norm();
+    ++shifted;
+  }
+  return shifted > 0 ? shift / shifted : 0.0;
 }
 
 }  // namespace
@@ -85,6 +105,7 @@ ReuseCheck ReactivationSearch::check(const ReuseView& view, const MarginalizedKe
                std::to_string(chord) + " away)";
     return c;
   }
+  c.stage = ReuseStage::Geometry;
   // 1. Looking the same way.
   const Eigen::Vector3d axis_kf = pose.T_w_c.so3() * Eigen::Vector3d::UnitZ();
   const Eigen::Vector3d axis_view = view.T_c_w.inverse().so3() * Eigen::Vector3d::UnitZ();
@@ -108,6 +129,7 @@ ReuseCheck ReactivationSearch::check(const ReuseView& view, const MarginalizedKe
                std::to_string(static_cast<int>(100 * c.overlap)) + " %)";
     return c;
   }
+  c.stage = ReuseStage::Features;
   // 3. Feature check: ORB matches that agree with the projection.
   const float r2 = static_cast<float>(config_.feature_radius_px * config_.feature_radius_px);
   const std::vector<std::pair<int, int>> matches = matchOrb(view.descriptors, keyframe.descriptors);
@@ -131,8 +153,61 @@ ReuseCheck ReactivationSearch::check(const ReuseView& view, const MarginalizedKe
                std::to_string(keyframe.descriptors.size()) + " descriptors)";
     return c;
   }
+  c.stage = ReuseStage::Direct;
+  if (config_.direct_check && view.pyramid && view.pyramid_camera &&
+      !checkDirect(view, keyframe, pose, c))
+    return c;
+  c.stage = ReuseStage::Accepted;
   c.accepted = true;
   return c;
+}
+
+bool ReactivationSearch::checkDirect(const ReuseView& view, const MarginalizedKeyframe& keyframe,
+                                     const KeyframeRecord& pose, ReuseCheck& c) const {
+  // 4. Direct check: align the candidate's points to the newest keyframe, starting from the
+  // relative pose the window (newest keyframe) and the map (candidate) give.
+  std::vector<PatchPoint> points = keyframe.points;
+  const float inv_scale = static_cast<float>(1.0 / pose.scale);
+  for (PatchPoint& p : points) p.idepth *= inv_scale;
+  const SE3d T_view_kf = view.T_c_w * pose.T_w_c;
+  const Eigen::Vector2d transfer =
+      affineTransfer(keyframe.exposure, view.exposure, keyframe.aff, view.aff);
+  DirectAlignmentSettings settings;
+  settings.min_inlier_fraction = config_.direct_min_inliers;
+  const DirectAlignmentResult d =
+      alignPoints(points, *view.pyramid_camera, keyframe.radial_k, *view.pyramid, T_view_kf,
+                  std::log(transfer[0]), transfer[1], settings);
+  c.direct_inliers =
+      d.in_image > 0 ? static_cast<double>(d.inliers) / static_cast<double>(d.in_image) : 0.0;
+  c.correlation = d.pattern_correlation;
+  c.shift_px = meanShift(view, keyframe.radial_k, points, T_view_kf, d.T_target_host);
+  if (d.success && config_.direct_basin_px > 0.0 && c.shift_px > config_.direct_basin_px) {
+    // Within the basin of the window's full-resolution optimisation?
+    DirectAlignmentSettings fine = settings;
+    fine.coarsest_level = 0;
+    const DirectAlignmentResult f =
+        alignPoints(points, *view.pyramid_camera, keyframe.radial_k, *view.pyramid, T_view_kf,
+                    std::log(transfer[0]), transfer[1], fine);
+    c.basin_miss_px = meanShift(view, keyframe.radial_k, points, f.T_target_host, d.T_target_host);
+  }
+  char detail[200];
+  std::snprintf(detail, sizeof(detail),
+                "%d of %d points fit (%.0f %%), pattern correlation %.2f, %.2f px from the "
+                "window's pose, full resolution alone misses by %.2f px",
+                d.inliers, d.in_image, 100.0 * c.direct_inliers, c.correlation, c.shift_px,
+                c.basin_miss_px);
+  if (!d.success) {
+    c.reason = "direct alignment failed (" + d.failure + ")";
+    return false;
+  }
+  if (!(c.direct_inliers >= config_.direct_min_inliers) ||
+      !(c.correlation >= config_.direct_min_correlation) ||
+      (config_.direct_basin_px > 0.0 && !(c.basin_miss_px <= config_.direct_basin_px)) ||
+      (config_.direct_max_shift_px > 0.0 && !(c.shift_px <= config_.direct_max_shift_px))) {
+    c.reason = std::string("direct check: ") + detail;
+    return false;
+  }
+  return true;
 }
 
 std::vector<ReuseCheck> ReactivationSearch::search(const ReuseView& view, const MapStore& map,

@@ -7,7 +7,10 @@
 //      keyframe in front of the camera), and
 //   3. match it (feature check: enough ORB matches between its corners and the newest keyframe's
 //      whose 3D corner projects near the matched corner), which rejects false covisibility from
-//      a drifted pose or a repeated structure.
+//      a drifted pose or a repeated structure, and
+//   4. fit it (direct check, reuse.direct_check): its points, aligned to the newest keyframe's
+//      image coarse to fine, are mostly inliers with patterns that correlate with the image, and
+//      the aligned pose lies within the basin of the window's full-resolution optimisation.
 // A candidate must also be a revisit, not the odometry's recent past: it left the window at least
 // min_keyframe_age keyframes ago, and the camera came back to it (it travelled revisit_ratio
 // times the straight-line distance since, or is practically where the candidate was). Moving
@@ -19,9 +22,11 @@
 #include <vector>
 
 #include "camera/pyramid_camera.h"
+#include "image/image_pyramid.h"
 #include "ldsm/config.h"
 #include "map/map_store.h"
 #include "math/se3.h"
+#include "model/affine_light.h"
 #include "model/marginalized_keyframe.h"
 #include "model/orb_descriptor.h"
 
@@ -42,7 +47,16 @@ struct ReuseView {
   /// distance travelled since them is unknown and any of them is a revisit.
   int chain_start_id = 0;
   std::vector<int> window_ids;  ///< the active keyframes (searched from, never candidates)
+  /// For the direct check (null: no direct check): the newest keyframe's image pyramid, the
+  /// camera of its levels, its exposure time and affine brightness.
+  const ImagePyramid* pyramid = nullptr;
+  const PyramidCamera* pyramid_camera = nullptr;
+  double exposure = 1.0;
+  AffineLight aff;
 };
+
+/// Where a candidate's check ended.
+enum class ReuseStage { Revisit, Geometry, Features, Direct, Accepted };
 
 /// The outcome of checking one candidate.
 struct ReuseCheck {
@@ -52,6 +66,15 @@ struct ReuseCheck {
   double overlap = 0.0;
   int in_view = 0;
   int matches = 0;  ///< consistent ORB matches
+  ReuseStage stage = ReuseStage::Revisit;
+  /// The direct check (when it ran): inlier share of the points in view, mean pattern
+  /// correlation, mean shift of the points between the window's and the aligned pose (pixels).
+  double direct_inliers = 0.0;
+  double correlation = 0.0;
+  double shift_px = 0.0;
+  /// How far an alignment at full resolution alone, from the window's pose, ends from the
+  /// coarse-to-fine one (pixels; 0 when the shift is within reuse.direct_basin_px anyway).
+  double basin_miss_px = 0.0;
 };
 
 class ReactivationSearch {
@@ -64,6 +87,9 @@ class ReactivationSearch {
   /// Checks one map keyframe (its data and current pose record) against the view.
   ReuseCheck check(const ReuseView& view, const MarginalizedKeyframe& keyframe,
                    const KeyframeRecord& pose) const;
+  /// The direct check of a candidate that passed the others (fills c's direct fields).
+  bool checkDirect(const ReuseView& view, const MarginalizedKeyframe& keyframe,
+                   const KeyframeRecord& pose, ReuseCheck& c) const;
   /// Candidates checked, the accepted ones first, best (most consistent matches) first.
   std::vector<ReuseCheck> search(const ReuseView& view, const MapStore& map,
                                  const std::vector<int>& exclude) const;
