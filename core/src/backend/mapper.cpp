@@ -321,6 +321,7 @@ void Mapper::marginalizeFrame(int window_index) {
   optimizer_.marginalizePoints(view, to_prior, prior_);
   f.points.clear();
   f.immature.clear();
+  f.dormant.clear();
   for (auto& kf : window_) {
     if (kf.get() == &f) continue;
     for (auto& p : kf->points) {
@@ -432,6 +433,7 @@ void Mapper::makeImmaturePoints(WindowKeyframe& kf, bool use_coverage) {
                    loop_corners ? &loop_corner_scratch_ : nullptr);
   if (loop_corners) takeLoopCorners(kf);
   kf.immature.clear();
+  kf.dormant.clear();
   kf.immature.reserve(selected_.size());
   kf.corners.clear();
   // Where map points (reactivated keyframes) are seen, the map has points already.
@@ -442,8 +444,10 @@ void Mapper::makeImmaturePoints(WindowKeyframe& kf, bool use_coverage) {
   for (const SelectedPixel& s : selected_) {
     if (covered && !s.is_corner &&
         coverage_[static_cast<std::size_t>(std::lround(s.v)) * width +
-                  static_cast<std::size_t>(std::lround(s.u))] != 0)
+                  static_cast<std::size_t>(std::lround(s.u))] != 0) {
+      kf.dormant.push_back({ImmaturePoint(img, s.u, s.v), false});
       continue;
+    }
     kf.immature.push_back({ImmaturePoint(img, s.u, s.v), s.is_corner});
     if (s.is_corner) kf.corners.emplace_back(s.u, s.v);
   }

@@ -129,6 +129,9 @@ class Mapper {
   /// Takes a reactivated keyframe out of the window again (its points and residuals go).
   void deactivate(int keyframe_id);
   void deactivateAll();
+  /// The dormant candidates of every window keyframe become immature candidates (called when a
+  /// map keyframe leaves the window: the pixels it covered need points of the window's own).
+  void wakeDormantPoints();
   /// Moves a reactivated keyframe (a loop or map correction moved the map under it) to T_w_c,
   /// its points' depths scaled with the map (scale_ratio: new / old scale). False when it is not
   /// in the window.
@@ -159,10 +162,6 @@ class Mapper {
   /// New points are not selected within this many pixels of a map point seen in the new keyframe
   /// (0: no such check).
   void setCoverageRadius(float pixels) { coverage_radius_ = pixels; }
-  /// Selects the newest keyframe's immature points again, with the coverage of the map keyframes
-  /// in the window now: after map keyframes were taken out, the pixels only they covered get
-  /// points of the keyframe's own (else the window loses them with the map keyframe).
-  void reselectNewestPoints() { makeImmaturePoints(*window_.back()); }
 
   /// Whether keyframes that leave the window are described for loop closure (more corners with
   /// depths, the level-0 image in MapUpdate::left); off, they carry pose and points only. When on,

@@ -2,6 +2,7 @@
 // their points, how well they fit the newest keyframe, and taking them out again.
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 
 #include "backend/mapper.h"
 
@@ -33,11 +34,22 @@ void Mapper::deactivate(int keyframe_id) {
       std::remove_if(reactivated_fit_.begin(), reactivated_fit_.end(),
                      [&](const ReactivatedFit& f) { return f.id == keyframe_id; }),
       reactivated_fit_.end());
+  const std::size_t before = reactivated_.size();
   reactivated_.erase(std::remove_if(reactivated_.begin(), reactivated_.end(),
                                     [&](const std::unique_ptr<WindowKeyframe>& k) {
                                       return k->id() == keyframe_id;
                                     }),
                      reactivated_.end());
+  if (reactivated_.size() != before) wakeDormantPoints();
+}
+
+void Mapper::wakeDormantPoints() {
+  for (auto& kf : window_) {
+    if (kf->dormant.empty()) continue;
+    kf->immature.insert(kf->immature.end(), std::make_move_iterator(kf->dormant.begin()),
+                        std::make_move_iterator(kf->dormant.end()));
+    kf->dormant.clear();
+  }
 }
 
 bool Mapper::moveReactivated(int keyframe_id, const SE3d& T_w_c, double scale_ratio) {
@@ -54,6 +66,7 @@ bool Mapper::moveReactivated(int keyframe_id, const SE3d& T_w_c, double scale_ra
 void Mapper::deactivateAll() {
   reactivated_fit_.clear();
   reactivated_.clear();
+  wakeDormantPoints();
 }
 
 std::vector<int> Mapper::reactivatedIds() const {

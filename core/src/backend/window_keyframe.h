@@ -94,6 +94,11 @@ class WindowKeyframe {
   double path_length = 0.0;
   std::vector<std::unique_ptr<ActivePoint>> points;
   std::vector<ImmatureCandidate> immature;
+  /// Candidates selected where map points (reactivated keyframes) were seen: they wait, neither
+  /// traced nor activated, while the map covers them, and become immature candidates when a map
+  /// keyframe leaves the window (Mapper::wakeDormantPoints), so the window does not lose the
+  /// points there together with the map keyframe.
+  std::vector<ImmatureCandidate> dormant;
   int points_created = 0;  ///< active points ever hosted (for the marginalisation policy)
   /// Outlier threshold (pattern energy) of residuals hosted in or aimed at this keyframe, adapted
   /// to its residuals after its first optimisation; 0: the window's fixed threshold.

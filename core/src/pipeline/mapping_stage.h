@@ -180,8 +180,7 @@ class MappingStage {
   /// Map reuse after a keyframe (mapping_stage_reuse.cpp): take back reactivated keyframes that
   /// no longer fit, bring back those that see the newest keyframe.
   void reuseMap(int newest_frame_index, double newest_timestamp);
-  /// Takes the map keyframes that no longer fit the newest keyframe out; returns how many.
-  int takeBackMisfits();
+  void takeBackMisfits();
   /// The reactivated keyframes that lost most of the view they came back for, as (inliers in the
   /// newest keyframe, id), weakest first (updates each one's peak).
   std::vector<std::pair<int, int>> replaceableReactivated();

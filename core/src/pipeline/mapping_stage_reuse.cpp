@@ -11,8 +11,7 @@
 namespace ldsm {
 
 void MappingStage::reuseMap(int newest_frame_index, double newest_timestamp) {
-  if (takeBackMisfits() > 0 && settings_.reuse.coverage_radius_px > 0.0)
-    mapper_.reselectNewestPoints();
+  takeBackMisfits();
   std::vector<std::pair<int, int>> held = replaceableReactivated();
   const int room =
       settings_.reuse.max_reactivated - static_cast<int>(mapper_.reactivatedIds().size());
@@ -36,9 +35,8 @@ void MappingStage::reuseMap(int newest_frame_index, double newest_timestamp) {
   if (!event.reactivated.empty()) events_.reactivated(event);
 }
 
-int MappingStage::takeBackMisfits() {
+void MappingStage::takeBackMisfits() {
   // From a copy: deactivate() edits the list.
-  int taken = 0;
   const std::vector<Mapper::ReactivatedFit> fit = mapper_.reactivatedFit();
   for (const Mapper::ReactivatedFit& f : fit) {
     const bool fits = f.residuals > 0 && f.inliers >= settings_.reuse.min_inlier_fraction *
@@ -48,9 +46,7 @@ int MappingStage::takeBackMisfits() {
                   f.id, f.inliers, f.residuals);
     mapper_.deactivate(f.id);
     ++reuse_stats_.deactivations;
-    ++taken;
   }
-  return taken;
 }
 
 std::vector<std::pair<int, int>> MappingStage::replaceableReactivated() {

@@ -22,7 +22,6 @@
 #include <vector>
 
 #include "camera/pyramid_camera.h"
-#include "image/image_pyramid.h"
 #include "ldsm/config.h"
 #include "map/map_store.h"
 #include "math/se3.h"
@@ -31,6 +30,8 @@
 #include "model/orb_descriptor.h"
 
 namespace ldsm {
+
+class ImagePyramid;  // (alignment/direct_alignment.h: the direct check's image)
 
 /// The newest keyframe as the search sees it.
 struct ReuseView {

@@ -5,6 +5,7 @@
 
 #include <random>
 
+#include "image/image_pyramid.h"
 #include "plane_scene.h"
 #include "reuse/reactivation_search.h"
 
