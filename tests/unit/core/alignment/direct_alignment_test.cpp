@@ -10,19 +10,16 @@
 
 #include "image/interpolation.h"
 #include "plane_scene.h"
+#include "plane_scene_points.h"
 
 namespace ldsm {
 namespace {
 
+using test::isometry;
+using test::tangentPose;
+
 constexpr int kW = 320, kH = 240;
 constexpr double kF = 260.0, kCx = 159.5, kCy = 119.5;
-
-Eigen::Isometry3d isometry(const SE3d& T_w_c) {
-  Eigen::Isometry3d iso = Eigen::Isometry3d::Identity();
-  iso.linear() = T_w_c.so3().matrix();
-  iso.translation() = T_w_c.translation();
-  return iso;
-}
 
 struct Fixture {
   test::PlaneScene scene = test::PlaneScene::wallAndFloor(4.0);
@@ -40,35 +37,17 @@ struct Fixture {
       for (int x = 0; x < kW; ++x)
         tgt(x, y) = static_cast<float>(brightness_scale * tgt(x, y) + brightness_offset);
     target.build(tgt.view());
-    for (int y = 8; y < kH - 8; y += 6)
-      for (int x = 8; x < kW - 8; x += 6) {
-        PatchPoint p;
-        p.u = static_cast<float>(x);
-        p.v = static_cast<float>(y);
-        p.idepth = idepth(x, y);
-        if (!(p.idepth > 0.f)) continue;
-        const float gx = host(x + 1, y) - host(x - 1, y), gy = host(x, y + 1) - host(x, y - 1);
-        if (gx * gx + gy * gy < 16.f) continue;
-        for (int k = 0; k < kPatternSize; ++k)
-          p.colors[k] = host(x + kPatternOffsets[k][0], y + kPatternOffsets[k][1]);
-        points.push_back(p);
-      }
+    points = test::gridPatchPoints(host, idepth, 6, 8);
   }
 };
 
-SE3d pose(double rx, double ry, double rz, double tx, double ty, double tz) {
-  SE3d::Tangent x;
-  x << tx, ty, tz, rx, ry, rz;
-  return SE3d::exp(x);
-}
-
 TEST(DirectAlignment, RecoversAPoseWithRollAndBrightnessChangeFromAPerturbedStart) {
   Fixture f;
-  const SE3d T_w_target = pose(0.03, -0.05, 0.12, 0.25, -0.1, 0.3);
+  const SE3d T_w_target = tangentPose(0.03, -0.05, 0.12, 0.25, -0.1, 0.3);
   f.render(T_w_target, 1.2, -10.0);
   ASSERT_GT(f.points.size(), 500u);
   const SE3d T_true = T_w_target.inverse();  // target <- host (host = world)
-  const SE3d T_start = pose(0.01, -0.008, 0.006, 0.03, 0.02, -0.03) * T_true;
+  const SE3d T_start = tangentPose(0.01, -0.008, 0.006, 0.03, 0.02, -0.03) * T_true;
   const DirectAlignmentResult r =
       alignPoints(f.points, f.camera, 0.f, f.target, T_start, 0.0, 0.0, DirectAlignmentSettings{});
   ASSERT_TRUE(r.success) << r.failure;
@@ -87,7 +66,7 @@ TEST(DirectAlignment, RecoversAPoseWithRollAndBrightnessChangeFromAPerturbedStar
 
 TEST(DirectAlignment, UnrelatedIntensitiesDoNotCorrelateWithTheTarget) {
   Fixture f;
-  const SE3d T_w_target = pose(0.0, 0.0, 0.0, 0.1, 0.0, 0.0);
+  const SE3d T_w_target = tangentPose(0.0, 0.0, 0.0, 0.1, 0.0, 0.0);
   f.render(T_w_target, 1.0, 0.0);
   ASSERT_GT(f.points.size(), 500u);
   // The same geometry, but each point's pattern intensities are another point's.

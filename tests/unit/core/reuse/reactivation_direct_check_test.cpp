@@ -7,6 +7,7 @@
 
 #include "image/image_pyramid.h"
 #include "plane_scene.h"
+#include "plane_scene_points.h"
 #include "reuse/reactivation_search.h"
 
 namespace ldsm {
@@ -15,18 +16,8 @@ namespace {
 constexpr int kW = 320, kH = 240;
 constexpr double kF = 260.0, kCx = 159.5, kCy = 119.5;
 
-SE3d pose(double rx, double ry, double rz, double tx, double ty, double tz) {
-  SE3d::Tangent x;
-  x << tx, ty, tz, rx, ry, rz;
-  return SE3d::exp(x);
-}
-
-Eigen::Isometry3d isometry(const SE3d& T_w_c) {
-  Eigen::Isometry3d iso = Eigen::Isometry3d::Identity();
-  iso.linear() = T_w_c.so3().matrix();
-  iso.translation() = T_w_c.translation();
-  return iso;
-}
+using test::isometry;
+using test::tangentPose;
 
 /// A map keyframe (id 5) at the origin with its points, and the newest keyframe's image seen
 /// from T_w_view (truth); the view's pose estimate is set by each test.
@@ -45,19 +36,7 @@ struct DirectRevisit {
         scene.render(Eigen::Isometry3d::Identity(), kF, kF, kCx, kCy, kW, kH, &idepth);
     target.build(scene.render(isometry(T_w_true), kF, kF, kCx, kCy, kW, kH).view());
     kf.id = 5;
-    for (int y = 8; y < kH - 8; y += 6)
-      for (int x = 8; x < kW - 8; x += 6) {
-        PatchPoint p;
-        p.u = static_cast<float>(x);
-        p.v = static_cast<float>(y);
-        p.idepth = idepth(x, y);
-        if (!(p.idepth > 0.f)) continue;
-        const float gx = host(x + 1, y) - host(x - 1, y), gy = host(x, y + 1) - host(x, y - 1);
-        if (gx * gx + gy * gy < 16.f) continue;
-        for (int k = 0; k < kPatternSize; ++k)
-          p.colors[k] = host(x + kPatternOffsets[k][0], y + kPatternOffsets[k][1]);
-        kf.points.push_back(p);
-      }
+    kf.points = test::gridPatchPoints(host, idepth, 6, 8);
     view.keyframe_id = 80;
     view.camera = camera[0];
     view.pyramid = &target;
@@ -76,7 +55,7 @@ struct DirectRevisit {
 };
 
 TEST(ReactivationDirectCheck, AcceptsAMapKeyframeThatFitsWhereTheWindowPutsIt) {
-  DirectRevisit r(pose(0.02, -0.04, 0.05, 0.2, -0.05, 0.25));
+  DirectRevisit r(tangentPose(0.02, -0.04, 0.05, 0.2, -0.05, 0.25));
   ASSERT_GT(r.kf.points.size(), 500u);
   const ReuseCheck c = r.check();
   EXPECT_TRUE(r.passes()) << c.reason;
@@ -89,8 +68,8 @@ TEST(ReactivationDirectCheck, TakesAnOffsetTheFullResolutionFitReachesAndNoFurth
   // The window's estimate of the view is off (a drift the map keyframe will correct): by 3 cm and
   // 0.6 degrees (5 px) the full-resolution fit, as the window optimisation, still reaches the
   // coarse-to-fine pose on this smooth texture; by 12 cm and 2.3 degrees (20 px) it does not.
-  DirectRevisit r(pose(0.02, -0.04, 0.05, 0.2, -0.05, 0.25));
-  r.view.T_c_w = (r.T_w_view * pose(0.0, 0.01, 0.0, 0.03, 0.0, 0.0)).inverse();
+  DirectRevisit r(tangentPose(0.02, -0.04, 0.05, 0.2, -0.05, 0.25));
+  r.view.T_c_w = (r.T_w_view * tangentPose(0.0, 0.01, 0.0, 0.03, 0.0, 0.0)).inverse();
   const ReuseCheck near = r.check();
   EXPECT_TRUE(r.passes()) << near.reason;
   EXPECT_GT(near.shift_px, 4.0);
@@ -100,7 +79,7 @@ TEST(ReactivationDirectCheck, TakesAnOffsetTheFullResolutionFitReachesAndNoFurth
   ReuseConfig bounded;
   bounded.direct_max_shift_px = 2.0;
   EXPECT_FALSE(r.passes(bounded));
-  r.view.T_c_w = (r.T_w_view * pose(0.0, 0.04, 0.0, 0.12, 0.0, 0.0)).inverse();
+  r.view.T_c_w = (r.T_w_view * tangentPose(0.0, 0.04, 0.0, 0.12, 0.0, 0.0)).inverse();
   const ReuseCheck far = r.check();
   EXPECT_FALSE(r.passes());
   EXPECT_GT(far.direct_inliers, 0.95) << "it aligns coarse to fine: " << far.reason;
@@ -115,7 +94,7 @@ TEST(ReactivationDirectCheck, TakesAnOffsetTheFullResolutionFitReachesAndNoFurth
 
 TEST(ReactivationDirectCheck, RejectsPointsWhosePatternsAreNotTheImages) {
   // The right geometry with another place's intensities (a look-alike that passed the ORB check).
-  DirectRevisit r(pose(0.0, 0.0, 0.0, 0.1, 0.0, 0.0));
+  DirectRevisit r(tangentPose(0.0, 0.0, 0.0, 0.1, 0.0, 0.0));
   std::mt19937 rng(7);
   for (std::size_t i = r.kf.points.size() - 1; i > 0; --i) {
     const std::size_t j = std::uniform_int_distribution<std::size_t>(0, i)(rng);
@@ -129,8 +108,8 @@ TEST(ReactivationDirectCheck, RejectsPointsWhosePatternsAreNotTheImages) {
 TEST(ReactivationDirectCheck, RunsAfterTheFeatureCheckOnlyWithAnImage) {
   // check() runs the direct check only when the view carries its image: without it the stage
   // after the feature check is the acceptance, with it a bad fit stops at the direct stage.
-  DirectRevisit r(pose(0.02, -0.04, 0.05, 0.2, -0.05, 0.25));
-  r.view.T_c_w = (r.T_w_view * pose(0.0, 0.04, 0.0, 0.12, 0.0, 0.0)).inverse();
+  DirectRevisit r(tangentPose(0.02, -0.04, 0.05, 0.2, -0.05, 0.25));
+  r.view.T_c_w = (r.T_w_view * tangentPose(0.0, 0.04, 0.0, 0.12, 0.0, 0.0)).inverse();
   ReuseConfig no_features;
   no_features.min_feature_matches = 0;
   no_features.min_keyframe_age = 1;
