@@ -175,8 +175,6 @@ class MappingStage {
   /// ORB descriptors at the corners of a described keyframe (drops the ones without, and the
   /// image).
   void describeOrb(MarginalizedKeyframe& kf);
-  /// A new keyframe's corners for loop closure and reuse (when keyframes are described), kept
-  /// with it until it leaves the window.
   /// Map reuse after a keyframe (mapping_stage_reuse.cpp): take back reactivated keyframes that
   /// no longer fit, bring back those that see the newest keyframe.
   void reuseMap(int newest_frame_index, double newest_timestamp);
