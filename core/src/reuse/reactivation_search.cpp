@@ -190,24 +190,23 @@ bool ReactivationSearch::checkDirect(const ReuseView& view, const MarginalizedKe
                     std::log(transfer[0]), transfer[1], fine);
     c.basin_miss_px = meanShift(view, keyframe.radial_k, points, f.T_target_host, d.T_target_host);
   }
+  if (!d.success) {
+    c.reason = "direct alignment failed (" + d.failure + ")";
+    return false;
+  }
+  if (c.direct_inliers >= config_.direct_min_inliers &&
+      c.correlation >= config_.direct_min_correlation &&
+      (config_.direct_basin_px <= 0.0 || c.basin_miss_px <= config_.direct_basin_px) &&
+      (config_.direct_max_shift_px <= 0.0 || c.shift_px <= config_.direct_max_shift_px))
+    return true;
   char detail[200];
   std::snprintf(detail, sizeof(detail),
                 "%d of %d points fit (%.0f %%), pattern correlation %.2f, %.2f px from the "
                 "window's pose, full resolution alone misses by %.2f px",
                 d.inliers, d.in_image, 100.0 * c.direct_inliers, c.correlation, c.shift_px,
                 c.basin_miss_px);
-  if (!d.success) {
-    c.reason = "direct alignment failed (" + d.failure + ")";
-    return false;
-  }
-  if (!(c.direct_inliers >= config_.direct_min_inliers) ||
-      !(c.correlation >= config_.direct_min_correlation) ||
-      (config_.direct_basin_px > 0.0 && !(c.basin_miss_px <= config_.direct_basin_px)) ||
-      (config_.direct_max_shift_px > 0.0 && !(c.shift_px <= config_.direct_max_shift_px))) {
-    c.reason = std::string("direct check: ") + detail;
-    return false;
-  }
-  return true;
+  c.reason = std::string("direct check: ") + detail;
+  return false;
 }
 
 std::vector<ReuseCheck> ReactivationSearch::search(const ReuseView& view, const MapStore& map,
