@@ -8,6 +8,7 @@
 //   bench_soak --dataset DIR --frames-per-pass K [--realtime | --threaded] [--no-reuse] [--no-loop]
 //              [--config FILE]   (a configuration YAML as `ldsm run --config` takes)
 //              [--log-level L]   (spdlog level, default warn; debug shows reuse decisions)
+//              [--trajectory FILE] (all frame poses at the end, TUM format)
 //
 // Under each pass a second line says what map reuse and loop closure did in it: map keyframes
 // brought back and taken out, candidates turned down by the geometric and the ORB check,
@@ -33,6 +34,7 @@
 #include "bench_input.h"
 #include "ldsm/drivers/config_yaml.h"
 #include "ldsm/drivers/machine_info.h"
+#include "ldsm/drivers/trajectory_io.h"
 #include "ldsm/drivers/trajectory_spill.h"
 #include "ldsm/eval/ate.h"
 
@@ -86,6 +88,7 @@ int main(int argc, char** argv) {
   // show what grows.
   bool exit_without_teardown = false;
   std::string config_path;
+  std::string trajectory_path;
   std::string log_level = "warn";
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -103,6 +106,8 @@ int main(int argc, char** argv) {
       loop = false;
     } else if (a == "--config" && i + 1 < argc) {
       config_path = argv[++i];
+    } else if (a == "--trajectory" && i + 1 < argc) {
+      trajectory_path = argv[++i];
     } else if (a == "--log-level" && i + 1 < argc) {
       log_level = argv[++i];
     } else if (a == "--exit-without-teardown") {
@@ -111,7 +116,8 @@ int main(int argc, char** argv) {
       std::fprintf(
           stderr,
           "usage: %s --dataset DIR --frames-per-pass K [--realtime | --threaded] [--no-reuse] "
-          "[--no-loop] [--config FILE] [--log-level L] [--exit-without-teardown]\n",
+          "[--no-loop] [--config FILE] [--log-level L] [--trajectory FILE] "
+          "[--exit-without-teardown]\n",
           argv[0]);
       return 2;
     }
@@ -229,6 +235,9 @@ int main(int argc, char** argv) {
         "of them lost)\n",
         ate(in.ground_truth, all), all.size(), static_cast<long long>(s.retired_frames),
         static_cast<long long>(s.lost_retired_frames));
+    if (!trajectory_path.empty()) ldsm::drivers::writeTumTrajectory(trajectory_path, all);
+  } else if (!trajectory_path.empty()) {
+    ldsm::drivers::writeTumTrajectory(trajectory_path, in.system->trajectory());
   }
   spill.remove();
   if (exit_without_teardown) {

@@ -290,6 +290,11 @@ struct LoopConfig {
   /// constraints from the window optimisation, so that the drift a revisit reveals is spread
   /// over the keyframes in between.
   bool reuse_constraints = true;
+  /// A correction holds the map keyframes the window holds (map reuse) where they are, together
+  /// with the newest keyframe: the window's photometric optimisation measured how they lie to it,
+  /// far more precisely than any pose-graph edge, and a correction that moved them would leave
+  /// the window holding map points that no longer fit its images. The rest of the map moves.
+  bool hold_reused_keyframes = true;
   /// Keyframes waiting for loop closure (threaded mode; rounded up to a power of two). A
   /// keyframe that finds the queue full is not indexed (loop closure never holds up mapping).
   int queue_capacity = 16;
@@ -330,6 +335,8 @@ struct LoopConfig {
             "(no loop)");
     v.field("reuse_constraints", reuse_constraints,
             "map keyframes brought back into the window constrain the pose graph");
+    v.field("hold_reused_keyframes", hold_reused_keyframes,
+            "a correction keeps the map keyframes held in the window where they are");
     v.field("queue_capacity", queue_capacity, Range<int>{1, 1024},
             "keyframes waiting for loop closure (threaded mode); one that finds the queue full "
             "is not indexed");

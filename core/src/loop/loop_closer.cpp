@@ -333,7 +333,7 @@ void LoopCloser::foldRetired() {
       spdlog::debug("pose graph: keyframe {} folded into {} ({} edges rerouted)", id, anchor,
                     rerouted);
     }
-    if (fixed_id_ == id) fixed_id_ = -1;
+    fixed_ids_.erase(std::remove(fixed_ids_.begin(), fixed_ids_.end(), id), fixed_ids_.end());
     chain_.erase(id);
     map_of_.erase(id);
     const auto it = covisible_.find(id);
@@ -351,9 +351,16 @@ void LoopCloser::foldRetired() {
 
 void LoopCloser::optimizePending(LoopCorrection& out, const std::atomic<bool>& abort) {
   const auto t0 = std::chrono::steady_clock::now();
-  if (fixed_id_ >= 0) graph_.setFixed(fixed_id_, false);
-  graph_.setFixed(last_id_, true);
-  fixed_id_ = last_id_;
+  for (const int id : fixed_ids_)
+    if (graph_.hasVertex(id)) graph_.setFixed(id, false);
+  fixed_ids_.assign(1, last_id_);
+  // The map keyframes the window held with the newest keyframe keep their poses too
+  // (LoopClosureConfig::hold_reused_keyframes): the correction moves the rest of the map.
+  if (config_.hold_reused_keyframes)
+    for (const KeyframeLink& l : last_links_)
+      if (l.map_keyframe && l.other != last_id_ && graph_.hasVertex(l.other))
+        fixed_ids_.push_back(l.other);
+  for (const int id : fixed_ids_) graph_.setFixed(id, true);
   PoseGraphSolveOptions options;
   options.abort = &abort;
   // A loop that shows more drift than the model expects: the odometry edges are that much less

@@ -138,7 +138,7 @@ class LoopCloser {
   PoseGraph graph_;
   int last_id_ = -1;
   SE3d last_T_w_c_;
-  int fixed_id_ = -1;
+  std::vector<int> fixed_ids_;  ///< vertices held by the last correction
   LoopVerificationSettings verification_;
   /// The links of the keyframe that left the window last (its relative poses to the keyframes
   /// still in the window then): the next keyframe's odometry edge is measured there.

@@ -64,9 +64,10 @@ struct Revisit {
 
 // A camera that goes once around the circle with the drifting odometry; at keyframe n the window
 // brings map keyframe 0 back (map reuse) and snaps onto it, and the camera goes on along the
-// second lap with exact poses. Keyframes leave the window one keyframe after they were made.
-Revisit driveRevisit(int n, int extra, bool reuse_link) {
-  const LoopConfig c = config();
+// second lap with exact poses. Keyframes leave the window one keyframe after they were made; the
+// first `linked` of them from keyframe n on held map keyframe 0 in their window.
+Revisit driveRevisit(int n, int extra, bool reuse_link, int linked = 3,
+                     const LoopConfig& c = config()) {
   LoopCloser closer(c, test::testCamera(500.0), /*inline_mode=*/true);
   Revisit r;
   SE3d est = truePose(0, n);
@@ -89,7 +90,7 @@ Revisit driveRevisit(int n, int extra, bool reuse_link) {
       const SE3d next = k + 1 == n ? r.drifted[n] : window[k + 1];
       job.links.push_back(link(k + 1, window[k], next, false));
     }
-    if (reuse_link && k >= n && k < n + 3)
+    if (reuse_link && k >= n && k < n + linked)
       job.links.push_back(link(0, window[k], r.truth[0], true));
     closer.keyframeLeftWindow(std::move(job));
     for (LoopCorrection& corr : closer.takeCorrections()) {
@@ -133,6 +134,38 @@ TEST(LoopCloser, ReuseConstraintSpreadsTheRevealedDriftAfterTheDelay) {
   EXPECT_LT(after, 0.25 * before);
   // The keyframes after the snap were right already and stay (the newest is held fixed).
   EXPECT_LT((c.S_world_camera.at(n).translation() - r.truth[n].translation()).norm(), 0.01);
+}
+
+// The window held map keyframe 0 up to the correction: the window's optimisation measured where it
+// lies, so the correction leaves it there (LoopConfig::hold_reused_keyframes) and moves the lap
+// between. Let free, the pose graph moves it a little towards the drifted odometry chain, and
+// the window would hold map points that no longer fit its images.
+TEST(LoopCloser, CorrectionKeepsTheMapKeyframesTheWindowHolds) {
+  const int n = 30, extra = 10;
+  for (const bool hold : {true, false}) {
+    LoopConfig c = config();
+    c.hold_reused_keyframes = hold;
+    const Revisit r = driveRevisit(n, extra, true, extra + 1, c);
+    ASSERT_FALSE(r.corrections.empty());
+    const LoopCorrection& first = r.corrections.front();
+    const Sim3d& held = first.S_world_camera.at(0);
+    const double moved = (held.translation() - r.truth[0].translation()).norm();
+    const double turned = (held.so3().inverse() * r.truth[0].so3()).log().norm();
+    std::printf("hold %d: map keyframe 0 moved %.2e m, turned %.2e rad, scale %.6f\n", hold, moved,
+                turned, held.scale());
+    if (hold) {
+      EXPECT_LT(moved, 1e-9);
+      EXPECT_LT(turned, 1e-9);
+      EXPECT_NEAR(held.scale(), 1.0, 1e-9);
+    } else {
+      EXPECT_GT(moved + turned, 1e-4) << "the case the hold is for: a free vertex 0 moves";
+    }
+    // Either way the lap's drift is spread.
+    std::map<int, Sim3d> drifted;
+    for (int k = 0; k <= n; ++k) drifted[k] = Sim3d(r.drifted[k]);
+    EXPECT_LT(meanPositionError(first.S_world_camera, r.truth, 1, n - 1),
+              0.25 * meanPositionError(drifted, r.truth, 1, n - 1));
+  }
 }
 
 TEST(LoopCloser, WithoutTheMapConstraintNothingIsCorrected) {
