@@ -64,7 +64,7 @@ MappingStage::MappingStage(const MappingStageSettings& settings, const PyramidCa
         return std::make_unique<CoarseTracker>(camera[0].width, camera[0].height, camera.levels(),
                                                tracker);
       }),
-      timer_({"trace", "mapping"}, 20000),
+      timer_({"trace", "mapping", "reuse", "loop"}, 20000),
       describe_(loop_closer != nullptr || settings.reuse.enabled),
       inline_mode_(inline_mode),
       snapshot_(std::make_shared<const MappingSnapshot>()) {
@@ -168,7 +168,10 @@ void MappingStage::integrateKeyframe(MappingJob& job) {
   reuse_stats_.map_points_seen += ins.map_points_in_view;
   publishMap(std::move(ins.map));
   applyLoopCorrections();
-  if (reuse_) reuseMap(job.info.frame_index, job.info.timestamp);
+  if (reuse_) {
+    StageTimer::Scope r(timer_, kReuse);
+    reuseMap(job.info.frame_index, job.info.timestamp);
+  }
   publishReference();
   publishSnapshot();
   keyframe_in_flight_.store(false, std::memory_order_release);
@@ -266,6 +269,7 @@ void MappingStage::publishMap(MapUpdate&& update) {
     }
     if (loop_closer_) {
       kf.points.clear();  // loop closure needs the corners only
+      StageTimer::Scope l(timer_, kLoop);
       loop_closer_->keyframeLeftWindow(std::move(kf));
     }
   }

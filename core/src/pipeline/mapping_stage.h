@@ -96,7 +96,9 @@ struct MappingStageSettings {
 
 class MappingStage {
  public:
-  enum Timing { kTrace, kMapping, kTimingCount };
+  /// kReuse (the search for map keyframes to bring back) and kLoop (loop closure's share done on
+  /// this thread: all of it in deterministic mode) are parts of kMapping.
+  enum Timing { kTrace, kMapping, kReuse, kLoop, kTimingCount };
 
   /// `loop_closer` may be null (loop closure off). `inline_mode`: deterministic.
   MappingStage(const MappingStageSettings& settings, const PyramidCamera& camera,

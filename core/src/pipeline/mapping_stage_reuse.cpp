@@ -17,7 +17,11 @@ void MappingStage::reuseMap(int newest_frame_index, double newest_timestamp) {
       settings_.reuse.max_reactivated - static_cast<int>(mapper_.reactivatedIds().size());
   const WindowKeyframe& newest = mapper_.newestKeyframe();
   const ReuseView view = reuseView(newest);
-  const std::vector<ReuseCheck> checks = reuse_->search(view, store_, reuseExclusions(newest.id()));
+  // Without room and without a weakened map keyframe to replace, nothing found could come back:
+  // the candidates are counted, but not aligned (bringBack would stop at the first accepted).
+  const bool can_take = room > 0 || (!held.empty() && settings_.reuse.replace_ratio > 0.0);
+  const std::vector<ReuseCheck> checks =
+      reuse_->search(view, store_, reuseExclusions(newest.id()), can_take);
   spdlog::trace("reuse: keyframe {}: {} candidates (median depth {:.3f})", newest.id(),
                 checks.size(), view.median_depth);
   ReuseEvent event;
@@ -113,6 +117,7 @@ void MappingStage::bringBack(const std::vector<ReuseCheck>& checks,
   int added = 0;
   for (const ReuseCheck& c : checks) {
     ++reuse_stats_.candidates_checked;
+    if (c.direct_skipped) continue;
     if (!c.accepted) {
       ++(c.stage == ReuseStage::Direct     ? reuse_stats_.rejected_photometric
          : c.stage == ReuseStage::Features ? reuse_stats_.rejected_features

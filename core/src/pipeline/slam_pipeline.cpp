@@ -84,12 +84,14 @@ void SlamPipeline::fillStats(SystemStats& stats) const {
   stats.keyframes = mapping_.keyframes();
   stats.initializations = tracking_.initializations();
   stats.tracking_losses = tracking_.losses();
-  // Stage timings in the order preprocess, initialize, track, trace, mapping, total.
+  // Stage timings in the order preprocess, initialize, track, trace, mapping (with its parts
+  // reuse and loop), total.
   const std::vector<StageTiming> t = tracking_.timings();
   const std::vector<StageTiming> m = mapping_.timings();
   stats.stages = {t[TrackingStage::kPreprocess], t[TrackingStage::kInitialize],
                   t[TrackingStage::kTrack],      m[MappingStage::kTrace],
-                  m[MappingStage::kMapping],     t[TrackingStage::kTotal]};
+                  m[MappingStage::kMapping],     m[MappingStage::kReuse],
+                  m[MappingStage::kLoop],        t[TrackingStage::kTotal]};
   stats.loops = events_.loops();
   stats.loops_closed = events_.loopsClosed();
   stats.retired_frames = store_.retiredFrameCount();

@@ -86,7 +86,7 @@ std::vector<int> ReactivationSearch::candidates(const ReuseView& view, const Map
 }
 
 ReuseCheck ReactivationSearch::check(const ReuseView& view, const MarginalizedKeyframe& keyframe,
-                                     const KeyframeRecord& pose) const {
+                                     const KeyframeRecord& pose, bool direct) const {
   ReuseCheck c;
   c.id = keyframe.id;
   // 0. A revisit, not the odometry's own recent past: it left the window long enough ago.
@@ -154,6 +154,11 @@ ReuseCheck ReactivationSearch::check(const ReuseView& view, const MarginalizedKe
     return c;
   }
   c.stage = ReuseStage::Direct;
+  if (!direct) {
+    c.direct_skipped = true;
+    c.reason = "direct check not run (no room in the window)";
+    return c;
+  }
   if (config_.direct_check && view.pyramid && view.pyramid_camera &&
       !checkDirect(view, keyframe, pose, c))
     return c;
@@ -210,12 +215,13 @@ bool ReactivationSearch::checkDirect(const ReuseView& view, const MarginalizedKe
 }
 
 std::vector<ReuseCheck> ReactivationSearch::search(const ReuseView& view, const MapStore& map,
-                                                   const std::vector<int>& exclude) const {
+                                                   const std::vector<int>& exclude,
+                                                   bool direct) const {
   std::vector<ReuseCheck> out;
   for (const int id : candidates(view, map, exclude)) {
     const std::shared_ptr<const MarginalizedKeyframe> data = map.keyframeData(id);
     if (!data) continue;
-    out.push_back(check(view, *data, map.keyframe(id)));
+    out.push_back(check(view, *data, map.keyframe(id), direct));
   }
   std::stable_sort(out.begin(), out.end(), [](const ReuseCheck& a, const ReuseCheck& b) {
     if (a.accepted != b.accepted) return a.accepted;

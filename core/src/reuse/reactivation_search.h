@@ -76,6 +76,8 @@ struct ReuseCheck {
   /// How far an alignment at full resolution alone, from the window's pose, ends from the
   /// coarse-to-fine one (pixels; 0 when the shift is within reuse.direct_basin_px anyway).
   double basin_miss_px = 0.0;
+  /// Passed the feature check, but the direct check was not run (search() without it).
+  bool direct_skipped = false;
 };
 
 class ReactivationSearch {
@@ -85,15 +87,19 @@ class ReactivationSearch {
   /// Candidate ids (excluding `exclude` and recent keyframes), without checking them.
   std::vector<int> candidates(const ReuseView& view, const MapStore& map,
                               const std::vector<int>& exclude) const;
-  /// Checks one map keyframe (its data and current pose record) against the view.
+  /// Checks one map keyframe (its data and current pose record) against the view. With
+  /// `direct` false a candidate that passes the feature check ends at ReuseStage::Direct with
+  /// `direct_skipped` set, neither accepted nor rejected (its alignment is not run).
   ReuseCheck check(const ReuseView& view, const MarginalizedKeyframe& keyframe,
-                   const KeyframeRecord& pose) const;
+                   const KeyframeRecord& pose, bool direct = true) const;
   /// The direct check of a candidate that passed the others (fills c's direct fields).
   bool checkDirect(const ReuseView& view, const MarginalizedKeyframe& keyframe,
                    const KeyframeRecord& pose, ReuseCheck& c) const;
   /// Candidates checked, the accepted ones first, best (most consistent matches) first.
+  /// `direct` false: no direct check (the caller has no room for a map keyframe; the alignment,
+  /// a few milliseconds per candidate, would decide nothing).
   std::vector<ReuseCheck> search(const ReuseView& view, const MapStore& map,
-                                 const std::vector<int>& exclude) const;
+                                 const std::vector<int>& exclude, bool direct = true) const;
 
  private:
   ReuseConfig config_;

@@ -129,6 +129,16 @@ TEST(ReactivationDirectCheck, RunsAfterTheFeatureCheckOnlyWithAnImage) {
   ReuseConfig off = no_features;
   off.direct_check = false;
   EXPECT_TRUE(ReactivationSearch(off).check(r.view, r.kf, r.record).accepted);
+  // Asked not to align (the window has no room): it stops before the alignment, neither
+  // accepted nor rejected, and nothing of the alignment is filled in.
+  const ReuseCheck skipped = search.check(r.view, r.kf, r.record, /*direct=*/false);
+  EXPECT_FALSE(skipped.accepted);
+  EXPECT_TRUE(skipped.direct_skipped);
+  EXPECT_FALSE(with_image.direct_skipped);
+  EXPECT_EQ(skipped.stage, ReuseStage::Direct);
+  EXPECT_EQ(skipped.direct_inliers, 0.0);
+  EXPECT_EQ(skipped.correlation, 0.0);
+  EXPECT_GT(with_image.direct_inliers, 0.0) << "the alignment ran when asked";
 }
 
 }  // namespace
