@@ -155,8 +155,7 @@ ReuseCheck ReactivationSearch::check(const ReuseView& view, const MarginalizedKe
   }
   c.stage = ReuseStage::Direct;
   if (!direct) {
-    c.direct_skipped = true;
-    c.reason = "direct check not run (no room in the window)";
+    c.direct_skipped = true;  // not rejected: no reason to write
     return c;
   }
   if (config_.direct_check && view.pyramid && view.pyramid_camera &&
