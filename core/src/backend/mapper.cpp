@@ -512,7 +512,7 @@ void Mapper::trackingPoints(std::vector<DepthPoint>& out) const {
       if (!(q.z() > 1e-3f)) continue;
       const Eigen::Vector2f px = radialProject(cam, radialK(), q);
       if (px.x() < 0 || px.y() < 0 || px.x() > cam.width - 1 || px.y() > cam.height - 1) continue;
-      out.push_back({px.x(), px.y(), 1.f / q.z(), 1.f});
+      out.push_back({px.x(), px.y(), 1.f / q.z(), 1.f, kf->is_reactivated});
     }
   }
 }

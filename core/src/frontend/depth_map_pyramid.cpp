@@ -33,6 +33,7 @@ DepthMapPyramid::DepthMapPyramid(int width, int height, int levels, float max_id
                       "] for a " + sizeString(width, height) + " image (got " +
                       std::to_string(levels) + ")");
   }
+  from_map_.assign(static_cast<std::size_t>(width) * height, 0);
   idepth_sum_.resize(static_cast<std::size_t>(levels));
   weight_sum_.resize(static_cast<std::size_t>(levels));
   points_.resize(static_cast<std::size_t>(levels));
@@ -62,7 +63,10 @@ int DepthMapPyramid::build(const DepthPoint* points, std::size_t count,
   for (int l = 0; l < levels(); ++l) {
     float* sum = idepth_sum_[l].data();
     float* weight = weight_sum_[l].data();
-    for (const int i : known_[l]) sum[i] = weight[i] = 0.f;
+    for (const int i : known_[l]) {
+      sum[i] = weight[i] = 0.f;
+      if (l == 0) from_map_[i] = 0;
+    }
     known_[l].clear();
   }
   splat(points, count);
@@ -97,7 +101,22 @@ void DepthMapPyramid::splat(const DepthPoint* points, std::size_t count) {
     }
     const int x = static_cast<int>(fx);
     const int y = static_cast<int>(fy);
-    if (weight(x, y) == 0.f) known.push_back(y * sum.width() + x);
+    const int pixel = y * sum.width() + x;
+    if (!(weight(x, y) > 0.f)) {
+      known.push_back(pixel);
+      from_map_[pixel] = p.from_map;
+    } else if (p.from_map != (from_map_[pixel] != 0)) {
+      // A map keyframe's point and the window's at one pixel, on both sides of a depth
+      // discontinuity: only the nearer surface is seen there.
+      const float seen = sum(x, y) / weight(x, y);
+      if (p.idepth * max_idepth_ratio_ < seen) continue;
+      if (p.idepth > max_idepth_ratio_ * seen) {
+        sum(x, y) = p.weight * p.idepth;
+        weight(x, y) = p.weight;
+        from_map_[pixel] = p.from_map;
+        continue;
+      }
+    }
     sum(x, y) += p.weight * p.idepth;
     weight(x, y) += p.weight;
   }

@@ -2,7 +2,10 @@
 // coarse tracker iterates over (DSO's "coarse depth" of the newest keyframe).
 //
 // Level 0 is filled by splatting the window's points projected into the reference (inverse depth
-// averaged with the points' weights at the nearest pixel); level l+1 is the weighted average of
+// averaged with the points' weights at the nearest pixel; where the points of a map keyframe
+// brought back into the window, seen from elsewhere, and the window's own points meet at a pixel
+// on both sides of a depth discontinuity, only the nearer surface is kept: the farther points are
+// occluded in the reference); level l+1 is the weighted average of
 // the 2x2 children at level l; then every level is dilated once (an empty pixel takes the
 // weighted average of its known neighbours: diagonal ones on levels 0 and 1, the 4-neighbourhood
 // on coarser levels; not across depth discontinuities), so that coarse levels become dense enough
@@ -36,13 +39,16 @@ class DepthMapPyramid {
   /// Preallocates maps and point lists for width x height images and `levels` levels (the sizes
   /// of ImagePyramid). Throws InputError/ConfigError like ImagePyramid for bad sizes. Dilation
   /// leaves a pixel empty when its known neighbours' inverse depths differ by more than the factor
-  /// `max_idepth_ratio` (a depth discontinuity).
+  /// `max_idepth_ratio` (a depth discontinuity), and splatting keeps only the nearer of a map
+  /// point (DepthPoint::from_map) and the window's points at one pixel whose inverse depths differ
+  /// by more than that factor.
   DepthMapPyramid(int width, int height, int levels, float max_idepth_ratio = 1.25f);
 
   /// Rebuilds every level from `count` points and the reference pyramid (which must have at
   /// least levels() levels of the constructed size; InputError otherwise). Points outside the
   /// image or with a non-finite or non-positive inverse depth or weight are skipped. Returns the
-  /// number of points used. Allocates only when a level gets more points than ever before.
+  /// number of valid points (occluded ones included). Allocates only when a level gets more points
+  /// than ever before.
   int build(const DepthPoint* points, std::size_t count, const ImagePyramid& reference);
 
   int levels() const { return static_cast<int>(points_.size()); }
@@ -77,6 +83,9 @@ class DepthMapPyramid {
   std::vector<LevelPoints> points_;
   float max_idepth_ratio_;
   int rejected_ = 0;
+  /// Level 0: 1 where the pixel's surface comes from map keyframes' points (DepthPoint::from_map).
+  std::vector<unsigned char> from_map_;
+  std::vector<unsigned char> seen_map_;
 };
 
 }  // namespace ldsm

@@ -141,6 +141,18 @@ void LoopCloser::publishPlaces(int id) {
   places_ = std::move(snapshot);
 }
 
+int LoopCloser::heldNeighbour(int candidate) const {
+  const auto covisible = covisible_.find(candidate);
+  for (const KeyframeLink& l : last_links_) {
+    if (!l.map_keyframe || !graph_.hasVertex(l.other)) continue;
+    if (l.other == candidate || (covisible != covisible_.end() &&
+                                 std::find(covisible->second.begin(), covisible->second.end(),
+                                           l.other) != covisible->second.end()))
+      return l.other;
+  }
+  return -1;
+}
+
 void LoopCloser::connectCovisible(int a, int b, int shared_points) {
   if (shared_points <= config_.covisible_shared_points) return;
   covisible_[a].push_back(b);
@@ -470,6 +482,26 @@ std::optional<DetectedLoop> LoopCloser::closeLoop(int id, std::optional<MapMerge
     const ChainPosition& pb = chain_.at(c.keyframe_id);
     const Matrix7d chain_cov =
         drift_.chainCovariance(pa.step - pb.step, std::fabs(pa.path - pb.path), implied);
+    const int held = heldNeighbour(c.keyframe_id);
+    if (held >= 0) {
+      // The window held map keyframe `held` with this keyframe, and the candidate is that
+      // keyframe or was optimised in one window with it: two window edges relate it to this
+      // keyframe, with no chain of odometry in between that could have drifted. A loop that
+      // disagrees with them is a wrong measurement, not drift to correct.
+      const double path =
+          (graph_.vertex(id).translation() - graph_.vertex(held).translation()).norm() +
+          (graph_.vertex(held).translation() - graph_.vertex(c.keyframe_id).translation()).norm();
+      const int steps = held == c.keyframe_id ? 1 : 2;
+      const Matrix7d held_cov = drift_.chainCovariance(steps, path, implied);
+      const double chi2 = d.dot(Eigen::LDLT<Matrix7d>(loop_cov + held_cov).solve(d));
+      if (chi2 >= config_.correction_chi2) {
+        spdlog::debug(
+            "loop {} -> {} (score {:.3f}) rejected: disagrees with map keyframe {} the window held "
+            "(chi2 {:.1f}, {} inliers)",
+            id, c.keyframe_id, c.score, held, chi2, v.num_inliers);
+        continue;
+      }
+    }
     // Loop edge candidate -> current: S_cand_cur = S_w_cand^-1 S_w_cur; its residual is the
     // loop's own tangent error, so the edge takes the loop's information as it is.
     graph_.addEdge(PoseGraphEdge{c.keyframe_id, id, v.S_current_candidate.inverse(), v.information,

@@ -104,6 +104,9 @@ class LoopCloser {
   /// odometry step of the drift model at the chain's mean step length.
   Matrix7d windowEdgeInformation(const Sim3d& S) const;
   void connectCovisible(int a, int b, int shared_points);
+  /// A map keyframe the window held with the newest keyframe (its links) that is `candidate`
+  /// itself or covisible with it; -1 if none.
+  int heldNeighbour(int candidate) const;
   /// Folds the keyframes no longer needed as vertices (culled or forgotten: no place to be found,
   /// no data in the map) into a neighbour (PoseGraph::foldVertex) once
   /// loop.pose_graph_recent_keyframes keyframes were processed after they retired (never the

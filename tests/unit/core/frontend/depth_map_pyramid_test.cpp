@@ -46,6 +46,36 @@ TEST(DepthMapPyramidTest, SplatsToNearestPixelWithWeightedAverage) {
   EXPECT_EQ(maps.idepthAt(0, 10, 20), 0.f);
 }
 
+// A map keyframe's points (brought back into the window, seen from elsewhere) and the window's at
+// one pixel on both sides of a depth discontinuity: the nearer surface, whatever the order. The
+// window's points among themselves are averaged as before, however far apart.
+TEST(DepthMapPyramidTest, KeepsTheNearerOfTheMapsAndTheWindowsSurfaceAtAPixel) {
+  const ImagePyramid ref = makeReference();
+  DepthMapPyramid maps(kW, kH, kLevels);  // discontinuity factor 1.25
+  const std::vector<DepthPoint> hidden_map = {{10.f, 20.f, 0.5f, 1.f, false},
+                                              {10.f, 20.f, 0.52f, 3.f, false},
+                                              {10.f, 20.f, 0.2f, 9.f, true}};  // behind: hidden
+  EXPECT_EQ(maps.build(hidden_map.data(), hidden_map.size(), ref), 3);
+  EXPECT_NEAR(maps.idepthAt(0, 10, 20), (0.5f + 3 * 0.52f) / 4, 1e-6);
+  const std::vector<DepthPoint> map_in_front = {{10.f, 20.f, 0.2f, 1.f, false},
+                                                {10.f, 20.f, 0.5f, 1.f, true},     // hides it
+                                                {10.f, 20.f, 0.52f, 3.f, true},    // same surface
+                                                {10.f, 20.f, 0.21f, 5.f, false}};  // hidden
+  maps.build(map_in_front.data(), map_in_front.size(), ref);
+  EXPECT_NEAR(maps.idepthAt(0, 10, 20), (0.5f + 3 * 0.52f) / 4, 1e-6);
+  // Within the factor: one surface, averaged.
+  const std::vector<DepthPoint> close = {{10.f, 20.f, 0.5f, 1.f, false},
+                                         {10.f, 20.f, 0.41f, 1.f, true}};
+  maps.build(close.data(), close.size(), ref);
+  EXPECT_NEAR(maps.idepthAt(0, 10, 20), 0.455f, 1e-6);
+  // The window's own points: averaged even across the factor (as the first test).
+  const std::vector<DepthPoint> window = {{10.f, 20.f, 0.5f, 1.f, false},
+                                          {10.f, 20.f, 0.2f, 1.f, false}};
+  maps.build(window.data(), window.size(), ref);
+  EXPECT_NEAR(maps.idepthAt(0, 10, 20), 0.35f, 1e-6);
+  EXPECT_EQ(maps.points(0).count, 1 + 4);  // the pixel and its diagonal fills
+}
+
 TEST(DepthMapPyramidTest, CoarseLevelsAverageChildrenExactlyForAPlane) {
   const ImagePyramid ref = makeReference();
   std::vector<DepthPoint> dense;

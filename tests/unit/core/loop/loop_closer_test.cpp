@@ -220,7 +220,9 @@ TEST(LoopCloser, CovisibleKeyframesAreNoLoopCandidates) {
       }
       if (k == current_id) {
         const SE3d T_w_cand(SO3d(), Eigen::Vector3d(0.05 * candidate_id, 0, 0));
-        job.links.push_back(link(candidate_id, job.T_w_c, T_w_cand, true, shared));
+        // A window link (a map keyframe held in the window would also tie the two poses, and
+        // this loop, which disagrees with them, would be rejected for that).
+        job.links.push_back(link(candidate_id, job.T_w_c, T_w_cand, false, shared));
       }
       closer.keyframeLeftWindow(std::move(job));
     }
@@ -232,6 +234,79 @@ TEST(LoopCloser, CovisibleKeyframesAreNoLoopCandidates) {
   };
   EXPECT_EQ(run(20), 1) << "the pair must be a verifiable loop for this test to mean anything";
   EXPECT_EQ(run(150), 0);
+}
+
+// A keyframe whose window held a map keyframe (reuse) was aligned to the map there: between it
+// and a keyframe that shared a window with that map keyframe no drift can have built up. A loop
+// to such a keyframe that disagrees with where the map puts it is a wrong measurement, not drift
+// to correct. The same loop without the held keyframe (drift over the whole chain), or with a
+// held keyframe far from the candidate along the chain, is a correction.
+TEST(LoopCloser, LoopDisagreeingWithTheHeldMapKeyframeIsRejected) {
+  test::SceneOptions o;
+  o.S_current_candidate =
+      Sim3d(SO3d::exp(Eigen::Vector3d(0.02, -0.05, 0.03)), Eigen::Vector3d(0.1, -0.05, 0.08), 1.0);
+  const test::KeyframePair pair = test::makeKeyframePair(o);
+  struct Result {
+    int loops = 0;
+    bool significant = false;
+    double chi2 = 0.0;
+  };
+  const int candidate_id = 3, current_id = 40;
+  auto run = [&](int held_id, double offset) {
+    const bool hold = held_id >= 0;
+    LoopConfig c = config();
+    c.exclude_recent_keyframes = 5;
+    LoopCloser closer(c, pair.current.camera, true);
+    test::SceneRandom rnd(7);
+    auto chainPose = [](int k) { return SE3d(SO3d(), Eigen::Vector3d(0.05 * k, 0, 0)); };
+    // Where the graph puts the current keyframe: as the loop measures it, plus `offset`.
+    const SE3d T_w_cand = chainPose(candidate_id);
+    const SE3d T_w_cur =
+        SE3d(SO3d(), Eigen::Vector3d(offset, 0, 0)) * T_w_cand *
+        SE3d(pair.S_current_candidate.so3(), pair.S_current_candidate.translation()).inverse();
+    Result r;
+    for (int k = 0; k <= current_id; ++k) {
+      LoopJob job = keyframe(k, k == current_id ? T_w_cur : chainPose(k));
+      const KeyframeFeatures* f = k == candidate_id ? &pair.candidate
+                                  : k == current_id ? &pair.current
+                                                    : nullptr;
+      if (f) {
+        job.corners = f->pixels;
+        job.corner_idepth = f->idepth;
+        job.descriptors = f->descriptors;
+      } else {
+        for (int i = 0; i < 300; ++i) {
+          job.corners.emplace_back(static_cast<float>(rnd.uniform(0, 639)),
+                                   static_cast<float>(rnd.uniform(0, 479)));
+          job.corner_idepth.push_back(0.25f);
+          job.descriptors.push_back(rnd.descriptor());
+        }
+      }
+      // The chain's keyframes shared a window with their successors.
+      if (k + 1 < current_id) job.links.push_back(link(k + 1, job.T_w_c, chainPose(k + 1), false));
+      if (k == current_id && hold)
+        job.links.push_back(link(held_id, job.T_w_c, chainPose(held_id), true, 20));
+      closer.keyframeLeftWindow(std::move(job));
+    }
+    closer.flush();
+    for (const LoopCorrection& corr : closer.takeCorrections())
+      for (const DetectedLoop& l : corr.loops)
+        if (l.current_keyframe_id == current_id && l.candidate_keyframe_id == candidate_id) {
+          ++r.loops;
+          r.significant = l.significant;
+          r.chi2 = l.drift_chi2;
+        }
+    std::printf("held %d, offset %.2f m: %d loop(s), chi2 %.1f%s\n", held_id, offset, r.loops,
+                r.chi2, r.significant ? ", significant" : "");
+    return r;
+  };
+  const Result free_wrong = run(-1, 0.3);
+  EXPECT_EQ(free_wrong.loops, 1);
+  EXPECT_TRUE(free_wrong.significant) << "the case the rule is for: the loop would correct";
+  EXPECT_EQ(run(4, 0.3).loops, 0) << "held keyframe 4 shared a window with the candidate";
+  const Result held_far = run(33, 0.3);
+  EXPECT_EQ(held_far.loops, 1) << "30 steps of chain between the held keyframe and the candidate";
+  EXPECT_TRUE(held_far.significant);
 }
 
 // A camera going round the circle three times: the first lap's keyframes are kept (the map), the
