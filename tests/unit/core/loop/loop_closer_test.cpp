@@ -38,6 +38,22 @@ LoopJob keyframe(int id, const SE3d& T_w_c) {
   return job;
 }
 
+// The keyframe's corners: those of `f`, or (null) 300 random ones that match nothing.
+void describe(LoopJob& job, const KeyframeFeatures* f, test::SceneRandom& rnd) {
+  if (f) {
+    job.corners = f->pixels;
+    job.corner_idepth = f->idepth;
+    job.descriptors = f->descriptors;
+    return;
+  }
+  for (int i = 0; i < 300; ++i) {
+    job.corners.emplace_back(static_cast<float>(rnd.uniform(0, 639)),
+                             static_cast<float>(rnd.uniform(0, 479)));
+    job.corner_idepth.push_back(0.25f);
+    job.descriptors.push_back(rnd.descriptor());
+  }
+}
+
 KeyframeLink link(int other, const SE3d& T_w_this, const SE3d& T_w_other, bool map_keyframe,
                   int shared = 200) {
   KeyframeLink l;
@@ -206,18 +222,7 @@ TEST(LoopCloser, CovisibleKeyframesAreNoLoopCandidates) {
       const KeyframeFeatures* f = k == candidate_id ? &pair.candidate
                                   : k == current_id ? &pair.current
                                                     : nullptr;
-      if (f) {
-        job.corners = f->pixels;
-        job.corner_idepth = f->idepth;
-        job.descriptors = f->descriptors;
-      } else {
-        for (int i = 0; i < 300; ++i) {
-          job.corners.emplace_back(static_cast<float>(rnd.uniform(0, 639)),
-                                   static_cast<float>(rnd.uniform(0, 479)));
-          job.corner_idepth.push_back(0.25f);
-          job.descriptors.push_back(rnd.descriptor());
-        }
-      }
+      describe(job, f, rnd);
       if (k == current_id) {
         const SE3d T_w_cand(SO3d(), Eigen::Vector3d(0.05 * candidate_id, 0, 0));
         // A window link (a map keyframe held in the window would also tie the two poses, and
@@ -270,18 +275,7 @@ TEST(LoopCloser, LoopDisagreeingWithTheHeldMapKeyframeIsRejected) {
       const KeyframeFeatures* f = k == candidate_id ? &pair.candidate
                                   : k == current_id ? &pair.current
                                                     : nullptr;
-      if (f) {
-        job.corners = f->pixels;
-        job.corner_idepth = f->idepth;
-        job.descriptors = f->descriptors;
-      } else {
-        for (int i = 0; i < 300; ++i) {
-          job.corners.emplace_back(static_cast<float>(rnd.uniform(0, 639)),
-                                   static_cast<float>(rnd.uniform(0, 479)));
-          job.corner_idepth.push_back(0.25f);
-          job.descriptors.push_back(rnd.descriptor());
-        }
-      }
+      describe(job, f, rnd);
       // The chain's keyframes shared a window with their successors.
       if (k + 1 < current_id) job.links.push_back(link(k + 1, job.T_w_c, chainPose(k + 1), false));
       if (k == current_id && hold)
