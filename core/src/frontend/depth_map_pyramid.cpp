@@ -60,13 +60,11 @@ int DepthMapPyramid::build(const DepthPoint* points, std::size_t count,
                      std::to_string(levels()) + " levels");
   }
   // Only the pixels the last build filled are non-zero.
+  for (const int i : known_[0]) from_map_[i] = 0;
   for (int l = 0; l < levels(); ++l) {
     float* sum = idepth_sum_[l].data();
     float* weight = weight_sum_[l].data();
-    for (const int i : known_[l]) {
-      sum[i] = weight[i] = 0.f;
-      if (l == 0) from_map_[i] = 0;
-    }
+    for (const int i : known_[l]) sum[i] = weight[i] = 0.f;
     known_[l].clear();
   }
   splat(points, count);

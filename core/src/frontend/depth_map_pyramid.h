@@ -83,9 +83,8 @@ class DepthMapPyramid {
   std::vector<LevelPoints> points_;
   float max_idepth_ratio_;
   int rejected_ = 0;
-  /// Level 0: 1 where the pixel's surface comes from map keyframes' points (DepthPoint::from_map).
+  /// Level 0: 1 where the pixel's surface came from map keyframes' points (DepthPoint::from_map).
   std::vector<unsigned char> from_map_;
-  std::vector<unsigned char> seen_map_;
 };
 
 }  // namespace ldsm
