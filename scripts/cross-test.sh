@@ -10,9 +10,10 @@
 # toolchains/<triplet>.cmake into build-<arch>, builds, runs ctest (every test executable runs
 # under qemu-<arch>-static; see docs/arm.md).
 #
-# Environment: BUILD_DIR (default build-<arch>), JOBS (default: nproc), NICE (default 0: niceness
-# of the build and tests), LDSM_CROSS_BENCH=1 also builds the benchmarks, LDSM_CROSS_SKIP_LABELS (a
-# ctest -LE regex of test labels, i.e. tests/ folders, not to run; armhf default: see below),
+# Environment: BUILD_DIR (default build-<arch>), JOBS (default: scripts/cpu-count.sh), NICE
+# (default 0: niceness of the build and tests), LDSM_CROSS_BENCH=1 also builds the benchmarks,
+# LDSM_CROSS_SKIP_LABELS (a ctest -LE regex of test labels, i.e. tests/ folders, not to run;
+# armhf default: see below),
 # LDSM_CROSS_EXCLUDE (a ctest -E regex of tests not to run; default: the known ARM failures below).
 # Extra arguments go to ctest.
 set -euo pipefail
@@ -59,7 +60,7 @@ fi
 exclude=${LDSM_CROSS_EXCLUDE-^($known_arm_failures|$too_slow_under_emulation)$}
 
 BUILD_DIR=${BUILD_DIR:-build-$arch}
-JOBS=${JOBS:-$(nproc)}
+JOBS=${JOBS:-$(bash scripts/cpu-count.sh)}
 NICE=${NICE:-0}
 skip_labels=${LDSM_CROSS_SKIP_LABELS-$default_skip}
 bench=OFF

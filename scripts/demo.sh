@@ -7,7 +7,7 @@ bash scripts/install-deps.sh
 BUILD_DIR=${BUILD_DIR:-build}
 OUT=${OUT:-out/demo}
 bash scripts/configure.sh "$BUILD_DIR"
-cmake --build "$BUILD_DIR" -j "$(nproc)" --target ldsm
+cmake --build "$BUILD_DIR" -j "$(bash scripts/cpu-count.sh)" --target ldsm
 LDSM="$BUILD_DIR/apps/ldsm"
 echo "== rendering the synthetic loop scene into $OUT/scene"
 "$LDSM" sim --scene "${SCENE:-loop}" --out "$OUT/scene"

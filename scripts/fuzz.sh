@@ -18,7 +18,7 @@ cd "$(dirname "$0")/.."
 seconds=${1:-60}
 targets=${FUZZ_TARGETS:-camera_txt kalibr_yaml kitti_calib pcalib vignette image_decode timestamps trajectory config_yaml vocabulary map_file}
 dir=${BUILD_DIR:-build-fuzz}
-JOBS=${JOBS:-$(nproc)}
+JOBS=${JOBS:-$(bash scripts/cpu-count.sh)}
 
 bash scripts/install-deps.sh
 if ! command -v clang++ >/dev/null 2>&1 || ! ls /usr/lib/llvm-*/lib/clang/*/lib/linux/libclang_rt.fuzzer-x86_64.a >/dev/null 2>&1; then

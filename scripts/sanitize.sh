@@ -11,8 +11,8 @@
 # with status 66. Tests that need the machine's real speed (real-time replay) are left out, as
 # under qemu: a sanitized build is 20-50x slower, so most of their frames are dropped by design;
 # so are the long whole-SLAM runs (scripts/slow-tests.sh).
-# Environment: JOBS (default nproc), SANITIZE_EXCLUDE (a ctest -E regex replacing the default),
-# extra arguments go to ctest.
+# Environment: JOBS (default scripts/cpu-count.sh), SANITIZE_EXCLUDE (a ctest -E regex replacing
+# the default), extra arguments go to ctest.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -28,7 +28,7 @@ if [ "$kind" = all ]; then
 fi
 
 bash scripts/install-deps.sh
-JOBS=${JOBS:-$(nproc)}
+JOBS=${JOBS:-$(bash scripts/cpu-count.sh)}
 root=${BUILD_ROOT:-build}
 start=$(date +%s)
 stamp() { echo "sanitize.sh ($kind): $1 ($(( $(date +%s) - start )) s)"; }
