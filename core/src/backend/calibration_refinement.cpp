@@ -178,7 +178,8 @@ void CalibrationRefinement::addWindowStep(const CalibVector& step, const CalibMa
     const auto u = static_cast<size_t>(p);
     for (Eigen::Index j = 0; j < m; ++j) weight_(p, refined_[static_cast<size_t>(j)]) = W(i, j);
     estimate_[p] = std::clamp(estimate_[p] + delta[i], -max_[p], max_[p]);
-    if (std::abs(estimate_[p]) > dead_band_[p])
+    const double settle = 1.0 + config_.settle_windows / static_cast<double>(windows_);
+    if (std::abs(estimate_[p]) > settle * dead_band_[p])
       engaged_[u] = true;
     else if (std::abs(estimate_[p]) < 0.5 * dead_band_[p])
       engaged_[u] = false;

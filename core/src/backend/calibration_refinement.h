@@ -71,8 +71,9 @@ bool calibrationEnvelopeStep(const Eigen::MatrixXd& H, const Eigen::VectorXd& b,
 /// Fuses the windows' envelope steps into one estimate of c and keeps the correction the window
 /// applies. Each window's measurement applied + step is weighted by its curvature matrix against
 /// the older ones' (which keep `memory` of their weight per window). Each parameter's correction
-/// switches on when its estimate leaves its dead band, off again below half of it; while on it
-/// follows the estimate, clamped to its largest value.
+/// switches on when its estimate leaves its dead band (in the first windows a wider one:
+/// settle_windows), off again below half of it; while on it follows the estimate, clamped to its
+/// largest value.
 class CalibrationRefinement {
  public:
   explicit CalibrationRefinement(const CalibrationRefinementConfig& config);

@@ -203,6 +203,7 @@ TEST(CalibrationRefinement, RadialStaysOffInsideTheDeadBandAndSwitchesWithHyster
 TEST(CalibrationRefinement, RadialWeighsWindowsByCurvature) {
   CalibrationRefinementConfig c = radialOnly();
   c.memory = 1.0;
+  c.settle_windows = 0.0;  // the fusion alone (the first window's estimate is applied)
   CalibrationRefinement r(c);
   // The first window weighs 1 against a starting weight of 1 at k = 0: estimate 0.01 / 2.
   addRadial(r, 0.01, 1.0);
@@ -211,6 +212,41 @@ TEST(CalibrationRefinement, RadialWeighsWindowsByCurvature) {
   // dead band, so the step was taken at k = 0.005: the measurement is 0.045).
   addRadial(r, 0.04, 15.0);
   EXPECT_NEAR(estimateK(r), 0.005 + 15.0 / 17.0 * 0.04, 1e-12);
+}
+
+// In the first windows a correction needs a wider band: after n windows the dead band times
+// (1 + settle_windows / n). The estimate itself is fused as before; only applying it waits.
+TEST(CalibrationRefinement, FirstWindowsNeedAWiderBandToApplyACorrection) {
+  CalibrationRefinementConfig c = radialOnly();
+  c.memory = 1.0;
+  c.radial_dead_band = 0.003;
+  c.settle_windows = 3.0;
+  CalibrationRefinement r(c);
+  // Each window measures k = 0.0045, 1.5 dead bands.
+  int applied_at = 0;
+  for (int n = 1; n <= 12; ++n) {
+    addRadial(r, 0.0045 - appliedK(r), 1.0);
+    if (applied_at == 0 && r.engaged(kCalibRadial)) applied_at = n;
+    if (applied_at == 0) {
+      EXPECT_EQ(appliedK(r), 0.0) << n;
+    }
+  }
+  // The estimate (one starting window's weight at 0) is 0.0045 n / (n + 1): above 0.003 (1 + 3/n)
+  // from n = 9 on (0.00405 against 0.0040; at n = 8 0.0040 against 0.004125).
+  EXPECT_EQ(applied_at, 9);
+  EXPECT_NEAR(appliedK(r), 0.0045 * 12.0 / 13.0, 1e-12);
+  // A large error is applied at once: 0.03 measured, 0.015 estimated after one window > 0.012.
+  CalibrationRefinement big(c);
+  addRadial(big, 0.03, 1.0);
+  EXPECT_TRUE(big.engaged(kCalibRadial));
+  EXPECT_NEAR(appliedK(big), 0.015, 1e-12);
+  // Without the settling band the small error is applied as soon as it leaves the dead band.
+  c.settle_windows = 0.0;
+  CalibrationRefinement eager(c);
+  addRadial(eager, 0.005, 1.0);
+  EXPECT_FALSE(eager.engaged(kCalibRadial)) << "0.0025 is inside the band";
+  addRadial(eager, 0.005 - appliedK(eager), 1.0);
+  EXPECT_TRUE(eager.engaged(kCalibRadial)) << "0.0033 after two windows";
 }
 
 TEST(CalibrationRefinement, RadialIgnoresBadInputClampsAndCanBeTurnedOff) {
