@@ -184,6 +184,41 @@ void CoarseInitializer::adoptReference(const CoarseInitializer& primary,
   status_ = InitStatus::kWaitingForParallax;
 }
 
+void CoarseInitializer::restartFrom(const CoarseInitializer& source, const SE3d& start) {
+  if (&source == this) return;
+  const bool tracking = source.status_ == InitStatus::kWaitingForParallax ||
+                        source.status_ == InitStatus::kConfirming ||
+                        source.status_ == InitStatus::kComplete;
+  if (source.width_ != width_ || source.height_ != height_ || !tracking || !finitePose(start)) {
+    throw InputError(
+        "coarse initializer: can only restart from a tracked reference of the same "
+        "size, with a finite motion guess");
+  }
+  reset();
+  levels_ = source.levels_;
+  for (int lvl = 0; lvl < levels_; ++lvl) {
+    Level& L = levels_data_[lvl];
+    L = source.levels_data_[lvl];
+    const std::size_t n = L.u.size();
+    L.idepth.assign(n, 1.f);
+    L.idepth_trial.assign(n, 1.f);
+    L.ir.assign(n, 1.f);
+    L.ir_trial.assign(n, 1.f);
+    L.lin.assign(n, PointLinearization{Eigen::Matrix<float, 8, 1>::Zero(), 0.f, 0.f, 0.f, 0.f});
+    L.lin_trial.assign(n, L.lin.empty() ? PointLinearization{} : L.lin.front());
+    L.good.assign(n, 0);
+    L.good_trial.assign(n, 0);
+    L.accum_w.assign(n, 0.f);
+    L.accum_wd.assign(n, 0.f);
+  }
+  exposure_ref_ = source.exposure_ref_;
+  T_ = start;
+  affine_ = source.affine_;
+  sort_scratch_.reserve(levels_data_[0].u.size());
+  result_.points.reserve(levels_data_[0].u.size());
+  status_ = InitStatus::kWaitingForParallax;
+}
+
 void CoarseInitializer::fail(InitFailure failure) {
   status_ = InitStatus::kFailed;
   failure_ = failure;

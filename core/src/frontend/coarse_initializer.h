@@ -74,6 +74,11 @@ class CoarseInitializer {
   /// translation `seed` in units of the mean inverse depth), so that several hypotheses can
   /// explore different basins of the same reference (InitializerHypotheses).
   void adoptReference(const CoarseInitializer& primary, const Eigen::Vector3d& seed);
+  /// Takes the reference `source` is tracking (any number of frames in), with every depth back
+  /// at its start (inverse depth 1) and `source`'s brightness estimate, and starts tracking from
+  /// the motion guess `start` (scale: mean inverse depth 1): a fresh hypothesis for the same
+  /// reference once the parallax is real (InitializerHypotheses). Frames are counted anew.
+  void restartFrom(const CoarseInitializer& source, const SE3d& start);
   /// reset() and give the reference's memory back (it is allocated again with the next one).
   void releaseMemory();
   /// Photometric cost of every level-0 point in the last frame (outliers at the cap): comparable

@@ -60,6 +60,7 @@ void InitializerHypotheses::reset() {
       members_[i].initializer->releaseMemory();
     }
     members_[i].alive = false;
+    members_[i].restarted = false;
   }
   status_ = InitStatus::kNoReference;
   failure_ = InitFailure::kNone;
@@ -122,7 +123,10 @@ void InitializerHypotheses::dropDuplicates() {
       const double dir =
           angleBetweenDeg(a.currentPose().translation(), b.currentPose().translation());
       if (rot > kSameRotationDeg || dir > kSameDirectionDeg) continue;
-      const std::size_t worse = a.photometricEnergy() <= b.photometricEnergy() ? j : i;
+      // A second-chance hypothesis that found an existing one's motion adds nothing: the one
+      // tracked since the reference stays (its depths have seen every frame).
+      std::size_t worse = a.photometricEnergy() <= b.photometricEnergy() ? j : i;
+      if (members_[i].restarted != members_[j].restarted) worse = members_[i].restarted ? i : j;
       members_[worse].alive = false;
       spdlog::trace("initializer hypothesis {} joins another one: dropped", worse);
     }
@@ -136,12 +140,41 @@ void InitializerHypotheses::dropHopeless() {
   if (!seesParallax(b)) return;
   for (std::size_t i = 0; i < members_.size(); ++i) {
     const CoarseInitializer& h = *members_[i].initializer;
-    if (!members_[i].alive || static_cast<int>(i) == best || !seesParallax(h)) continue;
+    // A second-chance hypothesis is held to the best one's fit from its first frame on: one
+    // that never finds a basin would otherwise linger without parallax and keep the
+    // initialisation from starting over when the others fail.
+    if (!members_[i].alive || static_cast<int>(i) == best) continue;
+    if (!seesParallax(h) && !members_[i].restarted) continue;
+    // Where most points are outliers (capped) the energies of a fit and of garbage are close;
+    // the inliers' RMS still tells them apart.
+    if (members_[i].restarted &&
+        h.lastFrameStats().rms_residual > kDropRmsRatio * b.lastFrameStats().rms_residual) {
+      members_[i].alive = false;
+      spdlog::trace("initializer hypothesis {}: rms {:.2f} against {:.2f}: dropped", i,
+                    h.lastFrameStats().rms_residual, b.lastFrameStats().rms_residual);
+      continue;
+    }
     if (h.photometricEnergy() > kDropEnergyRatio * b.photometricEnergy()) {
       members_[i].alive = false;
       spdlog::trace("initializer hypothesis {}: energy {:.0f} against {:.0f}: dropped", i,
                     h.photometricEnergy(), b.photometricEnergy());
     }
+  }
+}
+
+void InitializerHypotheses::restartDropped() {
+  const CoarseInitializer& lead = *members_[static_cast<std::size_t>(leader_)].initializer;
+  const double length = lead.currentPose().translation().norm();
+  if (!(length > 0.0) || !std::isfinite(length)) return;
+  for (std::size_t i = 1; i < members_.size(); ++i) {
+    Member& m = members_[i];
+    if (m.alive || m.restarted) continue;
+    const Eigen::Vector3d start = seed(static_cast<int>(i)) * (length / kSeedLength);
+    m.initializer->restartFrom(lead, SE3d(SO3d(), start));
+    m.alive = true;
+    m.restarted = true;
+    spdlog::trace("initializer hypothesis {}: second chance from [{:.3f} {:.3f} {:.3f}]", i,
+                  start.x(), start.y(), start.z());
   }
 }
 
@@ -162,12 +195,14 @@ bool InitializerHypotheses::addFrame(const ImagePyramid& pyramid, double exposur
   };
   const int live = static_cast<int>(alive_scratch_.size());
   concurrency::runTasks(tasks_, live, track);
+  bool leader_failed = false;  // the hypothesis that led after the previous frame failed
   for (std::size_t i = 0; i < members_.size(); ++i) {
     Member& m = members_[i];
     if (!m.alive) continue;
     if (m.initializer->failed()) {
       m.alive = false;
       if (i == 0 || failure_ == InitFailure::kNone) failure_ = m.initializer->failure();
+      leader_failed = leader_failed || static_cast<int>(i) == leader_;
     }
     if (spdlog::should_log(spdlog::level::trace)) {
       const CoarseInitializer& h = *m.initializer;
@@ -189,9 +224,21 @@ bool InitializerHypotheses::addFrame(const ImagePyramid& pyramid, double exposur
     if (failure_ == InitFailure::kNone) failure_ = InitFailure::kLostTrack;
     return false;
   }
+  // The leader failed: the survivors fit the previous frame worse, they are in other basins
+  // (started at frames 3 and 6 of the loop, the true motion's residual grew past the limit and a
+  // hypothesis 27-30 degrees off would have completed). Start over from a new reference, as
+  // after any failed initialisation.
+  if (leader_failed && frames_ > 1) {
+    const InitFailure why = members_[static_cast<std::size_t>(leader_)].initializer->failure();
+    spdlog::debug("initializer: the leading hypothesis failed ({}); starting over", toString(why));
+    status_ = InitStatus::kFailed;
+    failure_ = why;
+    return false;
+  }
   leader_ = best;
   status_ = members_[static_cast<std::size_t>(best)].initializer->status();
   failure_ = InitFailure::kNone;
+  if (second_chance_ && status_ == InitStatus::kConfirming) restartDropped();
   if (status_ == InitStatus::kComplete && leader_ != 0) {
     spdlog::debug("initializer: motion hypothesis {} (seed [{} {} {}]) wins", leader_,
                   seed(leader_).x(), seed(leader_).y(), seed(leader_).z());
