@@ -184,6 +184,21 @@ void CoarseInitializer::adoptReference(const CoarseInitializer& primary,
   status_ = InitStatus::kWaitingForParallax;
 }
 
+void CoarseInitializer::resetEstimates(Level& L) {
+  const std::size_t n = L.u.size();
+  const PointLinearization zero{Eigen::Matrix<float, 8, 1>::Zero(), 0.f, 0.f, 0.f, 0.f};
+  L.idepth.assign(n, 1.f);
+  L.idepth_trial.assign(n, 1.f);
+  L.ir.assign(n, 1.f);
+  L.ir_trial.assign(n, 1.f);
+  L.lin.assign(n, zero);
+  L.lin_trial.assign(n, zero);
+  L.good.assign(n, 0);
+  L.good_trial.assign(n, 0);
+  L.accum_w.assign(n, 0.f);
+  L.accum_wd.assign(n, 0.f);
+}
+
 void CoarseInitializer::restartFrom(const CoarseInitializer& source, const SE3d& start) {
   if (&source == this) return;
   const bool tracking = source.status_ == InitStatus::kWaitingForParallax ||
@@ -197,19 +212,8 @@ void CoarseInitializer::restartFrom(const CoarseInitializer& source, const SE3d&
   reset();
   levels_ = source.levels_;
   for (int lvl = 0; lvl < levels_; ++lvl) {
-    Level& L = levels_data_[lvl];
-    L = source.levels_data_[lvl];
-    const std::size_t n = L.u.size();
-    L.idepth.assign(n, 1.f);
-    L.idepth_trial.assign(n, 1.f);
-    L.ir.assign(n, 1.f);
-    L.ir_trial.assign(n, 1.f);
-    L.lin.assign(n, PointLinearization{Eigen::Matrix<float, 8, 1>::Zero(), 0.f, 0.f, 0.f, 0.f});
-    L.lin_trial.assign(n, L.lin.empty() ? PointLinearization{} : L.lin.front());
-    L.good.assign(n, 0);
-    L.good_trial.assign(n, 0);
-    L.accum_w.assign(n, 0.f);
-    L.accum_wd.assign(n, 0.f);
+    levels_data_[lvl] = source.levels_data_[lvl];
+    resetEstimates(levels_data_[lvl]);
   }
   exposure_ref_ = source.exposure_ref_;
   T_ = start;
@@ -257,16 +261,7 @@ void CoarseInitializer::setReference(const ImagePyramid& pyramid, double exposur
     L.neighbours.resize(n);
     L.neighbour_count.resize(n);
     L.parent.assign(n, -1);
-    L.idepth.assign(n, 1.f);
-    L.idepth_trial.assign(n, 1.f);
-    L.ir.assign(n, 1.f);
-    L.ir_trial.assign(n, 1.f);
-    L.lin.assign(n, PointLinearization{Eigen::Matrix<float, 8, 1>::Zero(), 0.f, 0.f, 0.f, 0.f});
-    L.lin_trial.assign(n, L.lin.front());
-    L.good.assign(n, 0);
-    L.good_trial.assign(n, 0);
-    L.accum_w.assign(n, 0.f);
-    L.accum_wd.assign(n, 0.f);
+    resetEstimates(L);
     const ImageView<const float> intensity = pyramid.intensity(lvl);
     for (std::size_t i = 0; i < n; ++i) {
       const float x = L.u[i].x();

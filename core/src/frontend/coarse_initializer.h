@@ -138,6 +138,8 @@ class CoarseInitializer {
   };
 
   void setReference(const ImagePyramid& pyramid, double exposure);
+  /// Every point of `L` back at its start: inverse depth 1, no linearisation, not an inlier.
+  static void resetEstimates(Level& L);
   /// Selects the points of level `lvl` of the reference into levels_data_[lvl].u (and is_corner);
   /// returns the bucket size for neighbour searches.
   float selectPoints(const ImagePyramid& pyramid, int lvl);
