@@ -35,10 +35,11 @@ struct Run {
   LoopListener listener;
 };
 
-Config deterministicConfig(bool loop) {
+Config deterministicConfig(bool loop, bool refine_focal) {
   Config c;
   c.system.deterministic = true;
   c.loop.enabled = loop;
+  c.calibration.refine_focal = refine_focal;
   return c;
 }
 
@@ -57,11 +58,13 @@ struct Outcome {
   }
 };
 
+/// `refine_focal`: false where a focal error is what makes the odometry drift (the refinement
+/// would otherwise repair it: the corridor told +2 % drifts 0.036 m with it, 0.32 m without).
 Outcome runBothOn(drivers::FrameSource& source, const GeometricCalibration& calibration,
-                  const PhotometricCalibration& photometric) {
+                  const PhotometricCalibration& photometric, bool refine_focal = true) {
   if (std::getenv("LDSM_DEBUG")) spdlog::set_level(spdlog::level::info);
-  Run on(deterministicConfig(true), calibration, photometric);
-  Run off(deterministicConfig(false), calibration, photometric);
+  Run on(deterministicConfig(true, refine_focal), calibration, photometric);
+  Run off(deterministicConfig(false, refine_focal), calibration, photometric);
   drivers::Frame frame;
   Outcome o;
   while (source.next(frame)) {
@@ -86,7 +89,7 @@ Outcome runBoth(const std::string& scene, std::int64_t frames, double focal_erro
   GeometricCalibration told = source.geometricCalibration();
   told.input.fx *= 1.0 + focal_error;
   told.input.fy *= 1.0 + focal_error;
-  Outcome o = runBothOn(source, told, source.photometricCalibration());
+  Outcome o = runBothOn(source, told, source.photometricCalibration(), focal_error == 0.0);
   o.evaluate(source.groundTruth());
   std::printf(
       "%s (focal error %+.1f %%): %zu loops, ATE %.4f m with loop closure, %.4f m without "

@@ -354,11 +354,11 @@ struct CalibrationRefinementConfig {
   /// Estimate a residual radial distortion k (x_image = x (1 + k |x|^2) in the output camera's
   /// normalized coordinates) from the window's photometric error and apply it in the window.
   bool refine_radial = true;
-  /// Estimate a common scale of the focal lengths (fx, fy) and apply it. Off by default: on
-  /// vamr_desk_loop, whose calibration is right, estimating focal length and principal point
-  /// costs accuracy (ATE 0.00088 -> 0.00128 m); kitti00_200 told fx 3 % short is repaired with it
-  /// (0.45 -> 0.29 m). `ldsm run --fov` turns both on; docs/engine.md.
-  bool refine_focal = false;
+  /// Estimate a common scale of the focal lengths (fx, fy) and apply it. With the focal scale
+  /// free the radial estimate no longer absorbs a focal error; the significance test keeps a
+  /// forward drive's bias from being applied. kitti00_200 with the five camera.txt variants of
+  /// docs/engine.md: worst ATE 0.45 -> 0.31 m; `--fov` also turns it on.
+  bool refine_focal = true;
   /// Estimate a shift of the principal point (cx, cy) and apply it. Off by default: a shift is
   /// almost a rotation of every keyframe, so windows see little of it.
   bool refine_principal_point = false;
@@ -384,6 +384,20 @@ struct CalibrationRefinementConfig {
   /// frames in, exactly calibrated, every part refined: with 0, estimates of 1.1-1.4 dead bands
   /// in windows 1-12 were applied and the ATE was 2-3x the unrefined run's (docs/engine.md).
   double settle_windows = 3.0;
+  /// A correction is applied only once its estimate is this many realistic standard deviations
+  /// from 0 (0: no such test; CalibrationRefinement::realisticSigma). The realistic deviation is
+  /// the fused curvature's (formal) one, scaled by how far the windows' estimates scatter around
+  /// the fused estimate in units of their own formal deviations, and by the keyframes a window
+  /// shares with the next (each keyframe's residuals enter that many windows). The formal
+  /// deviations alone are 10-60x too small: on a rendered forward corridor, exactly calibrated,
+  /// focal and radial estimates 15 formal deviations from 0 were a bias of the scene, not an
+  /// error of the camera (docs/engine.md).
+  double radial_significance = 2.0;
+  double focal_significance = 2.0;
+  /// Off for the principal point: its windows' estimates lag a 10 px error for tens of windows,
+  /// which the scatter counts, and the test held its correction back until the trajectory had
+  /// doubled its error (SelfCalibration.FindsAPrincipalPointTenPixelsOff: ATE 0.0105 -> 0.0234 m).
+  double principal_point_significance = 0.0;
 
   template <typename V>
   void visit(V& v) {
@@ -409,6 +423,15 @@ struct CalibrationRefinementConfig {
             "largest principal point correction (pixels, each axis) applied");
     v.field("settle_windows", settle_windows, Range<double>{0.0, 100.0},
             "after n windows a correction needs its dead band times (1 + this / n) to be applied");
+    v.field("radial_significance", radial_significance, Range<double>{0.0, 10.0},
+            "radial correction applied only once its estimate is this many realistic standard "
+            "deviations from 0 (0: no such test)");
+    v.field("focal_significance", focal_significance, Range<double>{0.0, 10.0},
+            "focal correction applied only once its estimate is this many realistic standard "
+            "deviations from 0 (0: no such test)");
+    v.field("principal_point_significance", principal_point_significance, Range<double>{0.0, 10.0},
+            "principal point correction applied only once its estimate is this many realistic "
+            "standard deviations from 0 (0: no such test)");
   }
 };
 

@@ -115,8 +115,9 @@ bool calibrationEnvelopeStep(const Eigen::MatrixXd& H, const Eigen::VectorXd& b,
   return true;
 }
 
-CalibrationRefinement::CalibrationRefinement(const CalibrationRefinementConfig& config)
-    : config_(config) {
+CalibrationRefinement::CalibrationRefinement(const CalibrationRefinementConfig& config,
+                                             int window_keyframes)
+    : config_(config), window_keyframes_(std::max(1, window_keyframes)) {
   mask_ = {config.refine_radial, config.refine_focal, config.refine_principal_point,
            config.refine_principal_point};
   refined_ = refinedParams(mask_);
@@ -124,6 +125,8 @@ CalibrationRefinement::CalibrationRefinement(const CalibrationRefinementConfig& 
       config.principal_point_dead_band;
   max_ << config.radial_max, config.focal_max, config.principal_point_max,
       config.principal_point_max;
+  significance_ << config.radial_significance, config.focal_significance,
+      config.principal_point_significance, config.principal_point_significance;
 }
 
 CalibVector CalibrationRefinement::sigma() const {
@@ -134,6 +137,14 @@ CalibVector CalibrationRefinement::sigma() const {
   const auto m = static_cast<Eigen::Index>(refined_.size());
   const Eigen::MatrixXd cov = ldlt.solve(Eigen::MatrixXd::Identity(m, m));
   for (Eigen::Index i = 0; i < m; ++i) s[refined_[static_cast<size_t>(i)]] = std::sqrt(cov(i, i));
+  return s;
+}
+
+CalibVector CalibrationRefinement::realisticSigma() const {
+  CalibVector s = sigma();
+  if (scatter_weight_ <= 0.0) return s;
+  for (const int p : refined_)
+    s[p] *= std::sqrt(window_keyframes_ * std::max(1.0, scatter_[p] / scatter_weight_));
   return s;
 }
 
@@ -172,14 +183,28 @@ void CalibrationRefinement::addWindowStep(const CalibVector& step, const CalibMa
   const Eigen::MatrixXd gain = W.ldlt().solve(C);
   const Eigen::VectorXd delta = gain * innovation;
   if (!delta.allFinite()) return;
+  // The window's own formal deviation of each parameter (marginal: C^-1), to measure how far the
+  // windows really scatter in its units.
+  const Eigen::MatrixXd window_cov = C.ldlt().solve(Eigen::MatrixXd::Identity(m, m));
+  scatter_weight_ = config_.memory * scatter_weight_ + 1.0;
+  for (Eigen::Index i = 0; i < m; ++i) {
+    const int p = refined_[static_cast<size_t>(i)];
+    const double var = window_cov(i, i);
+    const double z2 = var > 0.0 ? innovation[i] * innovation[i] / var : 0.0;
+    scatter_[p] = config_.memory * scatter_[p] + (std::isfinite(z2) ? z2 : 0.0);
+  }
   ++windows_;
   for (Eigen::Index i = 0; i < m; ++i) {
     const int p = refined_[static_cast<size_t>(i)];
-    const auto u = static_cast<size_t>(p);
     for (Eigen::Index j = 0; j < m; ++j) weight_(p, refined_[static_cast<size_t>(j)]) = W(i, j);
     estimate_[p] = std::clamp(estimate_[p] + delta[i], -max_[p], max_[p]);
+  }
+  const CalibVector realistic = realisticSigma();
+  for (const int p : refined_) {
+    const auto u = static_cast<size_t>(p);
     const double settle = 1.0 + config_.settle_windows / static_cast<double>(windows_);
-    if (std::abs(estimate_[p]) > settle * dead_band_[p])
+    const double magnitude = std::abs(estimate_[p]);
+    if (magnitude > settle * dead_band_[p] && magnitude > significance_[p] * realistic[p])
       engaged_[u] = true;
     else if (std::abs(estimate_[p]) < 0.5 * dead_band_[p])
       engaged_[u] = false;

@@ -72,11 +72,14 @@ bool calibrationEnvelopeStep(const Eigen::MatrixXd& H, const Eigen::VectorXd& b,
 /// applies. Each window's measurement applied + step is weighted by its curvature matrix against
 /// the older ones' (which keep `memory` of their weight per window). Each parameter's correction
 /// switches on when its estimate leaves its dead band (in the first windows a wider one:
-/// settle_windows), off again below half of it; while on it follows the estimate, clamped to its
-/// largest value.
+/// settle_windows) and stands `significance` realistic deviations from 0 (realisticSigma()), off
+/// again below half of the band; while on it follows the estimate, clamped to its largest value.
 class CalibrationRefinement {
  public:
-  explicit CalibrationRefinement(const CalibrationRefinementConfig& config);
+  /// `window_keyframes`: keyframes per window (consecutive windows share all but one of them, so
+  /// their information is not independent; significance test, CalibrationRefinementConfig).
+  explicit CalibrationRefinement(const CalibrationRefinementConfig& config,
+                                 int window_keyframes = 1);
 
   /// Starts from a correction made earlier (a loaded map's): estimate and applied correction are
   /// `c` for the focal and principal point parts (each on when not 0, refined or not, so that the
@@ -92,6 +95,10 @@ class CalibrationRefinement {
   /// 1-sigma uncertainty of each parameter of the estimate (0 before any window or when the
   /// parameter is not refined).
   CalibVector sigma() const;
+  /// Realistic 1-sigma uncertainty of each parameter of the estimate: sigma() scaled by the
+  /// windows' observed scatter (the mean squared innovation in units of the window's own formal
+  /// deviation) and by the window overlap. 0 where sigma() is 0.
+  CalibVector realisticSigma() const;
   bool engaged(int param) const { return engaged_[static_cast<size_t>(param)]; }
   /// Windows fused so far.
   int windows() const { return windows_; }
@@ -102,11 +109,14 @@ class CalibrationRefinement {
   CalibrationRefinementConfig config_;
   CalibMask mask_{};
   std::vector<int> refined_;  ///< refinedParams(mask_)
-  CalibVector dead_band_, max_;
+  CalibVector dead_band_, max_, significance_;
   CalibVector estimate_ = CalibVector::Zero();
   CalibMatrix weight_ = CalibMatrix::Zero();  ///< fused information of the older windows
   CalibVector applied_ = CalibVector::Zero();
   std::array<bool, kCalibParams> engaged_{};
+  double window_keyframes_ = 1.0;
+  CalibVector scatter_ = CalibVector::Zero();  ///< fused mean squared normalised innovation
+  double scatter_weight_ = 0.0;                ///< its fused weight (windows, with memory)
   int windows_ = 0;
 };
 

@@ -17,7 +17,7 @@ Mapper::Mapper(const MapperSettings& settings, const PyramidCamera& camera, Pyra
       camera_(camera),
       pyramids_(pyramids),
       optimizer_(settings.optimizer, camera[0]),
-      calibration_(settings.calibration),
+      calibration_(settings.calibration, settings.window.max_keyframes),
       selector_(camera[0].width, camera[0].height, settings.points) {
   trace_settings_.huber_threshold = settings.trace_huber_threshold;
   trace_settings_.outlier_threshold = settings.trace_outlier_threshold;

@@ -147,10 +147,14 @@ TEST(CalibrationEnvelope, CorrectedIntrinsicsScaleTheFocalLengthAndShiftThePrinc
 }
 
 /// A radial-only refinement's step (the other parameters are not refined).
+/// Radial only, without the significance test: these tests use curvatures of 1 (formal sigma 1
+/// against corrections of 0.02), so they test the fusion, the bands and the hysteresis alone;
+/// the significance test has its own tests below.
 CalibrationRefinementConfig radialOnly() {
   CalibrationRefinementConfig c;
   c.refine_focal = false;
   c.refine_principal_point = false;
+  c.radial_significance = 0.0;
   return c;
 }
 
@@ -247,6 +251,61 @@ TEST(CalibrationRefinement, FirstWindowsNeedAWiderBandToApplyACorrection) {
   EXPECT_FALSE(eager.engaged(kCalibRadial)) << "0.0025 is inside the band";
   addRadial(eager, 0.005 - appliedK(eager), 1.0);
   EXPECT_TRUE(eager.engaged(kCalibRadial)) << "0.0033 after two windows";
+}
+
+// The realistic sigma: the fused formal one times sqrt(window overlap x the windows' mean squared
+// innovation in units of their own formal sigma), never below sqrt(overlap) x the formal one.
+TEST(CalibrationRefinement, RealisticSigmaScalesTheFormalOneByTheObservedScatterAndTheOverlap) {
+  CalibrationRefinementConfig c = radialOnly();
+  CalibrationRefinement r(c, 4);
+  EXPECT_EQ(r.realisticSigma()[kCalibRadial], 0.0) << "no window yet";
+  // One window, k step 0.01 at curvature 1e6 (formal sigma 0.001): 10 of its own sigmas from the
+  // estimate 0, so the mean squared innovation is 100; the fused weight is (1 + memory) 1e6.
+  addRadial(r, 0.01, 1e6);
+  const double formal = 1.0 / std::sqrt((1.0 + c.memory) * 1e6);
+  EXPECT_NEAR(r.sigma()[kCalibRadial], formal, 1e-15);
+  EXPECT_NEAR(r.realisticSigma()[kCalibRadial], formal * std::sqrt(4.0 * 100.0), 1e-12);
+  // Windows that agree with the estimate to well within their formal sigma: the factor is the
+  // overlap alone.
+  CalibrationRefinement quiet(c, 4);
+  addRadial(quiet, 1e-5, 1e6);
+  EXPECT_NEAR(quiet.realisticSigma()[kCalibRadial], 2.0 * quiet.sigma()[kCalibRadial], 1e-15);
+}
+
+// A correction whose windows scatter far more than their curvature says is not applied; a
+// consistent one of the same size is.
+TEST(CalibrationRefinement, ACorrectionMustStandOutOfTheWindowsScatter) {
+  CalibrationRefinementConfig c = radialOnly();
+  c.settle_windows = 0.0;
+  c.radial_significance = 2.0;
+  // Every window: formal sigma 0.001 (curvature 1e6); their mean k = 0.006, two dead bands.
+  // Returns the first window after which the correction was applied (0: never).
+  auto firstApplied = [&c](double scatter, CalibrationRefinement* out) {
+    CalibrationRefinement r(c, 1);
+    int first = 0;
+    for (int n = 1; n <= 40; ++n) {
+      const double measured = 0.006 + (n % 2 == 1 ? scatter : -scatter);
+      addRadial(r, measured - appliedK(r), 1e6);
+      if (first == 0 && r.engaged(kCalibRadial)) first = n;
+    }
+    *out = r;
+    return first;
+  };
+  CalibrationRefinement r(c);
+  // Consistent windows (half a formal sigma either side): applied within a few windows.
+  const int consistent = firstApplied(0.0005, &r);
+  EXPECT_GE(consistent, 1);
+  EXPECT_LE(consistent, 3);
+  EXPECT_NEAR(appliedK(r), 0.006, 5e-4);
+  // Windows 30 formal sigmas either side of the same mean: the realistic sigma of the fused
+  // estimate is about 30x the formal 0.00024 of 40 windows with memory 0.95, so 0.006 is under
+  // one of them: never applied, although the estimate is outside its dead band.
+  EXPECT_EQ(firstApplied(0.03, &r), 0);
+  EXPECT_GT(std::abs(estimateK(r)), c.radial_dead_band);
+  EXPECT_GT(r.realisticSigma()[kCalibRadial], 20.0 * r.sigma()[kCalibRadial]);
+  // The same windows without the test: applied.
+  c.radial_significance = 0.0;
+  EXPECT_GE(firstApplied(0.03, &r), 1);
 }
 
 TEST(CalibrationRefinement, RadialIgnoresBadInputClampsAndCanBeTurnedOff) {
