@@ -216,12 +216,24 @@ void writeRunOutputs(const std::string& dir, const System& system, const Traject
   j.key("cx_shift").value(c.cx_sigma);
   j.key("cy_shift").value(c.cy_sigma);
   j.endObject();
+  j.key("sigma_realistic").beginObject();
+  j.key("radial_k").value(c.realistic_radial_sigma);
+  j.key("focal_scale").value(c.realistic_focal_scale_sigma);
+  j.key("cx_shift").value(c.realistic_cx_sigma);
+  j.key("cy_shift").value(c.realistic_cy_sigma);
+  j.endObject();
   if (camera) {
     j.key("sigma_px").beginObject();
     j.key("fx").value(camera->sigma_fx);
     j.key("fy").value(camera->sigma_fy);
     j.key("cx").value(camera->sigma_cx);
     j.key("cy").value(camera->sigma_cy);
+    j.endObject();
+    j.key("sigma_px_realistic").beginObject();
+    j.key("fx").value(camera->realistic_sigma_fx);
+    j.key("fy").value(camera->realistic_sigma_fy);
+    j.key("cx").value(camera->realistic_sigma_cx);
+    j.key("cy").value(camera->realistic_sigma_cy);
     j.endObject();
     j.key("spread").beginObject();
     j.key("windows").value(camera->spread_windows);

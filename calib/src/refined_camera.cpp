@@ -166,6 +166,12 @@ std::string commentLines(const RefinedCameraFit& fit, const std::string& source,
                 "radial k %.3g (0: not refined)\n",
                 prefix, fit.sigma_fx, fit.sigma_fy, fit.sigma_cx, fit.sigma_cy, fit.sigma_k);
   s += buf;
+  std::snprintf(buf, sizeof(buf),
+                "%s 1-sigma (realistic: formal x window overlap x the windows' observed scatter): "
+                "fx %.3g fy %.3g cx %.3g cy %.3g px, radial k %.3g\n",
+                prefix, fit.realistic_sigma_fx, fit.realistic_sigma_fy, fit.realistic_sigma_cx,
+                fit.realistic_sigma_cy, fit.realistic_sigma_k);
+  s += buf;
   if (fit.spread_windows > 1) {
     std::snprintf(buf, sizeof(buf),
                   "%s spread of the last %d window estimates: fx %.3g fy %.3g cx %.3g cy %.3g px, "
@@ -200,6 +206,11 @@ RefinedCameraFit refitCalibration(const GeometricCalibration& given,
   fit.sigma_cx = refined.cx_sigma;
   fit.sigma_cy = refined.cy_sigma;
   fit.sigma_k = refined.radial_sigma;
+  fit.realistic_sigma_fx = ka.fx * refined.realistic_focal_scale_sigma;
+  fit.realistic_sigma_fy = ka.fy * refined.realistic_focal_scale_sigma;
+  fit.realistic_sigma_cx = refined.realistic_cx_sigma;
+  fit.realistic_sigma_cy = refined.realistic_cy_sigma;
+  fit.realistic_sigma_k = refined.realistic_radial_sigma;
   fit.spread_windows = static_cast<int>(std::min<size_t>(history.size(), kSpreadWindows));
   fit.spread_fx = ka.fx * spread(history, [](const CalibrationSample& c) {
                     return std::log(c.focal_scale_estimate);

@@ -107,6 +107,10 @@ py::dict calibrationToDict(const SystemStats& s) {
   d["configured"] = pinholeToDict(s.calibration.configured);
   d["applied"] = pinholeToDict(s.calibration.applied);
   putEstimate(d, s.calibration);
+  d["realistic_radial_sigma"] = s.calibration.realistic_radial_sigma;
+  d["realistic_focal_scale_sigma"] = s.calibration.realistic_focal_scale_sigma;
+  d["realistic_cx_sigma"] = s.calibration.realistic_cx_sigma;
+  d["realistic_cy_sigma"] = s.calibration.realistic_cy_sigma;
   py::list history;
   for (const CalibrationSample& h : s.calibration_history) {
     py::dict e;

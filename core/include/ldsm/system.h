@@ -84,6 +84,11 @@ struct CalibrationStats {
   /// 1-sigma of the estimates from the fused window curvatures (relative: the curvatures are
   /// energies in grey levels squared; compare between parameters and runs, not as metres).
   double radial_sigma = 0.0, focal_scale_sigma = 0.0, cx_sigma = 0.0, cy_sigma = 0.0;
+  /// The same, realistic: the formal sigmas scaled by the window overlap and by how far the
+  /// windows' estimates actually scatter in units of their formal sigmas (they are 10-60x too
+  /// small alone); what the significance test of the config section calibration uses.
+  double realistic_radial_sigma = 0.0, realistic_focal_scale_sigma = 0.0;
+  double realistic_cx_sigma = 0.0, realistic_cy_sigma = 0.0;
   int windows = 0;  ///< window estimates fused
 };
 

@@ -27,6 +27,11 @@ CalibrationStats calibrationStats(const Mapper& mapper) {
   c.focal_scale_sigma = sigma[kCalibFocal];
   c.cx_sigma = sigma[kCalibCx];
   c.cy_sigma = sigma[kCalibCy];
+  const CalibVector realistic = r.realisticSigma();
+  c.realistic_radial_sigma = realistic[kCalibRadial];
+  c.realistic_focal_scale_sigma = realistic[kCalibFocal];
+  c.realistic_cx_sigma = realistic[kCalibCx];
+  c.realistic_cy_sigma = realistic[kCalibCy];
   c.windows = r.windows();
   return c;
 }

@@ -76,6 +76,9 @@ TEST_F(SelfCalibrationCli, AFieldOfViewGuessStartsAndWritesTheRefinedCamera) {
   ASSERT_NE(history, std::string::npos) << stats;
   EXPECT_EQ(stats.find("\"windows\": 1,", history), stats.find("\"windows\"", history)) << stats;
   EXPECT_NE(stats.find("\"sigma_px\""), std::string::npos);
+  EXPECT_NE(stats.find("\"sigma_px_realistic\""), std::string::npos);
+  EXPECT_NE(stats.find("\"sigma_realistic\""), std::string::npos);
+  EXPECT_NE(camera.find("1-sigma (realistic"), std::string::npos) << camera;
   // The written camera starts the next run.
   ASSERT_EQ(run("--deterministic --calib " + out + "/camera.txt --dataset " + dir_ +
                     "/uncalibrated --out " + dir_ + "/again",

@@ -61,6 +61,10 @@ CalibrationStats refinement(const GeometricCalibration& given, double focal_scal
   s.cx_sigma = 0.3;
   s.cy_sigma = 0.4;
   s.radial_sigma = 0.0002;
+  s.realistic_focal_scale_sigma = 0.02;
+  s.realistic_cx_sigma = 6.0;
+  s.realistic_cy_sigma = 8.0;
+  s.realistic_radial_sigma = 0.004;
   s.windows = 40;
   return s;
 }
@@ -119,6 +123,17 @@ TEST(RefinedCamera, NothingAppliedGivesTheGivenCalibrationBack) {
   EXPECT_EQ(formatDsoCameraFile(fit.calibration), formatDsoCameraFile(given));
   EXPECT_NEAR(fit.sigma_fx, 0.384, 1e-12);  // 384 px * 0.001
   EXPECT_NEAR(fit.sigma_cy, 0.4, 1e-12);
+  // The realistic sigmas the same way, and both in the camera.txt comments.
+  EXPECT_NEAR(fit.realistic_sigma_fx, 7.68, 1e-12);  // 384 px * 0.02
+  EXPECT_NEAR(fit.realistic_sigma_cx, 6.0, 1e-12);
+  EXPECT_NEAR(fit.realistic_sigma_k, 0.004, 1e-12);
+  const std::string text = formatRefinedDsoCameraFile(fit, "given.txt");
+  EXPECT_NE(text.find("1-sigma (formal) of the rectified pinhole: fx 0.384"), std::string::npos)
+      << text;
+  EXPECT_NE(text.find("1-sigma (realistic: formal x window overlap x the windows' observed "
+                      "scatter): fx 7.68 fy 8.64 cx 6 cy 8 px, radial k 0.004"),
+            std::string::npos)
+      << text;
 }
 
 // A pinhole with a radial term in its own normalized coordinates is exactly RadTan with k1 = k:

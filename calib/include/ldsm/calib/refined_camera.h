@@ -30,6 +30,10 @@ struct RefinedCameraFit {
   /// 1-sigma of the rectified pinhole's fx, fy, cx, cy (pixels) and of k, from the refinement's
   /// formal sigmas (0 for parameters not refined).
   double sigma_fx = 0.0, sigma_fy = 0.0, sigma_cx = 0.0, sigma_cy = 0.0, sigma_k = 0.0;
+  /// The same from the refinement's realistic sigmas (CalibrationStats::realistic_*): the
+  /// uncertainty to quote.
+  double realistic_sigma_fx = 0.0, realistic_sigma_fy = 0.0, realistic_sigma_cx = 0.0;
+  double realistic_sigma_cy = 0.0, realistic_sigma_k = 0.0;
   /// Standard deviation of the same over the last `spread_windows` window estimates of the
   /// history (0 without one): how much the estimate still moves from window to window. The
   /// formal sigmas treat every residual as independent and are far smaller; this is the
