@@ -2,6 +2,7 @@
 
 #include <sys/resource.h>
 
+#include <array>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -42,7 +43,7 @@ void writeTimings(drivers::JsonWriter& j, const std::vector<StageTiming>& timing
 }
 
 /// "history": [{"windows", "frame", "t", "estimate": [k, focal_scale, cx_shift, cy_shift],
-/// "sigma": [...], "applied": [k, fx, fy, cx, cy]}, ...], oldest first.
+/// "sigma": [...], "sigma_realistic": [...], "applied": [k, fx, fy, cx, cy]}, ...], oldest first.
 void writeCalibrationHistory(drivers::JsonWriter& j, const std::vector<CalibrationSample>& h) {
   j.key("history").beginArray();
   for (const CalibrationSample& c : h) {
@@ -57,6 +58,11 @@ void writeCalibrationHistory(drivers::JsonWriter& j, const std::vector<Calibrati
     j.endArray();
     j.key("sigma").beginArray();
     for (const double v : {c.radial_sigma, c.focal_scale_sigma, c.cx_sigma, c.cy_sigma}) j.value(v);
+    j.endArray();
+    j.key("sigma_realistic").beginArray();
+    for (const double v : {c.realistic_radial_sigma, c.realistic_focal_scale_sigma,
+                           c.realistic_cx_sigma, c.realistic_cy_sigma})
+      j.value(v);
     j.endArray();
     j.key("applied").beginArray();
     for (const double v :
@@ -204,37 +210,28 @@ void writeRunOutputs(const std::string& dir, const System& system, const Traject
   pinhole("configured", c.configured);
   pinhole("applied", c.applied);
   j.key("radial_applied").value(c.radial_applied);
-  j.key("estimate").beginObject();
-  j.key("radial_k").value(c.radial_estimate);
-  j.key("focal_scale").value(c.focal_scale_estimate);
-  j.key("cx_shift").value(c.cx_shift_estimate);
-  j.key("cy_shift").value(c.cy_shift_estimate);
-  j.endObject();
-  j.key("sigma").beginObject();
-  j.key("radial_k").value(c.radial_sigma);
-  j.key("focal_scale").value(c.focal_scale_sigma);
-  j.key("cx_shift").value(c.cx_sigma);
-  j.key("cy_shift").value(c.cy_sigma);
-  j.endObject();
-  j.key("sigma_realistic").beginObject();
-  j.key("radial_k").value(c.realistic_radial_sigma);
-  j.key("focal_scale").value(c.realistic_focal_scale_sigma);
-  j.key("cx_shift").value(c.realistic_cx_sigma);
-  j.key("cy_shift").value(c.realistic_cy_sigma);
-  j.endObject();
+  // Four figures under their names, one object: the parameter estimates and their sigmas in the
+  // window's units (k, focal scale, cx/cy shift) and the written camera's sigmas in pixels.
+  const auto four = [&j](const char* key, const char* const(&names)[4],
+                         const std::array<double, 4>& values) {
+    j.key(key).beginObject();
+    for (std::size_t i = 0; i < values.size(); ++i) j.key(names[i]).value(values[i]);
+    j.endObject();
+  };
+  static const char* const kParameters[4] = {"radial_k", "focal_scale", "cx_shift", "cy_shift"};
+  static const char* const kPixels[4] = {"fx", "fy", "cx", "cy"};
+  four("estimate", kParameters,
+       {c.radial_estimate, c.focal_scale_estimate, c.cx_shift_estimate, c.cy_shift_estimate});
+  four("sigma", kParameters, {c.radial_sigma, c.focal_scale_sigma, c.cx_sigma, c.cy_sigma});
+  four("sigma_realistic", kParameters,
+       {c.realistic_radial_sigma, c.realistic_focal_scale_sigma, c.realistic_cx_sigma,
+        c.realistic_cy_sigma});
   if (camera) {
-    j.key("sigma_px").beginObject();
-    j.key("fx").value(camera->sigma_fx);
-    j.key("fy").value(camera->sigma_fy);
-    j.key("cx").value(camera->sigma_cx);
-    j.key("cy").value(camera->sigma_cy);
-    j.endObject();
-    j.key("sigma_px_realistic").beginObject();
-    j.key("fx").value(camera->realistic_sigma_fx);
-    j.key("fy").value(camera->realistic_sigma_fy);
-    j.key("cx").value(camera->realistic_sigma_cx);
-    j.key("cy").value(camera->realistic_sigma_cy);
-    j.endObject();
+    four("sigma_px", kPixels,
+         {camera->sigma_fx, camera->sigma_fy, camera->sigma_cx, camera->sigma_cy});
+    four("sigma_px_realistic", kPixels,
+         {camera->realistic_sigma_fx, camera->realistic_sigma_fy, camera->realistic_sigma_cx,
+          camera->realistic_sigma_cy});
     j.key("spread").beginObject();
     j.key("windows").value(camera->spread_windows);
     j.key("radial_k").value(camera->spread_k);

@@ -1,13 +1,53 @@
 #!/usr/bin/env bash
 # Builds a long revisiting sequence from a TUM-Mono style folder (images/, times.txt, camera.txt,
-# groundtruth.txt): the frames played forward, then backward, N times (symlinks, no copies), at the
-# sequence's own frame interval, with the ground truth repeated to match. For map-reuse and soak
-# runs: a robot patrolling the same place.
+# groundtruth.txt) or a KITTI odometry folder (sequences/NN/, poses/NN.txt, groundtruth.txt): the
+# frames played forward, then backward, N times (symlinks, no copies), at the sequence's own frame
+# interval, with the ground truth repeated to match. For map-reuse and soak runs (a robot
+# patrolling the same place) and for drives the odometry has not been tuned on (backwards).
 #   scripts/pingpong-sequence.sh SOURCE_DIR OUT_DIR [PASSES=5]
 set -euo pipefail
 src=$(cd "${1:?usage: pingpong-sequence.sh SOURCE_DIR OUT_DIR [PASSES]}" && pwd)
 out=${2:?usage: pingpong-sequence.sh SOURCE_DIR OUT_DIR [PASSES]}
 passes=${3:-5}
+if [ -d "$src/sequences" ]; then
+  # KITTI odometry layout (sequences/NN/image_0/*.png, times.txt, calib.txt; poses/NN.txt): the
+  # same order of frames, the timestamps renumbered at the sequence's own interval, the poses and
+  # groundtruth.txt repeated. A car that reverses in an instant: every second leg is driven
+  # backwards.
+  seq=$(ls "$src/sequences" | head -n 1)
+  mkdir -p "$out/sequences/$seq/image_0" "$out/poses"
+  cp "$src/sequences/$seq/calib.txt" "$out/sequences/$seq/"
+  for f in camera.txt SOURCE.txt; do [ -f "$src/$f" ] && cp "$src/$f" "$out/"; done
+  awk -v passes="$passes" -v src="$src" -v seq="$seq" -v out="$out" '
+    FNR == 1 { file++ }
+    file == 1 && !/^#/ && NF >= 8 { $1 = ""; gt[ngt++] = substr($0, 2); next }
+    file == 2 && NF >= 1 { stamp[n++] = $1 + 0; next }
+    file == 3 && NF >= 12 { pose[np++] = $0; next }
+    END {
+      dt = (stamp[n - 1] - stamp[0]) / (n - 1)
+      print "# timestamp tx ty tz qx qy qz qw (camera-to-world), " passes \
+        " forward+backward passes" > out "/groundtruth.txt"
+      k = 0
+      for (p = 0; p < passes; ++p)
+        for (d = 0; d < 2; ++d)
+          for (i = 0; i < n; ++i) {
+            if (d == 1 && i == 0) continue
+            if (d == 0 && p > 0 && i == 0) continue
+            j = d == 1 ? n - 1 - i : i
+            t = sprintf("%.6f", k * dt)
+            printf "%e\n", k * dt > out "/sequences/" seq "/times.txt"
+            if (j < ngt) print t " " gt[j] >> out "/groundtruth.txt"
+            if (j < np) print pose[j] > out "/poses/" seq ".txt"
+            printf "%s/sequences/%s/image_0/%06d.png\t%06d.png\n", src, seq, j, k
+            k++
+          }
+    }' "$src/groundtruth.txt" "$src/sequences/$seq/times.txt" "$src/poses/$seq.txt" |
+    (cd "$out/sequences/$seq/image_0" &&
+      perl -ne 'chomp; my ($t, $l) = split /\t/; unlink $l; symlink($t, $l) or die "$l: $!\n"')
+  k=$(grep -c . "$out/sequences/$seq/times.txt")
+  echo "pingpong-sequence.sh: $k frames ($passes forward+backward passes, KITTI layout) in $out"
+  exit 0
+fi
 mkdir -p "$out/images"
 cp "$src/camera.txt" "$out/"
 [ -f "$src/pcalib.txt" ] && cp "$src/pcalib.txt" "$out/"

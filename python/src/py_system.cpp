@@ -97,6 +97,10 @@ void putEstimate(py::dict& d, const T& c) {
   d["focal_scale_sigma"] = c.focal_scale_sigma;
   d["cx_sigma"] = c.cx_sigma;
   d["cy_sigma"] = c.cy_sigma;
+  d["realistic_radial_sigma"] = c.realistic_radial_sigma;
+  d["realistic_focal_scale_sigma"] = c.realistic_focal_scale_sigma;
+  d["realistic_cx_sigma"] = c.realistic_cx_sigma;
+  d["realistic_cy_sigma"] = c.realistic_cy_sigma;
   d["windows"] = c.windows;
 }
 
@@ -107,10 +111,6 @@ py::dict calibrationToDict(const SystemStats& s) {
   d["configured"] = pinholeToDict(s.calibration.configured);
   d["applied"] = pinholeToDict(s.calibration.applied);
   putEstimate(d, s.calibration);
-  d["realistic_radial_sigma"] = s.calibration.realistic_radial_sigma;
-  d["realistic_focal_scale_sigma"] = s.calibration.realistic_focal_scale_sigma;
-  d["realistic_cx_sigma"] = s.calibration.realistic_cx_sigma;
-  d["realistic_cy_sigma"] = s.calibration.realistic_cy_sigma;
   py::list history;
   for (const CalibrationSample& h : s.calibration_history) {
     py::dict e;

@@ -64,6 +64,7 @@ def test_calibration_refinement_in_stats(scene):
     assert cal["radial_sigma"] > 0
     # Never below the formal sigma (it scales it by the window overlap and the observed scatter).
     assert cal["realistic_radial_sigma"] >= cal["radial_sigma"]
+    assert cal["history"][-1]["realistic_radial_sigma"] == cal["realistic_radial_sigma"]
     assert cal["configured"]["width"] > 0 and cal["applied"]["fx"] > 0
 
 

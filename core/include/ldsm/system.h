@@ -101,6 +101,9 @@ struct CalibrationSample {
   double radial_estimate = 0.0, focal_scale_estimate = 1.0;
   double cx_shift_estimate = 0.0, cy_shift_estimate = 0.0;  ///< pixels
   double radial_sigma = 0.0, focal_scale_sigma = 0.0, cx_sigma = 0.0, cy_sigma = 0.0;
+  /// The same uncertainties made realistic (CalibrationStats::realistic_radial_sigma).
+  double realistic_radial_sigma = 0.0, realistic_focal_scale_sigma = 0.0;
+  double realistic_cx_sigma = 0.0, realistic_cy_sigma = 0.0;
   double radial_applied = 0.0;
   PinholeIntrinsics applied;  ///< the pinhole the window works with from then on
 };

@@ -49,6 +49,10 @@ CalibrationSample calibrationSample(const CalibrationStats& c, const WindowKeyfr
   sample.focal_scale_sigma = c.focal_scale_sigma;
   sample.cx_sigma = c.cx_sigma;
   sample.cy_sigma = c.cy_sigma;
+  sample.realistic_radial_sigma = c.realistic_radial_sigma;
+  sample.realistic_focal_scale_sigma = c.realistic_focal_scale_sigma;
+  sample.realistic_cx_sigma = c.realistic_cx_sigma;
+  sample.realistic_cy_sigma = c.realistic_cy_sigma;
   sample.radial_applied = c.radial_applied;
   sample.applied = c.applied;
   return sample;

@@ -75,6 +75,8 @@ TEST_F(SelfCalibrationCli, AFieldOfViewGuessStartsAndWritesTheRefinedCamera) {
   const auto history = stats.find("\"history\": [");
   ASSERT_NE(history, std::string::npos) << stats;
   EXPECT_EQ(stats.find("\"windows\": 1,", history), stats.find("\"windows\"", history)) << stats;
+  // Each sample of the history has both uncertainties, the formal and the realistic.
+  EXPECT_NE(stats.find("\"sigma_realistic\": [", history), std::string::npos) << stats;
   EXPECT_NE(stats.find("\"sigma_px\""), std::string::npos);
   EXPECT_NE(stats.find("\"sigma_px_realistic\""), std::string::npos);
   EXPECT_NE(stats.find("\"sigma_realistic\""), std::string::npos);
