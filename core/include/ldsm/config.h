@@ -201,6 +201,11 @@ struct KeyframeConfig {
   /// A keyframe is made when the tracking RMSE exceeds this times the RMSE of the first frame
   /// tracked against the current reference.
   double residual_factor = 2.0;
+  /// A keyframe is made when the reference's points cover less than this share of the image
+  /// cells they covered in the reference (CoarseTrackingResult::coverage; 0: never). The flow
+  /// terms miss a camera that backs away: its reference's points are the far ones, they flow
+  /// little, while the near scene entering at the borders has no points yet.
+  double min_coverage = 0.9;
 
   template <typename V>
   void visit(V& v) {
@@ -212,6 +217,9 @@ struct KeyframeConfig {
             "keyframe score weight of |log brightness change|");
     v.field("residual_factor", residual_factor, Range<double>{1.0, 100.0},
             "new keyframe when the tracking RMSE grows by this factor");
+    v.field("min_coverage", min_coverage, Range<double>{0.0, 1.0},
+            "new keyframe when the reference's points cover less than this share of the image "
+            "cells they covered in the reference");
   }
 };
 

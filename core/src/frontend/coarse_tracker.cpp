@@ -2,6 +2,7 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
+#include <bitset>
 #include <cmath>
 #include <string>
 
@@ -340,6 +341,7 @@ bool CoarseTracker::track(const ImagePyramid& frame, double exposure, SE3d& T_fr
   result.inlier_fraction = static_cast<double>(ev.base_inliers) / ev.in_image;
   result.brightness_scale = scaleOf(exposure, affine);
   computeFlow(T_frame_ref, result);
+  computeCoverage(T_frame_ref, result);
   if (result.inlier_fraction < settings_.min_inlier_fraction) {
     return fail(TrackingFailure::kTooFewInliers, 0);
   }
@@ -378,6 +380,37 @@ void CoarseTracker::computeFlow(const SE3d& T, CoarseTrackingResult& result) con
   result.flow_full = std::sqrt(full / n);
   result.flow_translation = std::sqrt(trans / n);
   result.flow_rotation = std::sqrt(rot / n);
+}
+
+void CoarseTracker::computeCoverage(const SE3d& T, CoarseTrackingResult& result) const {
+  // Every level-0 point (a sample would leave cells empty that hold points).
+  const LevelPoints& pts = depth_maps_.points(0);
+  const LevelCamera& cam = camera_[0];
+  const Eigen::Matrix3f R = T.rotationMatrix().cast<float>();
+  const Eigen::Vector3f t = T.translation().cast<float>();
+  // Coverage grid: kCoverageColumns x kCoverageRows cells, a cell counts once it holds a point.
+  constexpr int kCoverageColumns = 16, kCoverageRows = 12;
+  std::bitset<kCoverageColumns * kCoverageRows> in_reference, in_frame;
+  const float cell_x = kCoverageColumns / static_cast<float>(cam.width);
+  const float cell_y = kCoverageRows / static_cast<float>(cam.height);
+  const auto cell = [&](float u, float v) {
+    if (!(u >= 0.f && v >= 0.f && u < cam.width && v < cam.height)) return -1;
+    return std::min(static_cast<int>(v * cell_y), kCoverageRows - 1) * kCoverageColumns +
+           std::min(static_cast<int>(u * cell_x), kCoverageColumns - 1);
+  };
+  for (int i = 0; i < pts.count; ++i) {
+    const float x = pts.x[i], y = pts.y[i];
+    if (const int c = cell(x, y); c >= 0) in_reference.set(static_cast<std::size_t>(c));
+    const Eigen::Vector3f ray(cam.fxi * x + cam.cxi, cam.fyi * y + cam.cyi, 1.f);
+    const Eigen::Vector3f q = R * (ray / pts.idepth[i]) + t;
+    if (!(q.z() > 0.f)) continue;
+    if (const int c = cell(cam.fx * q.x() / q.z() + cam.cx, cam.fy * q.y() / q.z() + cam.cy);
+        c >= 0)
+      in_frame.set(static_cast<std::size_t>(c));
+  }
+  if (in_reference.any())
+    result.coverage =
+        static_cast<double>(in_frame.count()) / static_cast<double>(in_reference.count());
 }
 
 bool CoarseTracker::pointResidual(const ImagePyramid& frame, double exposure,

@@ -93,6 +93,11 @@ struct CoarseTrackingResult {
   double flow_full = 0;
   double flow_translation = 0;
   double flow_rotation = 0;
+  /// Cells of a coarse grid over the image that the reference's points occupy in the frame, over
+  /// those they occupy in the reference (1 at the reference; falls as its points leave the view
+  /// or, when the camera backs away, gather towards the centre and leave the borders to parts of
+  /// the scene the reference has no points for).
+  double coverage = 1;
   double brightness_scale = 1;  ///< s = exp(a - a_ref) e_frame / e_ref
 };
 
@@ -160,6 +165,7 @@ class CoarseTracker {
   /// Prior energy per point (`points` in the evaluation).
   double affinePriorEnergy(const AffineLight& affine, int points) const;
   void computeFlow(const SE3d& T, CoarseTrackingResult& result) const;
+  void computeCoverage(const SE3d& T, CoarseTrackingResult& result) const;
   double scaleOf(double exposure, const AffineLight& affine) const;
 
   CoarseTrackerSettings settings_;

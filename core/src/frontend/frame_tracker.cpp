@@ -85,9 +85,10 @@ FrameTrackingOutcome FrameTracker::track(const ImagePyramid& frame, double expos
     return out;
   }
   spdlog::trace(
-      "tracked: rmse {:.2f} (last {:.2f}), {:.0f} % inliers, {:.0f} % in image, hypothesis {}",
+      "tracked: rmse {:.2f} (last {:.2f}), {:.0f} % inliers, {:.0f} % in image, coverage {:.2f}, "
+      "hypothesis {}",
       r.rmse, last_rmse_, 100.0 * r.tracking.inlier_fraction, 100.0 * r.tracking.in_image_fraction,
-      r.hypothesis);
+      r.tracking.coverage, r.hypothesis);
   if (max_rmse_growth_ > 0.0 && last_rmse_ > 0.0 && r.rmse > max_rmse_growth_ * last_rmse_ &&
       r.tracking.inlier_fraction < 0.5) {
     out.failure = fmt::format(
@@ -118,7 +119,8 @@ bool FrameTracker::keyframeWanted(const CoarseTrackingResult& r, double rmse) co
   const double score = kf_config_.flow_translation_weight * size_norm * r.flow_translation +
                        kf_config_.flow_full_weight * size_norm * r.flow_full +
                        kf_config_.brightness_weight * std::fabs(std::log(r.brightness_scale));
-  return score > 1.0 || (first_rmse_ > 0.0 && rmse > kf_config_.residual_factor * first_rmse_);
+  return score > 1.0 || (first_rmse_ > 0.0 && rmse > kf_config_.residual_factor * first_rmse_) ||
+         r.coverage < kf_config_.min_coverage;
 }
 
 }  // namespace ldsm

@@ -4,9 +4,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <random>
+#include <vector>
 
 #include "ldsm/error.h"
 #include "track_scene.h"
@@ -246,6 +248,49 @@ TEST_F(CoarseTrackerTest, FlowIndicatorsSeparateRotationAndTranslation) {
     EXPECT_NEAR(result.flow_rotation, expectedFlow(rot_only), tol);
     EXPECT_NEAR(result.flow_translation, expectedFlow(trans_only), tol);
   }
+}
+
+TEST_F(CoarseTrackerTest, CoverageFallsAsTheCameraBacksAway) {
+  const auto tracker = makeTracker(points_);
+  const LevelPoints& pts = tracker->depthMaps().points(0);
+  const LevelCamera cam = scene_.camera()[0];
+  // Share of 16 x 12 image cells holding a reference point after T, over those holding one in
+  // the reference (computed here independently, from every point).
+  const auto expectedCoverage = [&](const SE3d& T) {
+    std::vector<char> before(16 * 12, 0), after(16 * 12, 0);
+    const auto mark = [&](std::vector<char>& cells, double u, double v) {
+      if (u < 0 || v < 0 || u >= cam.width || v >= cam.height) return;
+      cells[static_cast<int>(v * 12 / cam.height) * 16 + static_cast<int>(u * 16 / cam.width)] = 1;
+    };
+    for (int i = 0; i < pts.count; ++i) {
+      const Eigen::Vector3d p =
+          Eigen::Vector3d((pts.x[i] - cam.cx) / cam.fx, (pts.y[i] - cam.cy) / cam.fy, 1.0) /
+          pts.idepth[i];
+      const Eigen::Vector3d q = T * p;
+      mark(before, pts.x[i], pts.y[i]);
+      if (q.z() > 0) mark(after, cam.fx * q.x() / q.z() + cam.cx, cam.fy * q.y() / q.z() + cam.cy);
+    }
+    return static_cast<double>(std::count(after.begin(), after.end(), 1)) /
+           std::count(before.begin(), before.end(), 1);
+  };
+  double last = 1.0;
+  for (const double back : {0.0, 0.6, 0.9}) {
+    // The frame's camera behind the reference's (the walls are 3-6 m away): the reference's
+    // points gather towards the centre of the frame and leave its borders empty.
+    const SE3d truth = makeMotion(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.0, 0.0, back));
+    SE3d T;
+    AffineLight affine;
+    CoarseTrackingResult result;
+    ASSERT_TRUE(trackFromIdentity(*tracker, renderFrame(truth), T, affine, result)) << back;
+    EXPECT_NEAR(result.coverage, expectedCoverage(truth), 0.03) << back;
+    if (back == 0.0) {
+      EXPECT_NEAR(result.coverage, 1.0, 0.01);
+    } else {
+      EXPECT_LT(result.coverage, last - 0.02) << back;
+    }
+    last = result.coverage;
+  }
+  EXPECT_LT(last, 0.9);  // far enough back for a new keyframe by default
 }
 
 TEST_F(CoarseTrackerTest, AbortThresholdStopsAtCoarsestLevel) {
