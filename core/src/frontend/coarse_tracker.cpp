@@ -2,7 +2,6 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
-#include <bitset>
 #include <cmath>
 #include <string>
 
@@ -117,6 +116,11 @@ void CoarseTracker::setReference(const ImagePyramid& reference, const PyramidCam
   camera_ = camera;
   ref_exposure_ = exposure;
   ref_affine_ = affine;
+  reference_cells_.reset();
+  const LevelPoints& pts = depth_maps_.points(0);
+  for (int i = 0; i < pts.count; ++i)
+    if (const int c = coverageCell(pts.x[i], pts.y[i]); c >= 0)
+      reference_cells_.set(static_cast<std::size_t>(c));
   has_reference_ = true;
 }
 
@@ -382,35 +386,32 @@ void CoarseTracker::computeFlow(const SE3d& T, CoarseTrackingResult& result) con
   result.flow_rotation = std::sqrt(rot / n);
 }
 
+int CoarseTracker::coverageCell(float u, float v) const {
+  const LevelCamera& cam = camera_[0];
+  if (!(u >= 0.f && v >= 0.f && u < cam.width && v < cam.height)) return -1;
+  const int column = static_cast<int>(u * (kCoverageColumns / static_cast<float>(cam.width)));
+  const int row = static_cast<int>(v * (kCoverageRows / static_cast<float>(cam.height)));
+  return std::min(row, kCoverageRows - 1) * kCoverageColumns +
+         std::min(column, kCoverageColumns - 1);
+}
+
 void CoarseTracker::computeCoverage(const SE3d& T, CoarseTrackingResult& result) const {
   // Every level-0 point (a sample would leave cells empty that hold points).
+  if (reference_cells_.none()) return;
   const LevelPoints& pts = depth_maps_.points(0);
   const LevelCamera& cam = camera_[0];
   const Eigen::Matrix3f R = T.rotationMatrix().cast<float>();
   const Eigen::Vector3f t = T.translation().cast<float>();
-  // Coverage grid: kCoverageColumns x kCoverageRows cells, a cell counts once it holds a point.
-  constexpr int kCoverageColumns = 16, kCoverageRows = 12;
-  std::bitset<kCoverageColumns * kCoverageRows> in_reference, in_frame;
-  const float cell_x = kCoverageColumns / static_cast<float>(cam.width);
-  const float cell_y = kCoverageRows / static_cast<float>(cam.height);
-  const auto cell = [&](float u, float v) {
-    if (!(u >= 0.f && v >= 0.f && u < cam.width && v < cam.height)) return -1;
-    return std::min(static_cast<int>(v * cell_y), kCoverageRows - 1) * kCoverageColumns +
-           std::min(static_cast<int>(u * cell_x), kCoverageColumns - 1);
-  };
+  std::bitset<kCoverageColumns * kCoverageRows> in_frame;
   for (int i = 0; i < pts.count; ++i) {
-    const float x = pts.x[i], y = pts.y[i];
-    if (const int c = cell(x, y); c >= 0) in_reference.set(static_cast<std::size_t>(c));
-    const Eigen::Vector3f ray(cam.fxi * x + cam.cxi, cam.fyi * y + cam.cyi, 1.f);
+    const Eigen::Vector3f ray(cam.fxi * pts.x[i] + cam.cxi, cam.fyi * pts.y[i] + cam.cyi, 1.f);
     const Eigen::Vector3f q = R * (ray / pts.idepth[i]) + t;
     if (!(q.z() > 0.f)) continue;
-    if (const int c = cell(cam.fx * q.x() / q.z() + cam.cx, cam.fy * q.y() / q.z() + cam.cy);
-        c >= 0)
-      in_frame.set(static_cast<std::size_t>(c));
+    const int c = coverageCell(cam.fx * q.x() / q.z() + cam.cx, cam.fy * q.y() / q.z() + cam.cy);
+    if (c >= 0) in_frame.set(static_cast<std::size_t>(c));
   }
-  if (in_reference.any())
-    result.coverage =
-        static_cast<double>(in_frame.count()) / static_cast<double>(in_reference.count());
+  result.coverage =
+      static_cast<double>(in_frame.count()) / static_cast<double>(reference_cells_.count());
 }
 
 bool CoarseTracker::pointResidual(const ImagePyramid& frame, double exposure,

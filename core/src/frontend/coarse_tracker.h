@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <bitset>
 #include <cstddef>
 #include <limits>
 #include <vector>
@@ -166,10 +167,16 @@ class CoarseTracker {
   double affinePriorEnergy(const AffineLight& affine, int points) const;
   void computeFlow(const SE3d& T, CoarseTrackingResult& result) const;
   void computeCoverage(const SE3d& T, CoarseTrackingResult& result) const;
+  /// The coverage grid cell of level-0 pixel (u, v), -1 outside the image.
+  int coverageCell(float u, float v) const;
   double scaleOf(double exposure, const AffineLight& affine) const;
 
   CoarseTrackerSettings settings_;
   DepthMapPyramid depth_maps_;
+  /// Coverage grid (CoarseTrackingResult::coverage): kCoverageColumns x kCoverageRows cells; those
+  /// the reference's level-0 points occupy, set once per reference.
+  static constexpr int kCoverageColumns = 16, kCoverageRows = 12;
+  std::bitset<kCoverageColumns * kCoverageRows> reference_cells_;
   PyramidCamera camera_;
   WarpedResiduals warped_;
   double ref_exposure_ = 1;
