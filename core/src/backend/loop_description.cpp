@@ -142,7 +142,7 @@ void describeForLoopClosure(WindowKeyframe& f,
       fill.from_immature, fill.from_neighbours, fill.without);
   out.corners = f.corners;
   out.corner_idepth = f.corner_idepth;
-  out.image.copyFrom(f.pyramid().intensity(0));
+  f.pyramid().copyIntensity0(out.image);
 }
 
 }  // namespace ldsm

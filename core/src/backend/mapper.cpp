@@ -45,11 +45,21 @@ std::vector<Eigen::Vector2f> Mapper::newestDescribableCorners() {
   return out;
 }
 
+std::size_t Mapper::windowImageBytes() const {
+  std::size_t n = 0;
+  for (const auto& kf : window_)
+    if (kf->hasImage()) n += kf->pyramid().bytes();
+  return n;
+}
+
 WindowKeyframe& Mapper::insertKeyframe(std::unique_ptr<ImagePyramid> pyramid,
                                        const MapperFrame& info) {
   auto kf = std::make_unique<WindowKeyframe>(next_keyframe_id_++, info.frame_index, info.timestamp,
                                              info.exposure, std::move(pyramid));
   kf->setInitialState(info.T_c_w, info.aff);
+  // The keyframes before it are from now on only targets of residuals (level 0): the tracking
+  // reference, the point selection and the reuse view are the newest keyframe's.
+  for (auto& older : window_) older->compactPyramid();
   if (!window_.empty()) {
     const WindowKeyframe& prev = *window_.back();
     kf->path_length =

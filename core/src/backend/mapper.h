@@ -91,6 +91,9 @@ class Mapper {
   KeyframeInsertion addKeyframe(std::unique_ptr<ImagePyramid> pyramid, const MapperFrame& info);
 
   const WindowKeyframe& newestKeyframe() const { return *window_.back(); }
+  /// Bytes of image data the window holds: the newest keyframe's whole pyramid and the level-0
+  /// gradient plane of each older one (ImagePyramid::compact).
+  std::size_t windowImageBytes() const;
   /// The newest keyframe as the tracker's reference (its pyramid stays owned by the window).
   TrackingReference newestReference() const;
   /// Every active point of the window projected into the newest keyframe.

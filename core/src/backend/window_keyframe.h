@@ -44,6 +44,11 @@ class WindowKeyframe {
   /// False for a reactivated map keyframe: it hosts points but is never a residual's target.
   bool hasImage() const { return pyramid_ != nullptr; }
   std::unique_ptr<ImagePyramid> releasePyramid() { return std::move(pyramid_); }
+  /// Frees what the keyframe no longer needs once a newer keyframe exists (ImagePyramid::compact:
+  /// all but the level-0 gradient plane, its residuals' target image).
+  void compactPyramid() {
+    if (pyramid_) pyramid_->compact();
+  }
 
   /// Sets the current estimate and makes it the linearisation point (first estimate).
   void setInitialState(const SE3d& pose_c_w, const AffineLight& affine) {

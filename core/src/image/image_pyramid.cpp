@@ -48,20 +48,66 @@ ImagePyramid::ImagePyramid(int width, int height, int levels, bool with_grad_mag
                       "] for a " + sizeString(width, height) + " image (got " +
                       std::to_string(levels) + ")");
   }
-  clipped_.resize(width, height);
-  intensity_.resize(static_cast<std::size_t>(levels));
-  gradients_.resize(static_cast<std::size_t>(levels));
-  if (with_grad_mag_sq) grad_mag_sq_.resize(static_cast<std::size_t>(levels));
+  with_grad_mag_sq_ = with_grad_mag_sq;
   for (int l = 0; l < levels; ++l) {
-    intensity_[l].resize(width, height);
-    gradients_[l].resize(width, height);
-    if (with_grad_mag_sq) grad_mag_sq_[l].resize(width, height);
+    sizes_.emplace_back(width, height);
     width /= 2;
     height /= 2;
+  }
+  allocatePlanes();
+}
+
+void ImagePyramid::allocatePlanes() {
+  const std::size_t n = sizes_.size();
+  clipped_.resize(sizes_[0].first, sizes_[0].second);
+  intensity_.resize(n);
+  gradients_.resize(n);
+  if (with_grad_mag_sq_) grad_mag_sq_.resize(n);
+  for (std::size_t l = 0; l < n; ++l) {
+    const auto [w, h] = sizes_[l];
+    intensity_[l].resize(w, h);
+    gradients_[l].resize(w, h);
+    if (with_grad_mag_sq_) grad_mag_sq_[l].resize(w, h);
+  }
+}
+
+void ImagePyramid::compact() {
+  if (compacted_) return;
+  // Assigning an empty image frees the plane (Image's move assignment swaps).
+  clipped_ = Image<std::uint8_t>();
+  for (ImageF& plane : intensity_) plane = ImageF();
+  for (std::size_t l = 1; l < gradients_.size(); ++l) gradients_[l] = Image<GradientPixel>();
+  for (ImageF& plane : grad_mag_sq_) plane = ImageF();
+  compacted_ = true;
+}
+
+void ImagePyramid::expand() {
+  if (!compacted_) return;
+  allocatePlanes();
+  compacted_ = false;
+}
+
+std::size_t ImagePyramid::bytes() const {
+  std::size_t n = clipped_.capacity() * sizeof(std::uint8_t);
+  for (const ImageF& plane : intensity_) n += plane.capacity() * sizeof(float);
+  for (const Image<GradientPixel>& plane : gradients_)
+    n += plane.capacity() * sizeof(GradientPixel);
+  for (const ImageF& plane : grad_mag_sq_) n += plane.capacity() * sizeof(float);
+  return n;
+}
+
+void ImagePyramid::copyIntensity0(ImageF& out) const {
+  const Image<GradientPixel>& g = gradients_[0];
+  out.resize(g.width(), g.height());
+  for (int y = 0; y < g.height(); ++y) {
+    const GradientPixel* in = g.row(y);
+    float* o = out.row(y);
+    for (int x = 0; x < g.width(); ++x) o[x] = in[x].intensity;
   }
 }
 
 void ImagePyramid::build(ImageView<const float> image) {
+  expand();
   if (image.empty() || image.width != width(0) || image.height != height(0) ||
       image.stride < image.width) {
     throw InputError("image pyramid: input image is " + sizeString(image.width, image.height) +
@@ -82,6 +128,7 @@ void ImagePyramid::build(ImageView<const float> image) {
 }
 
 void ImagePyramid::markClipped(ImageView<const float> raw, float level) {
+  requireFull("clipping mask", 0);
   if (raw.empty() || raw.width != width(0) || raw.height != height(0) || raw.stride < raw.width) {
     throw InputError("image pyramid: clipping source is " + sizeString(raw.width, raw.height) +
                      ", expected " + sizeString(width(0), height(0)));

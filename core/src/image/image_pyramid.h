@@ -3,6 +3,9 @@
 #pragma once
 
 #include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "image/gradient_pixel.h"
@@ -33,32 +36,68 @@ class ImagePyramid {
   /// kMaxLevels); 0 when the size is not positive.
   static int maxLevels(int width, int height);
 
-  /// Fills every level from `image` (any stride). Allocates nothing. Throws InputError when the
-  /// image size differs from the one given at construction or the view is empty.
+  /// Fills every level from `image` (any stride). Allocates nothing (unless compacted: the planes
+  /// are allocated again first). Throws InputError when the image size differs from the one
+  /// given at construction or the view is empty.
   void build(ImageView<const float> image);
 
-  int levels() const { return static_cast<int>(intensity_.size()); }
-  int width(int level) const { return intensity_[level].width(); }
-  int height(int level) const { return intensity_[level].height(); }
+  int levels() const { return static_cast<int>(sizes_.size()); }
+  int width(int level) const { return sizes_[level].first; }
+  int height(int level) const { return sizes_[level].second; }
   bool hasGradMagSq() const { return !grad_mag_sq_.empty(); }
 
-  /// Intensity plane of a level.
-  ImageView<const float> intensity(int level) const { return intensity_[level].view(); }
-  /// Packed (intensity, dx, dy) plane of a level.
-  ImageView<const GradientPixel> gradients(int level) const { return gradients_[level].view(); }
+  /// Intensity plane of a level. Throws std::logic_error once compacted.
+  ImageView<const float> intensity(int level) const {
+    requireFull("intensity", level);
+    return intensity_[level].view();
+  }
+  /// Packed (intensity, dx, dy) plane of a level. Level 0 stays after compact(); the others
+  /// throw std::logic_error then.
+  ImageView<const GradientPixel> gradients(int level) const {
+    if (level != 0) requireFull("gradients", level);
+    return gradients_[level].view();
+  }
+  /// Copies the level-0 intensities into `out` (from the packed plane: also after compact()).
+  void copyIntensity0(ImageF& out) const;
   /// Marks the level-0 pixels where `raw` (the camera's raw values, in the pyramid's geometry) is
   /// >= `level` as clipped. Allocates nothing. Throws InputError when the size differs.
   void markClipped(ImageView<const float> raw, float level);
-  /// Level-0 clipping mask: 1 where the raw value was saturated, else 0.
-  ImageView<const std::uint8_t> clipped() const { return clipped_.view(); }
+  /// Level-0 clipping mask: 1 where the raw value was saturated, else 0. Throws std::logic_error
+  /// once compacted.
+  ImageView<const std::uint8_t> clipped() const {
+    requireFull("clipping mask", 0);
+    return clipped_.view();
+  }
 
   /// dx^2 + dy^2 of a level; an empty view when built without it.
   ImageView<const float> gradMagSq(int level) const {
+    if (hasGradMagSq()) requireFull("|gradient|^2", level);
     return hasGradMagSq() ? grad_mag_sq_[level].view() : ImageView<const float>();
   }
 
+  /// Frees every plane but the level-0 (intensity, dx, dy) one: all a keyframe needs once it is
+  /// no longer the newest (it is then only the target image of the window's residuals, and
+  /// copyIntensity0() gives the image it is described by when it leaves). Saves 60 % of the
+  /// pyramid (with the default 5 levels, without |gradient|^2). expand() allocates the planes
+  /// again (contents undefined until the next build()).
+  void compact();
+  void expand();
+  bool compacted() const { return compacted_; }
+  /// Bytes the planes hold now.
+  std::size_t bytes() const;
+
  private:
   void computeGradients(int level);
+  void allocatePlanes();
+  void requireFull(const char* plane, int level) const {
+    if (compacted_)
+      throw std::logic_error(std::string("image pyramid: the ") + plane + " of level " +
+                             std::to_string(level) + " was freed (compacted keyframe)");
+  }
+
+  std::vector<std::pair<int, int>> sizes_;  ///< width, height per level
+  bool with_grad_mag_sq_ = true;
+  bool compacted_ = false;
 
   std::vector<ImageF> intensity_;
   std::vector<Image<GradientPixel>> gradients_;

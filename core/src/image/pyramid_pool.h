@@ -32,9 +32,11 @@ class PyramidPool {
     return std::make_unique<ImagePyramid>(width_, height_, levels_, /*with_grad_mag_sq=*/false);
   }
 
-  /// Gives a pyramid back (null is ignored).
+  /// Gives a pyramid back (null is ignored). A compacted keyframe's pyramid gets its planes back
+  /// here, on the releasing (mapping) side, so that acquire() stays free of allocations.
   void release(std::unique_ptr<ImagePyramid> pyramid) {
     if (!pyramid) return;
+    pyramid->expand();
     std::lock_guard<std::mutex> lock(mutex_);
     free_.push_back(std::move(pyramid));
   }

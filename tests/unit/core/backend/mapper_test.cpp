@@ -74,6 +74,12 @@ TEST(Mapper, KeyframesConvergeToTheTruthAndTheWindowStaysBounded) {
   }
   EXPECT_GE(left_ids.size(), 2u) << "the window never marginalised a keyframe";
   EXPECT_GT(points_out, 0u);
+  // Only the newest keyframe keeps its whole pyramid; the older ones keep the level-0 gradient
+  // plane their residuals sample (ImagePyramid::compact).
+  const std::size_t full = w.pyramid(0)->bytes();
+  const std::size_t level0 = sizeof(GradientPixel) * SyntheticWindow::kW * SyntheticWindow::kH;
+  const std::size_t n = mapper.windowPoses().size();
+  EXPECT_EQ(mapper.windowImageBytes(), full + (n - 1) * level0);
   // The reference for tracking is the newest keyframe, with its pyramid.
   const TrackingReference ref = mapper.newestReference();
   EXPECT_EQ(ref.keyframe_id, mapper.newestKeyframe().id());
@@ -141,6 +147,11 @@ TEST(Mapper, LeavingKeyframesAreDescribedForLoopClosureWhenAsked) {
     for (const MarginalizedKeyframe& kf : ins.map.left) {
       ++described;
       EXPECT_EQ(kf.image.width(), SyntheticWindow::kW);
+      // The image it is described by is its level-0 intensity (taken from the compacted pyramid).
+      const std::unique_ptr<ImagePyramid> own = w.pyramid(static_cast<int>(kf.frame_index));
+      for (int y = 0; y < SyntheticWindow::kH; y += 7)
+        for (int x = 0; x < SyntheticWindow::kW; x += 5)
+          ASSERT_EQ(kf.image(x, y), own->intensity(0)(x, y)) << "keyframe " << kf.id;
       EXPECT_EQ(kf.corner_idepth.size(), kf.corners.size());
       reference.detectCorners(*w.pyramid(static_cast<int>(kf.frame_index)), limits.max_corners,
                               limits.min_score, expected);

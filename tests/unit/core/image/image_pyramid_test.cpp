@@ -5,6 +5,7 @@
 #include <random>
 #include <vector>
 
+#include "image/pyramid_pool.h"
 #include "ldsm/error.h"
 
 namespace ldsm {
@@ -197,6 +198,71 @@ TEST(ImagePyramid, MarksClippedPixelsAndBuildClearsThem) {
   for (int y = 0; y < 6; ++y)
     for (int x = 0; x < 8; ++x) EXPECT_EQ(pyr.clipped()(x, y), 0);
   EXPECT_THROW(pyr.markClipped(ImageF(7, 6, 0.f).view(), 250.f), InputError);
+}
+
+TEST(ImagePyramid, CompactKeepsTheLevel0GradientsAndFreesTheRest) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> grey(0.f, 255.f);
+  ImageF img(40, 30);
+  for (int y = 0; y < 30; ++y)
+    for (int x = 0; x < 40; ++x) img(x, y) = grey(rng);
+  ImagePyramid pyr(40, 30, 3);
+  pyr.build(img.view());
+  const Image<GradientPixel> before = [&] {
+    Image<GradientPixel> g;
+    g.copyFrom(pyr.gradients(0));
+    return g;
+  }();
+  pyr.compact();
+  EXPECT_TRUE(pyr.compacted());
+  // Sizes and level 0 stay; everything else is gone and says so instead of reading freed memory.
+  EXPECT_EQ(pyr.levels(), 3);
+  EXPECT_EQ(pyr.width(2), 10);
+  EXPECT_EQ(pyr.height(2), 7);
+  const ImageView<const GradientPixel> g = pyr.gradients(0);
+  for (int y = 0; y < 30; ++y)
+    for (int x = 0; x < 40; ++x) {
+      EXPECT_EQ(g(x, y).intensity, before(x, y).intensity);
+      EXPECT_EQ(g(x, y).dx, before(x, y).dx);
+      EXPECT_EQ(g(x, y).dy, before(x, y).dy);
+    }
+  ImageF level0;
+  pyr.copyIntensity0(level0);
+  ASSERT_EQ(level0.width(), 40);
+  ASSERT_EQ(level0.height(), 30);
+  for (int y = 0; y < 30; ++y)
+    for (int x = 0; x < 40; ++x) EXPECT_EQ(level0(x, y), img(x, y));
+  EXPECT_THROW(pyr.intensity(0), std::logic_error);
+  EXPECT_THROW(pyr.gradients(1), std::logic_error);
+  EXPECT_THROW(pyr.clipped(), std::logic_error);
+  EXPECT_THROW(pyr.gradMagSq(0), std::logic_error);
+  EXPECT_THROW(pyr.markClipped(img.view(), 250.f), std::logic_error);
+  // A new build gives every plane back, filled as in a fresh pyramid.
+  pyr.build(img.view());
+  EXPECT_FALSE(pyr.compacted());
+  ImagePyramid fresh(40, 30, 3);
+  fresh.build(img.view());
+  for (int l = 0; l < 3; ++l)
+    for (int y = 0; y < fresh.height(l); ++y)
+      for (int x = 0; x < fresh.width(l); ++x) {
+        EXPECT_EQ(pyr.intensity(l)(x, y), fresh.intensity(l)(x, y));
+        EXPECT_EQ(pyr.gradients(l)(x, y).dx, fresh.gradients(l)(x, y).dx);
+        EXPECT_EQ(pyr.gradMagSq(l)(x, y), fresh.gradMagSq(l)(x, y));
+      }
+  EXPECT_EQ(pyr.clipped()(5, 5), 0);
+}
+
+TEST(PyramidPool, ACompactedPyramidComesBackWhole) {
+  PyramidPool pool(32, 24, 3);
+  std::unique_ptr<ImagePyramid> p = pool.acquire();
+  const ImagePyramid* address = p.get();
+  p->compact();
+  pool.release(std::move(p));
+  std::unique_ptr<ImagePyramid> again = pool.acquire();
+  EXPECT_EQ(again.get(), address);
+  EXPECT_FALSE(again->compacted());
+  EXPECT_EQ(again->intensity(2).width, 8);
+  EXPECT_EQ(again->gradients(1).height, 12);
 }
 
 }  // namespace
