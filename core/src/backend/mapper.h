@@ -91,9 +91,15 @@ class Mapper {
   KeyframeInsertion addKeyframe(std::unique_ptr<ImagePyramid> pyramid, const MapperFrame& info);
 
   const WindowKeyframe& newestKeyframe() const { return *window_.back(); }
-  /// Bytes of image data the window holds: the newest keyframe's whole pyramid and the level-0
-  /// gradient plane of each older one (ImagePyramid::compact).
+  /// Bytes of image data the window holds: the level-0 gradient plane of each keyframe
+  /// (ImagePyramid::compact), and the newest keyframe's whole pyramid until
+  /// compactNewestImage().
   std::size_t windowImageBytes() const;
+  /// Frees all but the newest keyframe's level-0 gradient plane, once the tracking reference
+  /// was made from it (a newer keyframe frees it anyway).
+  void compactNewestImage() {
+    if (!window_.empty()) window_.back()->compactPyramid();
+  }
   /// The newest keyframe as the tracker's reference (its pyramid stays owned by the window).
   TrackingReference newestReference() const;
   /// Every active point of the window projected into the newest keyframe.

@@ -182,6 +182,7 @@ void MappingStage::integrateKeyframe(MappingJob& job) {
     reuseMap(job.info.frame_index, job.info.timestamp);
   }
   publishReference();
+  mapper_.compactNewestImage();  // the tracker and the reuse view have what they need of it
   publishSnapshot();
   keyframe_in_flight_.store(false, std::memory_order_release);
   const WindowKeyframe& newest = mapper_.newestKeyframe();
@@ -226,6 +227,7 @@ void MappingStage::startWindow(const MapperFrame& info, int points, bool initial
   const WindowKeyframe& newest = mapper_.newestKeyframe();
   init_outcome_ = {true, points, newest.id(), newest.T_c_w, newest.aff};
   publishReference();
+  mapper_.compactNewestImage();
   publishSnapshot();
   if (initialized) events_.initialized(InitializedEvent{info.frame_index, info.timestamp, points});
   events_.keyframe(KeyframeEvent{newest.id(), info.frame_index, info.timestamp,

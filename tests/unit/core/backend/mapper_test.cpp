@@ -80,7 +80,11 @@ TEST(Mapper, KeyframesConvergeToTheTruthAndTheWindowStaysBounded) {
   const std::size_t level0 = sizeof(GradientPixel) * SyntheticWindow::kW * SyntheticWindow::kH;
   const std::size_t n = mapper.windowPoses().size();
   EXPECT_EQ(mapper.windowImageBytes(), full + (n - 1) * level0);
-  // The reference for tracking is the newest keyframe, with its pyramid.
+  // Once the tracking reference is made from the newest, it needs no more either.
+  mapper.compactNewestImage();
+  EXPECT_EQ(mapper.windowImageBytes(), n * level0);
+  // The reference for tracking is the newest keyframe, with its pyramid (whole until
+  // compactNewestImage()).
   const TrackingReference ref = mapper.newestReference();
   EXPECT_EQ(ref.keyframe_id, mapper.newestKeyframe().id());
   ASSERT_NE(ref.pyramid, nullptr);
