@@ -61,7 +61,7 @@ TEST(ImagePyramidAllocation, BuildAllocatesNothing) {
       const float y = 0.61f * static_cast<float>(pyramid.height(l));
       if (isInsideForBilinear(pyramid.gradients(l), x, y)) {
         sink += interpolateBilinear(pyramid.gradients(l), x, y).dx;
-        sink += interpolateBilinear(pyramid.intensity(l), x, y);
+        sink += interpolateIntensity(pyramid.gradients(l), x, y);
       }
     }
   }

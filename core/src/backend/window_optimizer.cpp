@@ -306,7 +306,7 @@ void WindowOptimizer::solve(const System& sys, double lambda, Eigen::VectorXd& f
     inv_dd[i] = hdd > 1e-10 && !sys.points[i]->fixed ? 1.0 / hdd : 0.0;
   }
   Eigen::MatrixXd Hs = sys.H;
-  subtractDepthSchur(Hs, sys.coupling, inv_dd);
+  subtractDepthSchur(Hs, sys.coupling, inv_dd, schur_scratch_);
   Eigen::VectorXd bs = sys.b;
   for (Eigen::Index i = 0; i < np; ++i) bs -= sys.coupling.col(i) * (sys.b_d[i] * inv_dd[i]);
 

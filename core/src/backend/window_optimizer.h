@@ -161,6 +161,9 @@ class WindowOptimizer {
     int outliers = 0;
   };
   std::vector<HostTerms> host_terms_;
+  /// The solve's scaled coupling matrix (subtractDepthSchur), kept between solves: only its
+  /// memory is reused, every solve writes all of it.
+  mutable Eigen::MatrixXd schur_scratch_;
   concurrency::ParallelTasks* tasks_ = nullptr;
 };
 

@@ -139,25 +139,49 @@ float OrbExtractor::levelScale(int level) const {
   return impl_->scales[static_cast<std::size_t>(std::clamp(level, 0, impl_->settings.levels - 1))];
 }
 
+namespace {
+
+/// A float intensity as the 8-bit image the descriptors are computed on (NaN becomes 0).
+std::uint8_t toGrey(float v) {
+  return v > 0.f ? static_cast<std::uint8_t>(std::min(v, 255.f) + 0.5f) : 0;
+}
+
+}  // namespace
+
 int OrbExtractor::compute(ImageView<const float> image, const std::vector<Eigen::Vector2f>& pixels,
                           std::vector<OrbDescriptor>& descriptors, std::vector<std::uint32_t>& kept,
                           const std::vector<int>* levels) {
   Impl& m = *impl_;
-  if (image.width != m.width || image.height != m.height || image.data == nullptr) {
-    throw InputError("OrbExtractor: image is " + std::to_string(image.width) + "x" +
-                     std::to_string(image.height) + ", expected " + std::to_string(m.width) + "x" +
-                     std::to_string(m.height));
-  }
+  checkSize(image.width, image.height, image.data != nullptr);
   for (int y = 0; y < m.height; ++y) {
     const float* in = image.row(y);
     std::uint8_t* out = m.gray.ptr<std::uint8_t>(y);
-    for (int x = 0; x < m.width; ++x) {
-      const float v = in[x];
-      // NaN compares false and becomes 0.
-      out[x] = v > 0.f ? static_cast<std::uint8_t>(std::min(v, 255.f) + 0.5f) : 0;
-    }
+    for (int x = 0; x < m.width; ++x) out[x] = toGrey(in[x]);
   }
   return m.compute(m.gray, pixels, descriptors, kept, levels);
+}
+
+int OrbExtractor::compute(ImageView<const GradientPixel> image,
+                          const std::vector<Eigen::Vector2f>& pixels,
+                          std::vector<OrbDescriptor>& descriptors, std::vector<std::uint32_t>& kept,
+                          const std::vector<int>* levels) {
+  Impl& m = *impl_;
+  checkSize(image.width, image.height, image.data != nullptr);
+  for (int y = 0; y < m.height; ++y) {
+    const GradientPixel* in = image.row(y);
+    std::uint8_t* out = m.gray.ptr<std::uint8_t>(y);
+    for (int x = 0; x < m.width; ++x) out[x] = toGrey(in[x].intensity);
+  }
+  return m.compute(m.gray, pixels, descriptors, kept, levels);
+}
+
+void OrbExtractor::checkSize(int width, int height, bool has_data) const {
+  const Impl& m = *impl_;
+  if (width != m.width || height != m.height || !has_data) {
+    throw InputError("OrbExtractor: image is " + std::to_string(width) + "x" +
+                     std::to_string(height) + ", expected " + std::to_string(m.width) + "x" +
+                     std::to_string(m.height));
+  }
 }
 
 int OrbExtractor::compute(ImageView<const std::uint8_t> image,
@@ -165,11 +189,7 @@ int OrbExtractor::compute(ImageView<const std::uint8_t> image,
                           std::vector<OrbDescriptor>& descriptors, std::vector<std::uint32_t>& kept,
                           const std::vector<int>* levels) {
   Impl& m = *impl_;
-  if (image.width != m.width || image.height != m.height || image.data == nullptr) {
-    throw InputError("OrbExtractor: image is " + std::to_string(image.width) + "x" +
-                     std::to_string(image.height) + ", expected " + std::to_string(m.width) + "x" +
-                     std::to_string(m.height));
-  }
+  checkSize(image.width, image.height, image.data != nullptr);
   const cv::Mat wrapped(m.height, m.width, CV_8U, const_cast<std::uint8_t*>(image.data),
                         static_cast<std::size_t>(image.stride));
   return m.compute(wrapped, pixels, descriptors, kept, levels);

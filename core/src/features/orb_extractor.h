@@ -19,6 +19,7 @@
 
 #include <Eigen/Core>
 
+#include "image/gradient_pixel.h"
 #include "ldsm/image.h"
 #include "model/orb_descriptor.h"
 
@@ -52,6 +53,10 @@ class OrbExtractor {
   int compute(ImageView<const float> image, const std::vector<Eigen::Vector2f>& pixels,
               std::vector<OrbDescriptor>& descriptors, std::vector<std::uint32_t>& kept,
               const std::vector<int>* levels = nullptr);
+  /// Same for the intensities of a packed (intensity, dx, dy) pyramid level.
+  int compute(ImageView<const GradientPixel> image, const std::vector<Eigen::Vector2f>& pixels,
+              std::vector<OrbDescriptor>& descriptors, std::vector<std::uint32_t>& kept,
+              const std::vector<int>* levels = nullptr);
   /// Same for an 8-bit image.
   int compute(ImageView<const std::uint8_t> image, const std::vector<Eigen::Vector2f>& pixels,
               std::vector<OrbDescriptor>& descriptors, std::vector<std::uint32_t>& kept,
@@ -64,6 +69,7 @@ class OrbExtractor {
   float levelScale(int level) const;
 
  private:
+  void checkSize(int width, int height, bool has_data) const;
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -262,7 +262,6 @@ void CoarseInitializer::setReference(const ImagePyramid& pyramid, double exposur
     L.neighbour_count.resize(n);
     L.parent.assign(n, -1);
     resetEstimates(L);
-    const ImageView<const float> intensity = pyramid.intensity(lvl);
     for (std::size_t i = 0; i < n; ++i) {
       const float x = L.u[i].x();
       const float y = L.u[i].y();
@@ -271,7 +270,7 @@ void CoarseInitializer::setReference(const ImagePyramid& pyramid, double exposur
         const float px = x + static_cast<float>(kPatternOffsets[p][0]);
         const float py = y + static_cast<float>(kPatternOffsets[p][1]);
         L.ref[i][p] = integer ? img(static_cast<int>(px), static_cast<int>(py)).intensity
-                              : interpolateBilinear(intensity, px, py);
+                              : interpolateIntensity(img, px, py);
       }
     }
     grid_.build(L.u, bucket[lvl], pyramid.width(lvl), pyramid.height(lvl));

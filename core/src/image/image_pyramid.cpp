@@ -13,15 +13,27 @@ std::string sizeString(int width, int height) {
   return std::to_string(width) + "x" + std::to_string(height);
 }
 
-// dst(x, y) = mean of the 2x2 block of src at (2x, 2y); dst is floor(src / 2) in size.
-void downsample2x2(ImageView<const float> src, ImageView<float> dst) {
-  for (int y = 0; y < dst.height; ++y) {
-    const float* r0 = src.row(2 * y);
-    const float* r1 = src.row(2 * y + 1);
-    float* out = dst.row(y);
-    for (int x = 0; x < dst.width; ++x) {
-      out[x] = 0.25f * ((r0[2 * x] + r0[2 * x + 1]) + (r1[2 * x] + r1[2 * x + 1]));
-    }
+// One row of a level's packed plane from its intensity row and the rows above and below (null
+// on the image border): central differences, zero on the one-pixel border.
+void gradientRow(const float* up, const float* row, const float* down, int w, GradientPixel* out) {
+  if (up == nullptr || down == nullptr) {
+    for (int x = 0; x < w; ++x) out[x] = {row[x], 0.f, 0.f};
+    return;
+  }
+  out[0] = {row[0], 0.f, 0.f};
+  for (int x = 1; x < w - 1; ++x) {
+    out[x] = {row[x], 0.5f * (row[x + 1] - row[x - 1]), 0.5f * (down[x] - up[x])};
+  }
+  if (w > 1) out[w - 1] = {row[w - 1], 0.f, 0.f};
+}
+
+// Row y of level l+1: the mean of the 2x2 blocks of the intensities of level l (packed).
+void downsampleRow(const Image<GradientPixel>& src, int y, int w, float* out) {
+  const GradientPixel* r0 = src.row(2 * y);
+  const GradientPixel* r1 = src.row(2 * y + 1);
+  for (int x = 0; x < w; ++x) {
+    out[x] = 0.25f * ((r0[2 * x].intensity + r0[2 * x + 1].intensity) +
+                      (r1[2 * x].intensity + r1[2 * x + 1].intensity));
   }
 }
 
@@ -54,18 +66,17 @@ ImagePyramid::ImagePyramid(int width, int height, int levels, bool with_grad_mag
     width /= 2;
     height /= 2;
   }
+  if (levels > 1) rows_.resize(3 * static_cast<std::size_t>(sizes_[1].first));
   allocatePlanes();
 }
 
 void ImagePyramid::allocatePlanes() {
   const std::size_t n = sizes_.size();
   clipped_.resize(sizes_[0].first, sizes_[0].second);
-  intensity_.resize(n);
   gradients_.resize(n);
   if (with_grad_mag_sq_) grad_mag_sq_.resize(n);
   for (std::size_t l = 0; l < n; ++l) {
     const auto [w, h] = sizes_[l];
-    intensity_[l].resize(w, h);
     gradients_[l].resize(w, h);
     if (with_grad_mag_sq_) grad_mag_sq_[l].resize(w, h);
   }
@@ -75,7 +86,6 @@ void ImagePyramid::compact() {
   if (compacted_) return;
   // Assigning an empty image frees the plane (Image's move assignment swaps).
   clipped_ = Image<std::uint8_t>();
-  for (ImageF& plane : intensity_) plane = ImageF();
   for (std::size_t l = 1; l < gradients_.size(); ++l) gradients_[l] = Image<GradientPixel>();
   for (ImageF& plane : grad_mag_sq_) plane = ImageF();
   compacted_ = true;
@@ -89,20 +99,19 @@ void ImagePyramid::expand() {
 
 std::size_t ImagePyramid::bytes() const {
   std::size_t n = clipped_.capacity() * sizeof(std::uint8_t);
-  for (const ImageF& plane : intensity_) n += plane.capacity() * sizeof(float);
   for (const Image<GradientPixel>& plane : gradients_)
     n += plane.capacity() * sizeof(GradientPixel);
   for (const ImageF& plane : grad_mag_sq_) n += plane.capacity() * sizeof(float);
   return n;
 }
 
-void ImagePyramid::copyIntensity0(ImageF& out) const {
-  const Image<GradientPixel>& g = gradients_[0];
-  out.resize(g.width(), g.height());
-  for (int y = 0; y < g.height(); ++y) {
+void ImagePyramid::copyIntensity(int level, ImageF& out) const {
+  const ImageView<const GradientPixel> g = gradients(level);
+  out.resize(g.width, g.height);
+  for (int y = 0; y < g.height; ++y) {
     const GradientPixel* in = g.row(y);
     float* o = out.row(y);
-    for (int x = 0; x < g.width(); ++x) o[x] = in[x].intensity;
+    for (int x = 0; x < g.width; ++x) o[x] = in[x].intensity;
   }
 }
 
@@ -114,16 +123,30 @@ void ImagePyramid::build(ImageView<const float> image) {
                      " with stride " + std::to_string(image.stride) + ", expected " +
                      sizeString(width(0), height(0)));
   }
-  ImageF& level0 = intensity_[0];
-  for (int y = 0; y < image.height; ++y) {
-    std::memcpy(level0.row(y), image.row(y), sizeof(float) * static_cast<std::size_t>(image.width));
+  const int h0 = image.height;
+  for (int y = 0; y < h0; ++y) {
+    const bool inner = y > 0 && y < h0 - 1;
+    gradientRow(inner ? image.row(y - 1) : nullptr, image.row(y),
+                inner ? image.row(y + 1) : nullptr, image.width, gradients_[0].row(y));
   }
-  computeGradients(0);
-  for (int y = 0; y < image.height; ++y)
+  computeGradMagSq(0);
+  for (int y = 0; y < h0; ++y)
     std::memset(clipped_.row(y), 0, static_cast<std::size_t>(image.width));
+  // Coarser levels: each row's intensities are made once into a ring of three rows (the row, the
+  // one above and the one below), from the packed plane of the level before.
   for (int l = 1; l < levels(); ++l) {
-    downsample2x2(intensity_[l - 1].view(), intensity_[l].view());
-    computeGradients(l);
+    const int w = width(l);
+    const int h = height(l);
+    float* ring[3] = {rows_.data(), rows_.data() + w, rows_.data() + 2 * w};
+    downsampleRow(gradients_[l - 1], 0, w, ring[0]);
+    if (h > 1) downsampleRow(gradients_[l - 1], 1, w, ring[1]);
+    for (int y = 0; y < h; ++y) {
+      if (y + 1 < h && y >= 1) downsampleRow(gradients_[l - 1], y + 1, w, ring[(y + 1) % 3]);
+      const bool inner = y > 0 && y < h - 1;
+      gradientRow(inner ? ring[(y + 2) % 3] : nullptr, ring[y % 3],
+                  inner ? ring[(y + 1) % 3] : nullptr, w, gradients_[l].row(y));
+    }
+    computeGradMagSq(l);
   }
 }
 
@@ -140,32 +163,14 @@ void ImagePyramid::markClipped(ImageView<const float> raw, float level) {
   }
 }
 
-void ImagePyramid::computeGradients(int level) {
-  const ImageF& img = intensity_[level];
-  Image<GradientPixel>& grad = gradients_[level];
-  const int w = img.width();
-  const int h = img.height();
-  for (int y = 0; y < h; ++y) {
-    const float* row = img.row(y);
-    GradientPixel* out = grad.row(y);
-    if (y == 0 || y == h - 1) {
-      for (int x = 0; x < w; ++x) out[x] = {row[x], 0.f, 0.f};
-      continue;
-    }
-    const float* up = img.row(y - 1);
-    const float* down = img.row(y + 1);
-    out[0] = {row[0], 0.f, 0.f};
-    for (int x = 1; x < w - 1; ++x) {
-      out[x] = {row[x], 0.5f * (row[x + 1] - row[x - 1]), 0.5f * (down[x] - up[x])};
-    }
-    if (w > 1) out[w - 1] = {row[w - 1], 0.f, 0.f};
-  }
+void ImagePyramid::computeGradMagSq(int level) {
   if (grad_mag_sq_.empty()) return;
+  const Image<GradientPixel>& grad = gradients_[level];
   ImageF& mag = grad_mag_sq_[level];
-  for (int y = 0; y < h; ++y) {
+  for (int y = 0; y < grad.height(); ++y) {
     const GradientPixel* g = grad.row(y);
     float* out = mag.row(y);
-    for (int x = 0; x < w; ++x) out[x] = g[x].dx * g[x].dx + g[x].dy * g[x].dy;
+    for (int x = 0; x < grad.width(); ++x) out[x] = g[x].dx * g[x].dx + g[x].dy * g[x].dy;
   }
 }
 

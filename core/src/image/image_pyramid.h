@@ -15,8 +15,10 @@ namespace ldsm {
 
 /// Levels 0..levels-1 of a float image: level 0 is the input, level l+1 the 2x2 average of level l
 /// (size floor(w/2) x floor(h/2); an odd last row or column is dropped). Each level holds the
-/// intensity plane, the packed (intensity, dx, dy) plane with central-difference gradients that
-/// are zero on the one-pixel image border, and optionally dx^2 + dy^2.
+/// packed (intensity, dx, dy) plane with central-difference gradients that are zero on the
+/// one-pixel image border, and optionally dx^2 + dy^2. There is no separate intensity plane (it
+/// would repeat the packed plane's first channel): interpolateIntensity() and copyIntensity() read
+/// the intensities.
 ///
 /// Level coordinates: pixel centre x at level l+1 is the centre of pixels 2x and 2x+1 at level l,
 /// i.e. x_(l+1) = (x_l + 0.5) / 2 - 0.5.
@@ -46,19 +48,15 @@ class ImagePyramid {
   int height(int level) const { return sizes_[level].second; }
   bool hasGradMagSq() const { return !grad_mag_sq_.empty(); }
 
-  /// Intensity plane of a level. Throws std::logic_error once compacted.
-  ImageView<const float> intensity(int level) const {
-    requireFull("intensity", level);
-    return intensity_[level].view();
-  }
   /// Packed (intensity, dx, dy) plane of a level. Level 0 stays after compact(); the others
   /// throw std::logic_error then.
   ImageView<const GradientPixel> gradients(int level) const {
     if (level != 0) requireFull("gradients", level);
     return gradients_[level].view();
   }
-  /// Copies the level-0 intensities into `out` (from the packed plane: also after compact()).
-  void copyIntensity0(ImageF& out) const;
+  /// Copies a level's intensities (the packed plane's first channel) into `out`; level 0 also
+  /// after compact().
+  void copyIntensity(int level, ImageF& out) const;
   /// Marks the level-0 pixels where `raw` (the camera's raw values, in the pyramid's geometry) is
   /// >= `level` as clipped. Allocates nothing. Throws InputError when the size differs.
   void markClipped(ImageView<const float> raw, float level);
@@ -77,9 +75,9 @@ class ImagePyramid {
 
   /// Frees every plane but the level-0 (intensity, dx, dy) one: all a keyframe needs once it is
   /// no longer the newest (it is then only the target image of the window's residuals, and
-  /// copyIntensity0() gives the image it is described by when it leaves). Saves 60 % of the
-  /// pyramid (with the default 5 levels, without |gradient|^2). expand() allocates the planes
-  /// again (contents undefined until the next build()).
+  /// copyIntensity() gives the image it is described by when it leaves): with 5 levels and
+  /// without |gradient|^2, 12 of 17 bytes per level-0 pixel are kept. expand() allocates the
+  /// planes again (contents undefined until the next build()).
   void compact();
   void expand();
   bool compacted() const { return compacted_; }
@@ -87,7 +85,7 @@ class ImagePyramid {
   std::size_t bytes() const;
 
  private:
-  void computeGradients(int level);
+  void computeGradMagSq(int level);
   void allocatePlanes();
   void requireFull(const char* plane, int level) const {
     if (compacted_)
@@ -99,7 +97,8 @@ class ImagePyramid {
   bool with_grad_mag_sq_ = true;
   bool compacted_ = false;
 
-  std::vector<ImageF> intensity_;
+  /// Three rows of a coarser level's intensities while it is built.
+  std::vector<float> rows_;
   std::vector<Image<GradientPixel>> gradients_;
   std::vector<ImageF> grad_mag_sq_;
   Image<std::uint8_t> clipped_;

@@ -36,6 +36,22 @@ inline float interpolateBilinear(ImageView<const float> image, float x, float y)
   return top + fy * (bottom - top);
 }
 
+/// Bilinear interpolation of the intensity of a packed level at (x, y), with the arithmetic of the
+/// float-image interpolateBilinear() (the same value as on a plane of the intensities). Requires
+/// isInsideForBilinear(image, x, y).
+inline float interpolateIntensity(ImageView<const GradientPixel> image, float x, float y) {
+  assert(isInsideForBilinear(image, x, y));
+  const int ix = static_cast<int>(x);
+  const int iy = static_cast<int>(y);
+  const float fx = x - static_cast<float>(ix);
+  const float fy = y - static_cast<float>(iy);
+  const GradientPixel* p = image.data + iy * image.stride + ix;
+  const GradientPixel* q = p + image.stride;
+  const float top = p[0].intensity + fx * (p[1].intensity - p[0].intensity);
+  const float bottom = q[0].intensity + fx * (q[1].intensity - q[0].intensity);
+  return top + fy * (bottom - top);
+}
+
 /// Bilinear interpolation of intensity, dx and dy of a packed level at (x, y). Requires
 /// isInsideForBilinear(image, x, y).
 inline GradientPixel interpolateBilinear(ImageView<const GradientPixel> image, float x, float y) {

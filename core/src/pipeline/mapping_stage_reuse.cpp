@@ -88,7 +88,7 @@ ReuseView MappingStage::reuseView(const WindowKeyframe& newest) {
   view.exposure = newest.exposure();
   view.aff = newest.aff;
   std::vector<Eigen::Vector2f> corners = mapper_.newestDescribableCorners();
-  orb_->compute(newest.pyramid().intensity(0), corners, view.descriptors, orb_kept_);
+  orb_->compute(newest.pyramid().gradients(0), corners, view.descriptors, orb_kept_);
   for (const std::uint32_t i : orb_kept_) view.corners.push_back(corners[i]);
   if (!settings_.localize_only) {  // (localising only, nothing that leaves is described)
     if (window_descriptions_.size() >= kMaxWindowDescriptions)

@@ -176,7 +176,7 @@ void TrackingStage::acceptTrackedFrame(std::unique_ptr<ImagePyramid> pyr, FrameE
 void TrackingStage::publishImage(const ImagePyramid& pyr, const FrameEvent& frame,
                                  const SE3d& T_c_w) {
   const int level = std::min(1, pyr.levels() - 1);
-  const ImageView<const float> img = pyr.intensity(level);
+  const ImageView<const GradientPixel> img = pyr.gradients(level);
   TrackedImage& out = image_scratch_;
   out.frame_index = frame.frame_index;
   out.timestamp = frame.timestamp;
@@ -186,7 +186,7 @@ void TrackingStage::publishImage(const ImagePyramid& pyr, const FrameEvent& fram
   std::uint8_t* dst = out.pixels.data();
   for (int y = 0; y < img.height; ++y)
     for (int x = 0; x < img.width; ++x) {
-      const float v = img(x, y);  // NaN -> 0
+      const float v = img(x, y).intensity;  // NaN -> 0
       *dst++ = static_cast<std::uint8_t>(v > 0.f ? (v < 255.f ? v + 0.5f : 255.f) : 0.f);
     }
   // The full-resolution reference points (the window's sparse points; coarser levels are filled

@@ -38,7 +38,7 @@ bool Relocalizer::describeFrame(const ImagePyramid& frame, std::string& failure)
   corners_.detect(frame.gradients(0), params, corner_scratch_);
   pixels_.clear();
   for (const Corner& c : corner_scratch_) pixels_.emplace_back(c.u, c.v);
-  orb_.compute(frame.intensity(0), pixels_, descriptors_, kept_);
+  orb_.compute(frame.gradients(0), pixels_, descriptors_, kept_);
   if (descriptors_.size() >= static_cast<std::size_t>(pnp_.min_inliers)) return true;
   failure = "only " + std::to_string(descriptors_.size()) + " corners in the frame";
   return false;

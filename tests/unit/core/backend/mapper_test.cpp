@@ -155,7 +155,7 @@ TEST(Mapper, LeavingKeyframesAreDescribedForLoopClosureWhenAsked) {
       const std::unique_ptr<ImagePyramid> own = w.pyramid(static_cast<int>(kf.frame_index));
       for (int y = 0; y < SyntheticWindow::kH; y += 7)
         for (int x = 0; x < SyntheticWindow::kW; x += 5)
-          ASSERT_EQ(kf.image(x, y), own->intensity(0)(x, y)) << "keyframe " << kf.id;
+          ASSERT_EQ(kf.image(x, y), own->gradients(0)(x, y).intensity) << "keyframe " << kf.id;
       EXPECT_EQ(kf.corner_idepth.size(), kf.corners.size());
       reference.detectCorners(*w.pyramid(static_cast<int>(kf.frame_index)), limits.max_corners,
                               limits.min_score, expected);

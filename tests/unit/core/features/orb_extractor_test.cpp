@@ -173,6 +173,22 @@ TEST(OrbExtractor, FloatAndByteImagesGiveTheSameDescriptors) {
               pts, b, kb);
   EXPECT_EQ(a, b);
   EXPECT_EQ(ka, kb);
+  // The intensities of a packed pyramid level too (with fractional and out-of-range values,
+  // which the float path rounds and clamps the same way).
+  std::vector<GradientPixel> packed(static_cast<std::size_t>(kW) * kH);
+  std::vector<float> plain(packed.size());
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) {
+      const float v = 1.3f * f.at<float>(y, x) - 20.25f;
+      plain[static_cast<std::size_t>(y) * kW + x] = v;
+      packed[static_cast<std::size_t>(y) * kW + x] = {v, 1.f, -1.f};
+    }
+  orb.compute(ImageView<const float>(plain.data(), kW, kH), pts, a, ka);
+  orb.compute(ImageView<const GradientPixel>(packed.data(), kW, kH), pts, b, kb);
+  EXPECT_EQ(a, b);
+  EXPECT_EQ(ka, kb);
+  EXPECT_THROW(orb.compute(ImageView<const GradientPixel>(packed.data(), kW - 1, kH), pts, b, kb),
+               InputError);
   // A uniform image gives well-defined (all-equal) descriptors, not garbage.
   cv::Mat flat(kH, kW, CV_8U, cv::Scalar(90));
   orb.compute(viewOf(flat), pts, a, ka);

@@ -22,6 +22,11 @@ struct PaddedImage {
   }
 };
 
+/// A level's intensity at (x, y): the packed plane's first channel.
+float intensityAt(const ImagePyramid& p, int level, int x, int y) {
+  return p.gradients(level)(x, y).intensity;
+}
+
 float quadratic(int x, int y) {
   return static_cast<float>(x * x + 3 * y);
 }
@@ -34,7 +39,7 @@ TEST(ImagePyramid, LevelSizesHalveWithFloor) {
   for (int l = 0; l < 5; ++l) {
     EXPECT_EQ(p.width(l), widths[l]);
     EXPECT_EQ(p.height(l), heights[l]);
-    EXPECT_EQ(p.intensity(l).width, widths[l]);
+    EXPECT_EQ(p.gradients(l).width, widths[l]);
     EXPECT_EQ(p.gradients(l).height, heights[l]);
     EXPECT_EQ(p.gradMagSq(l).width, widths[l]);
   }
@@ -59,7 +64,7 @@ TEST(ImagePyramid, Level0CopiesTheStridedInput) {
   p.build(img.view);
   for (int y = 0; y < 4; ++y)
     for (int x = 0; x < 6; ++x) {
-      EXPECT_EQ(p.intensity(0)(x, y), quadratic(x, y));
+      EXPECT_EQ(intensityAt(p, 0, x, y), quadratic(x, y));
       EXPECT_EQ(p.gradients(0)(x, y).intensity, quadratic(x, y));
     }
 }
@@ -72,8 +77,8 @@ TEST(ImagePyramid, CoarserLevelsAverage2x2BlocksAndDropOddEdges) {
   ASSERT_EQ(p.width(1), 2);
   ASSERT_EQ(p.height(1), 1);
   // (0 + 1 + 10 + 11) / 4 and (2 + 3 + 12 + 13) / 4; column 4 and row 2 are dropped.
-  EXPECT_FLOAT_EQ(p.intensity(1)(0, 0), 5.5f);
-  EXPECT_FLOAT_EQ(p.intensity(1)(1, 0), 7.5f);
+  EXPECT_FLOAT_EQ(intensityAt(p, 1, 0, 0), 5.5f);
+  EXPECT_FLOAT_EQ(intensityAt(p, 1, 1, 0), 7.5f);
 }
 
 TEST(ImagePyramid, ThreeLevelsOfRandomImageMatchDirectBlockMeans) {
@@ -91,7 +96,7 @@ TEST(ImagePyramid, ThreeLevelsOfRandomImageMatchDirectBlockMeans) {
       double sum = 0;
       for (int dy = 0; dy < 4; ++dy)
         for (int dx = 0; dx < 4; ++dx) sum += data[(4 * y + dy) * w + 4 * x + dx];
-      EXPECT_NEAR(p.intensity(2)(x, y), sum / 16, 1e-4);
+      EXPECT_NEAR(intensityAt(p, 2, x, y), sum / 16, 1e-4);
     }
   }
 }
@@ -126,6 +131,46 @@ TEST(ImagePyramid, GradientsOnCoarserLevelsUseThatLevel) {
   }
 }
 
+TEST(ImagePyramid, EveryLevelEqualsItsDefinitionBitForBit) {
+  // Reference: each level's intensities as a plane (2x2 means of the plane before, in the
+  // pyramid's order of operations), then central differences, zero on the border; odd sizes.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(0.f, 255.f);
+  const int w = 45;
+  const int h = 29;
+  std::vector<float> data(w * h);
+  for (float& v : data) v = u(rng);
+  ImagePyramid p(w, h, 4);
+  p.build(ImageView<const float>(data.data(), w, h));
+  ImageF plane(w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) plane(x, y) = data[y * w + x];
+  for (int l = 0; l < 4; ++l) {
+    if (l > 0) {
+      ImageF next(plane.width() / 2, plane.height() / 2);
+      for (int y = 0; y < next.height(); ++y)
+        for (int x = 0; x < next.width(); ++x)
+          next(x, y) = 0.25f * ((plane(2 * x, 2 * y) + plane(2 * x + 1, 2 * y)) +
+                                (plane(2 * x, 2 * y + 1) + plane(2 * x + 1, 2 * y + 1)));
+      plane = next;
+    }
+    ASSERT_EQ(p.width(l), plane.width());
+    ASSERT_EQ(p.height(l), plane.height());
+    ImageF copied;
+    p.copyIntensity(l, copied);
+    for (int y = 0; y < plane.height(); ++y)
+      for (int x = 0; x < plane.width(); ++x) {
+        const bool border = x == 0 || y == 0 || x == plane.width() - 1 || y == plane.height() - 1;
+        const GradientPixel g = p.gradients(l)(x, y);
+        ASSERT_EQ(g.intensity, plane(x, y)) << l << ": " << x << ", " << y;
+        ASSERT_EQ(copied(x, y), plane(x, y));
+        ASSERT_EQ(g.dx, border ? 0.f : 0.5f * (plane(x + 1, y) - plane(x - 1, y)));
+        ASSERT_EQ(g.dy, border ? 0.f : 0.5f * (plane(x, y + 1) - plane(x, y - 1)));
+        ASSERT_EQ(p.gradMagSq(l)(x, y), g.dx * g.dx + g.dy * g.dy);
+      }
+  }
+}
+
 TEST(ImagePyramid, WithoutGradientMagnitude) {
   const PaddedImage img(8, 8, 0, quadratic);
   ImagePyramid p(8, 8, 2, /*with_grad_mag_sq=*/false);
@@ -142,7 +187,7 @@ TEST(ImagePyramid, OnePixelLevelHasZeroGradient) {
   EXPECT_EQ(p.gradients(0)(1, 1).dx, 2.f);
   ASSERT_EQ(p.width(1), 1);
   ASSERT_EQ(p.height(1), 1);
-  EXPECT_FLOAT_EQ(p.intensity(1)(0, 0), (0.f + 1.f + 3.f + 4.f) / 4);
+  EXPECT_FLOAT_EQ(intensityAt(p, 1, 0, 0), (0.f + 1.f + 3.f + 4.f) / 4);
   EXPECT_EQ(p.gradients(1)(0, 0).dx, 0.f);
   EXPECT_EQ(p.gradients(1)(0, 0).dy, 0.f);
   EXPECT_THROW(ImagePyramid(2, 1, 2), ConfigError);  // level 1 would be 1 x 0
@@ -227,12 +272,12 @@ TEST(ImagePyramid, CompactKeepsTheLevel0GradientsAndFreesTheRest) {
       EXPECT_EQ(g(x, y).dy, before(x, y).dy);
     }
   ImageF level0;
-  pyr.copyIntensity0(level0);
+  pyr.copyIntensity(0, level0);
   ASSERT_EQ(level0.width(), 40);
   ASSERT_EQ(level0.height(), 30);
   for (int y = 0; y < 30; ++y)
     for (int x = 0; x < 40; ++x) EXPECT_EQ(level0(x, y), img(x, y));
-  EXPECT_THROW(pyr.intensity(0), std::logic_error);
+  EXPECT_THROW(pyr.copyIntensity(1, level0), std::logic_error);
   EXPECT_THROW(pyr.gradients(1), std::logic_error);
   EXPECT_THROW(pyr.clipped(), std::logic_error);
   EXPECT_THROW(pyr.gradMagSq(0), std::logic_error);
@@ -245,7 +290,7 @@ TEST(ImagePyramid, CompactKeepsTheLevel0GradientsAndFreesTheRest) {
   for (int l = 0; l < 3; ++l)
     for (int y = 0; y < fresh.height(l); ++y)
       for (int x = 0; x < fresh.width(l); ++x) {
-        EXPECT_EQ(pyr.intensity(l)(x, y), fresh.intensity(l)(x, y));
+        EXPECT_EQ(intensityAt(pyr, l, x, y), intensityAt(fresh, l, x, y));
         EXPECT_EQ(pyr.gradients(l)(x, y).dx, fresh.gradients(l)(x, y).dx);
         EXPECT_EQ(pyr.gradMagSq(l)(x, y), fresh.gradMagSq(l)(x, y));
       }
@@ -261,7 +306,7 @@ TEST(PyramidPool, ACompactedPyramidComesBackWhole) {
   std::unique_ptr<ImagePyramid> again = pool.acquire();
   EXPECT_EQ(again.get(), address);
   EXPECT_FALSE(again->compacted());
-  EXPECT_EQ(again->intensity(2).width, 8);
+  EXPECT_EQ(again->gradients(2).width, 8);
   EXPECT_EQ(again->gradients(1).height, 12);
 }
 

@@ -55,7 +55,7 @@ TEST(FramePreprocessor, MarksClippedPixelsFromRawValues) {
         EXPECT_EQ(pyr.clipped()(x, y), raw[y * kW + x] >= 250 ? 1 : 0)
             << x << ", " << y << (with_response ? " (with response)" : "");
     if (with_response) {  // the corrected value of raw 250 is far below 250
-      EXPECT_LT(pyr.intensity(0)(10, 10), 245.f);
+      EXPECT_LT(pyr.gradients(0)(10, 10).intensity, 245.f);
       EXPECT_EQ(pyr.clipped()(10, 10), 1);
     }
   }

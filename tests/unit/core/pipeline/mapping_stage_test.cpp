@@ -323,7 +323,7 @@ TEST(MappingStage, MapKeyframesCarryTheDescriptorsOfTheirOwnImageAndCorners) {
     if (!kf) continue;
     ASSERT_FALSE(kf->corners.empty()) << "keyframe " << id;
     ASSERT_EQ(kf->descriptors.size(), kf->corners.size()) << "keyframe " << id;
-    orb.compute(m.w.pyramid(static_cast<int>(kf->frame_index))->intensity(0), kf->corners,
+    orb.compute(m.w.pyramid(static_cast<int>(kf->frame_index))->gradients(0), kf->corners,
                 descriptors, kept);
     ASSERT_EQ(kept.size(), kf->corners.size()) << "keyframe " << id;
     EXPECT_TRUE(descriptors == kf->descriptors) << "keyframe " << id;
