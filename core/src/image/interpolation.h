@@ -22,34 +22,37 @@ inline bool isInsideForBilinear(const ImageView<T>& image, float x, float y, flo
   return isInsideForBilinear(x, y, image.width, image.height, margin);
 }
 
-/// Bilinear interpolation of a float image at (x, y). Requires isInsideForBilinear(image, x, y).
-inline float interpolateBilinear(ImageView<const float> image, float x, float y) {
+namespace detail {
+
+/// Bilinear interpolation of value(pixel) at (x, y), in the order of operations both float
+/// interpolations below share (so that they agree bit for bit on the same intensities).
+template <typename T, typename Value>
+inline float bilinearOf(ImageView<const T> image, float x, float y, Value value) {
   assert(isInsideForBilinear(image, x, y));
   const int ix = static_cast<int>(x);
   const int iy = static_cast<int>(y);
   const float fx = x - static_cast<float>(ix);
   const float fy = y - static_cast<float>(iy);
-  const float* p = image.data + iy * image.stride + ix;
-  const float* q = p + image.stride;
-  const float top = p[0] + fx * (p[1] - p[0]);
-  const float bottom = q[0] + fx * (q[1] - q[0]);
+  const T* p = image.data + iy * image.stride + ix;
+  const T* q = p + image.stride;
+  const float p0 = value(p[0]), p1 = value(p[1]), q0 = value(q[0]), q1 = value(q[1]);
+  const float top = p0 + fx * (p1 - p0);
+  const float bottom = q0 + fx * (q1 - q0);
   return top + fy * (bottom - top);
+}
+
+}  // namespace detail
+
+/// Bilinear interpolation of a float image at (x, y). Requires isInsideForBilinear(image, x, y).
+inline float interpolateBilinear(ImageView<const float> image, float x, float y) {
+  return detail::bilinearOf(image, x, y, [](float v) { return v; });
 }
 
 /// Bilinear interpolation of the intensity of a packed level at (x, y), with the arithmetic of the
 /// float-image interpolateBilinear() (the same value as on a plane of the intensities). Requires
 /// isInsideForBilinear(image, x, y).
 inline float interpolateIntensity(ImageView<const GradientPixel> image, float x, float y) {
-  assert(isInsideForBilinear(image, x, y));
-  const int ix = static_cast<int>(x);
-  const int iy = static_cast<int>(y);
-  const float fx = x - static_cast<float>(ix);
-  const float fy = y - static_cast<float>(iy);
-  const GradientPixel* p = image.data + iy * image.stride + ix;
-  const GradientPixel* q = p + image.stride;
-  const float top = p[0].intensity + fx * (p[1].intensity - p[0].intensity);
-  const float bottom = q[0].intensity + fx * (q[1].intensity - q[0].intensity);
-  return top + fy * (bottom - top);
+  return detail::bilinearOf(image, x, y, [](const GradientPixel& g) { return g.intensity; });
 }
 
 /// Bilinear interpolation of intensity, dx and dy of a packed level at (x, y). Requires
