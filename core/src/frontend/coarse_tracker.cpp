@@ -96,7 +96,7 @@ CoarseTracker::CoarseTracker(int width, int height, int levels,
 
 void CoarseTracker::setReference(const ImagePyramid& reference, const PyramidCamera& camera,
                                  const DepthPoint* points, std::size_t count, double exposure,
-                                 const AffineLight& affine) {
+                                 const AffineLight& affine, DepthMapCanvas* canvas) {
   checkExposure(exposure, "reference");
   if (camera.levels() < levels() || camera[0].width != depth_maps_.width(0) ||
       camera[0].height != depth_maps_.height(0)) {
@@ -106,7 +106,10 @@ void CoarseTracker::setReference(const ImagePyramid& reference, const PyramidCam
                      std::to_string(depth_maps_.height(0)) + " with at least " +
                      std::to_string(levels()) + " levels");
   }
-  depth_maps_.build(points, count, reference);
+  if (canvas != nullptr)
+    depth_maps_.build(points, count, reference, *canvas);
+  else
+    depth_maps_.build(points, count, reference);
   // The residual buffer holds one level's points at a time: it grows (here, never while tracking)
   // to the largest level seen, with a quarter of slack.
   std::size_t most = 0;

@@ -104,19 +104,22 @@ struct CoarseTrackingResult {
 
 class CoarseTracker {
  public:
-  /// Preallocates everything for width x height images and `levels` pyramid levels.
+  /// Preallocates the settings and sizes for width x height images and `levels` pyramid levels
+  /// (the point lists grow with the references set).
   CoarseTracker(int width, int height, int levels, const CoarseTrackerSettings& settings);
 
   /// Sets the reference keyframe: its pyramid (at least levels() levels of the constructed size),
   /// camera, the window's points projected into it, its exposure time (1 when unknown) and affine
-  /// brightness. Allocates nothing.
+  /// brightness. The depth maps are splatted into `canvas` (the builder's scratch, which the
+  /// trackers one thread prepares can share) or, when null, into a canvas this tracker allocates
+  /// at its first such call. Allocates nothing else (the point lists grow to the most points seen).
   void setReference(const ImagePyramid& reference, const PyramidCamera& camera,
                     const DepthPoint* points, std::size_t count, double exposure,
-                    const AffineLight& affine);
+                    const AffineLight& affine, DepthMapCanvas* canvas = nullptr);
   void setReference(const ImagePyramid& reference, const PyramidCamera& camera,
                     const std::vector<DepthPoint>& points, double exposure,
-                    const AffineLight& affine) {
-    setReference(reference, camera, points.data(), points.size(), exposure, affine);
+                    const AffineLight& affine, DepthMapCanvas* canvas = nullptr) {
+    setReference(reference, camera, points.data(), points.size(), exposure, affine, canvas);
   }
 
   /// Tracks `frame` (exposure time `exposure`) from level min(coarsest_level, levels() - 1) down

@@ -19,10 +19,7 @@ void clear(ImageF& image) {
   image.fill(0.f);
 }
 
-}  // namespace
-
-DepthMapPyramid::DepthMapPyramid(int width, int height, int levels, float max_idepth_ratio)
-    : max_idepth_ratio_(max_idepth_ratio) {
+void checkSizes(int width, int height, int levels) {
   if (width <= 0 || height <= 0) {
     throw InputError("depth map pyramid: image size must be positive (got " +
                      sizeString(width, height) + ")");
@@ -33,24 +30,54 @@ DepthMapPyramid::DepthMapPyramid(int width, int height, int levels, float max_id
                       "] for a " + sizeString(width, height) + " image (got " +
                       std::to_string(levels) + ")");
   }
+}
+
+}  // namespace
+
+DepthMapCanvas::DepthMapCanvas(int width, int height, int levels) {
+  checkSizes(width, height, levels);
   from_map_.assign(static_cast<std::size_t>(width) * height, 0);
   idepth_sum_.resize(static_cast<std::size_t>(levels));
   weight_sum_.resize(static_cast<std::size_t>(levels));
-  points_.resize(static_cast<std::size_t>(levels));
   known_.resize(static_cast<std::size_t>(levels));
   for (int l = 0; l < levels; ++l) {
     idepth_sum_[l].resize(width, height);
     weight_sum_[l].resize(width, height);
     clear(idepth_sum_[l]);
     clear(weight_sum_[l]);
-    points_[l].count = 0;
     width /= 2;
     height /= 2;
   }
 }
 
+float DepthMapCanvas::idepthAt(int level, int x, int y) const {
+  const float w = weight_sum_[level](x, y);
+  return w > 0.f ? idepth_sum_[level](x, y) / w : 0.f;
+}
+
+std::size_t DepthMapCanvas::bytes() const {
+  std::size_t b = from_map_.capacity() + fills_.capacity() * sizeof(Fill);
+  for (int l = 0; l < levels(); ++l) {
+    b += 2 * sizeof(float) * static_cast<std::size_t>(width(l)) * height(l);
+    b += known_[l].capacity() * sizeof(int);
+  }
+  return b;
+}
+
+DepthMapPyramid::DepthMapPyramid(int width, int height, int levels, float max_idepth_ratio)
+    : width_(width), height_(height), max_idepth_ratio_(max_idepth_ratio) {
+  checkSizes(width, height, levels);
+  points_.resize(static_cast<std::size_t>(levels));
+}
+
 int DepthMapPyramid::build(const DepthPoint* points, std::size_t count,
                            const ImagePyramid& reference) {
+  if (!own_canvas_) own_canvas_ = std::make_unique<DepthMapCanvas>(width_, height_, levels());
+  return build(points, count, reference, *own_canvas_);
+}
+
+int DepthMapPyramid::build(const DepthPoint* points, std::size_t count,
+                           const ImagePyramid& reference, DepthMapCanvas& canvas) {
   if (reference.levels() < levels() || reference.width(0) != width(0) ||
       reference.height(0) != height(0)) {
     throw InputError("depth map pyramid: reference pyramid is " +
@@ -59,33 +86,46 @@ int DepthMapPyramid::build(const DepthPoint* points, std::size_t count,
                      sizeString(width(0), height(0)) + " with at least " +
                      std::to_string(levels()) + " levels");
   }
-  // Only the pixels the last build filled are non-zero.
-  for (const int i : known_[0]) from_map_[i] = 0;
-  for (int l = 0; l < levels(); ++l) {
-    float* sum = idepth_sum_[l].data();
-    float* weight = weight_sum_[l].data();
-    for (const int i : known_[l]) sum[i] = weight[i] = 0.f;
-    known_[l].clear();
+  if (canvas.levels() < levels() || canvas.width(0) != width(0) || canvas.height(0) != height(0)) {
+    throw InputError(
+        "depth map pyramid: canvas is " + sizeString(canvas.width(0), canvas.height(0)) + " with " +
+        std::to_string(canvas.levels()) + " levels, expected " + sizeString(width(0), height(0)) +
+        " with at least " + std::to_string(levels()) + " levels");
   }
-  splat(points, count);
-  for (int l = 1; l < levels(); ++l) downsample(l);
+  // Only the pixels the canvas's last build filled are non-zero (on every level it has).
+  for (const int i : canvas.known_[0]) canvas.from_map_[i] = 0;
+  for (int l = 0; l < canvas.levels(); ++l) {
+    float* sum = canvas.idepth_sum_[l].data();
+    float* weight = canvas.weight_sum_[l].data();
+    for (const int i : canvas.known_[l]) sum[i] = weight[i] = 0.f;
+    canvas.known_[l].clear();
+  }
+  last_canvas_ = &canvas;
+  splat(points, count, canvas);
+  for (int l = 1; l < levels(); ++l) downsample(l, canvas);
   for (int l = 0; l < levels(); ++l) {
-    dilate(l, /*diagonal=*/l < 2);
-    extract(l, reference);
+    dilate(l, /*diagonal=*/l < 2, canvas);
+    extract(l, reference, canvas);
   }
   return static_cast<int>(count) - rejected_;
 }
 
 float DepthMapPyramid::idepthAt(int level, int x, int y) const {
-  const float w = weight_sum_[level](x, y);
-  return w > 0.f ? idepth_sum_[level](x, y) / w : 0.f;
+  return last_canvas_ != nullptr ? last_canvas_->idepthAt(level, x, y) : 0.f;
 }
 
-void DepthMapPyramid::splat(const DepthPoint* points, std::size_t count) {
+std::size_t DepthMapPyramid::bytes() const {
+  std::size_t b = own_canvas_ ? own_canvas_->bytes() : 0;
+  for (const LevelPoints& p : points_) b += 5 * sizeof(float) * p.x.capacity();
+  return b;
+}
+
+void DepthMapPyramid::splat(const DepthPoint* points, std::size_t count, DepthMapCanvas& c) {
   rejected_ = 0;
-  ImageF& sum = idepth_sum_[0];
-  ImageF& weight = weight_sum_[0];
-  std::vector<int>& known = known_[0];
+  ImageF& sum = c.idepth_sum_[0];
+  ImageF& weight = c.weight_sum_[0];
+  std::vector<int>& known = c.known_[0];
+  std::vector<unsigned char>& from_map = c.from_map_;
   for (std::size_t i = 0; i < count; ++i) {
     const DepthPoint& p = points[i];
     const bool valid = std::isfinite(p.u) && std::isfinite(p.v) && std::isfinite(p.idepth) &&
@@ -102,8 +142,8 @@ void DepthMapPyramid::splat(const DepthPoint* points, std::size_t count) {
     const int pixel = y * sum.width() + x;
     if (!(weight(x, y) > 0.f)) {
       known.push_back(pixel);
-      from_map_[pixel] = p.from_map;
-    } else if (p.from_map != (from_map_[pixel] != 0)) {
+      from_map[pixel] = p.from_map;
+    } else if (p.from_map != (from_map[pixel] != 0)) {
       // A map keyframe's point and the window's at one pixel, on both sides of a depth
       // discontinuity: only the nearer surface is seen there.
       const float seen = sum(x, y) / weight(x, y);
@@ -111,7 +151,7 @@ void DepthMapPyramid::splat(const DepthPoint* points, std::size_t count) {
       if (p.idepth > max_idepth_ratio_ * seen) {
         sum(x, y) = p.weight * p.idepth;
         weight(x, y) = p.weight;
-        from_map_[pixel] = p.from_map;
+        from_map[pixel] = p.from_map;
         continue;
       }
     }
@@ -120,16 +160,16 @@ void DepthMapPyramid::splat(const DepthPoint* points, std::size_t count) {
   }
 }
 
-void DepthMapPyramid::downsample(int level) {
-  const ImageF& src_sum = idepth_sum_[level - 1];
-  const ImageF& src_weight = weight_sum_[level - 1];
-  ImageF& sum = idepth_sum_[level];
-  ImageF& weight = weight_sum_[level];
+void DepthMapPyramid::downsample(int level, DepthMapCanvas& c) const {
+  const ImageF& src_sum = c.idepth_sum_[level - 1];
+  const ImageF& src_weight = c.weight_sum_[level - 1];
+  ImageF& sum = c.idepth_sum_[level];
+  ImageF& weight = c.weight_sum_[level];
   const int src_width = src_sum.width();
-  std::vector<int>& known = known_[level];
+  std::vector<int>& known = c.known_[level];
   // Every parent of a known child, once; its sums gathered from its 2x2 children in a fixed
   // order (the value does not depend on which child found it).
-  for (const int i : known_[level - 1]) {
+  for (const int i : c.known_[level - 1]) {
     const int x = (i % src_width) / 2;
     const int y = (i / src_width) / 2;
     if (x >= sum.width() || y >= sum.height() || weight(x, y) > 0.f) continue;
@@ -143,9 +183,10 @@ void DepthMapPyramid::downsample(int level) {
   }
 }
 
-void DepthMapPyramid::dilate(int level, bool diagonal) {
-  ImageF& sum = idepth_sum_[level];
-  ImageF& weight = weight_sum_[level];
+void DepthMapPyramid::dilate(int level, bool diagonal, DepthMapCanvas& c) const {
+  ImageF& sum = c.idepth_sum_[level];
+  ImageF& weight = c.weight_sum_[level];
+  std::vector<DepthMapCanvas::Fill>& fills = c.fills_;
   const int w = sum.width();
   const int h = sum.height();
   static constexpr int kDiagonal[4][2] = {{-1, -1}, {1, -1}, {-1, 1}, {1, 1}};
@@ -154,19 +195,19 @@ void DepthMapPyramid::dilate(int level, bool diagonal) {
   // The empty pixels next to a known one (the offsets are symmetric), each once: marked with a
   // negative weight, which reads as unknown below.
   constexpr float kCandidate = -1.f;
-  fills_.clear();
-  for (const int i : known_[level]) {
+  fills.clear();
+  for (const int i : c.known_[level]) {
     const int x = i % w, y = i / w;
     for (int k = 0; k < 4; ++k) {
       const int nx = x + offsets[k][0];
       const int ny = y + offsets[k][1];
       if (nx < 0 || ny < 0 || nx >= w || ny >= h || weight(nx, ny) != 0.f) continue;
       weight(nx, ny) = kCandidate;
-      fills_.push_back({ny * w + nx, 0.f, 0.f});
+      fills.push_back({ny * w + nx, 0.f, 0.f});
     }
   }
   // Each from the known neighbours before this pass, so that filled pixels do not spread further.
-  for (Fill& f : fills_) {
+  for (DepthMapCanvas::Fill& f : fills) {
     const int x = f.index % w, y = f.index / w;
     float s = 0.f;
     float ws = 0.f;
@@ -189,21 +230,21 @@ void DepthMapPyramid::dilate(int level, bool diagonal) {
     f.sum = fill ? s : 0.f;
     f.weight = fill ? ws : 0.f;
   }
-  std::vector<int>& known = known_[level];
-  for (const Fill& f : fills_) {
+  std::vector<int>& known = c.known_[level];
+  for (const DepthMapCanvas::Fill& f : fills) {
     sum.data()[f.index] = f.sum;
     weight.data()[f.index] = f.weight;
     if (f.weight > 0.f) known.push_back(f.index);
   }
 }
 
-void DepthMapPyramid::extract(int level, const ImagePyramid& reference) {
-  const ImageF& sum = idepth_sum_[level];
-  const ImageF& weight = weight_sum_[level];
+void DepthMapPyramid::extract(int level, const ImagePyramid& reference, DepthMapCanvas& c) {
+  const ImageF& sum = c.idepth_sum_[level];
+  const ImageF& weight = c.weight_sum_[level];
   const ImageView<const GradientPixel> grad = reference.gradients(level);
   LevelPoints& out = points_[level];
   // Row by row, as a scan of the level would list them.
-  std::vector<int>& known = known_[level];
+  std::vector<int>& known = c.known_[level];
   std::sort(known.begin(), known.end());
   // The point lists grow to the largest count seen (with a quarter of slack) instead of being
   // sized for every pixel: a window's points cover a few percent of a level-0 image, and a

@@ -14,6 +14,7 @@
 #pragma once
 
 #include <cstddef>
+#include <memory>
 #include <vector>
 
 #include "camera/pyramid_camera.h"
@@ -34,38 +35,27 @@ struct LevelPoints {
   int count = 0;
 };
 
-class DepthMapPyramid {
+/// The dense per-level sums a build splats into and dilates (about 12 bytes per level-0 pixel:
+/// 5.3 MB at 1232x368): scratch that matters only while DepthMapPyramid::build runs. Pyramids
+/// built on one thread can share one canvas (the mapping stage builds every tracking reference
+/// into its own), so that the coarse trackers between builds hold only their point lists.
+class DepthMapCanvas {
  public:
-  /// Preallocates maps and point lists for width x height images and `levels` levels (the sizes
-  /// of ImagePyramid). Throws InputError/ConfigError like ImagePyramid for bad sizes. Dilation
-  /// leaves a pixel empty when its known neighbours' inverse depths differ by more than the factor
-  /// `max_idepth_ratio` (a depth discontinuity), and splatting keeps only the nearer of a map
-  /// point (DepthPoint::from_map) and the window's points at one pixel whose inverse depths differ
-  /// by more than that factor.
-  DepthMapPyramid(int width, int height, int levels, float max_idepth_ratio = 1.25f);
+  /// Preallocates the planes for width x height images and `levels` levels. Throws
+  /// InputError/ConfigError like ImagePyramid for bad sizes.
+  DepthMapCanvas(int width, int height, int levels);
 
-  /// Rebuilds every level from `count` points and the reference pyramid (which must have at
-  /// least levels() levels of the constructed size; InputError otherwise). Points outside the
-  /// image or with a non-finite or non-positive inverse depth or weight are skipped. Returns the
-  /// number of valid points (occluded ones included). Allocates only when a level gets more points
-  /// than ever before.
-  int build(const DepthPoint* points, std::size_t count, const ImagePyramid& reference);
-
-  int levels() const { return static_cast<int>(points_.size()); }
+  int levels() const { return static_cast<int>(idepth_sum_.size()); }
   int width(int level) const { return idepth_sum_[level].width(); }
   int height(int level) const { return idepth_sum_[level].height(); }
-  const LevelPoints& points(int level) const { return points_[level]; }
-  /// Inverse depth of pixel (x, y) of a level after dilation; 0 where unknown.
+  /// Inverse depth of pixel (x, y) of a level as the last build into this canvas left it (after
+  /// dilation); 0 where unknown.
   float idepthAt(int level, int x, int y) const;
-  /// Points rejected by the last build() (outside the image, bad inverse depth or weight).
-  int rejectedPoints() const { return rejected_; }
+  /// Bytes of the planes.
+  std::size_t bytes() const;
 
  private:
-  void splat(const DepthPoint* points, std::size_t count);
-  void downsample(int level);
-  void dilate(int level, bool diagonal);
-  void extract(int level, const ImagePyramid& reference);
-
+  friend class DepthMapPyramid;
   /// A pixel the dilation fills (or, rejected, leaves empty) and its neighbours' sums.
   struct Fill {
     int index;
@@ -77,14 +67,61 @@ class DepthMapPyramid {
   std::vector<ImageF> weight_sum_;
   /// Per level, the pixels (y * width + x) of non-zero weight: a window's points cover a few
   /// percent of the image, so clearing, downsampling, dilating and extracting visit only these
-  /// and their neighbours, never the whole level.
+  /// and their neighbours, never the whole level. The next build clears them, whichever pyramid
+  /// made them.
   std::vector<std::vector<int>> known_;
   std::vector<Fill> fills_;  ///< scratch of dilate()
+  /// Level 0: 1 where the pixel's surface came from map keyframes' points (DepthPoint::from_map).
+  std::vector<unsigned char> from_map_;
+};
+
+class DepthMapPyramid {
+ public:
+  /// Sizes the point lists' levels for width x height images and `levels` levels (the sizes of
+  /// ImagePyramid); the dense planes are a DepthMapCanvas, the caller's or, when build() is given
+  /// none, one this pyramid allocates at its first such build. Throws InputError/ConfigError like
+  /// ImagePyramid for bad sizes. Dilation leaves a pixel empty when its known neighbours' inverse
+  /// depths differ by more than the factor `max_idepth_ratio` (a depth discontinuity), and
+  /// splatting keeps only the nearer of a map point (DepthPoint::from_map) and the window's points
+  /// at one pixel whose inverse depths differ by more than that factor.
+  DepthMapPyramid(int width, int height, int levels, float max_idepth_ratio = 1.25f);
+
+  /// Rebuilds every level from `count` points and the reference pyramid (which must have at
+  /// least levels() levels of the constructed size; InputError otherwise), splatting into
+  /// `canvas` (of the same sizes; InputError otherwise). Points outside the image or with a
+  /// non-finite or non-positive inverse depth or weight are skipped. Returns the number of valid
+  /// points (occluded ones included). Allocates only when a level gets more points than ever
+  /// before.
+  int build(const DepthPoint* points, std::size_t count, const ImagePyramid& reference,
+            DepthMapCanvas& canvas);
+  /// The same into this pyramid's own canvas (allocated at the first call).
+  int build(const DepthPoint* points, std::size_t count, const ImagePyramid& reference);
+
+  int levels() const { return static_cast<int>(points_.size()); }
+  int width(int level) const { return width_ >> level; }
+  int height(int level) const { return height_ >> level; }
+  const LevelPoints& points(int level) const { return points_[level]; }
+  /// Inverse depth of pixel (x, y) of a level after dilation; 0 where unknown. Reads the canvas
+  /// of the last build, as that canvas holds it now (0 everywhere before any build).
+  float idepthAt(int level, int x, int y) const;
+  /// Points rejected by the last build() (outside the image, bad inverse depth or weight).
+  int rejectedPoints() const { return rejected_; }
+  /// Bytes this pyramid holds: the point lists and its own canvas, if it has one.
+  std::size_t bytes() const;
+
+ private:
+  void splat(const DepthPoint* points, std::size_t count, DepthMapCanvas& c);
+  void downsample(int level, DepthMapCanvas& c) const;
+  void dilate(int level, bool diagonal, DepthMapCanvas& c) const;
+  void extract(int level, const ImagePyramid& reference, DepthMapCanvas& c);
+
+  int width_;
+  int height_;
   std::vector<LevelPoints> points_;
   float max_idepth_ratio_;
   int rejected_ = 0;
-  /// Level 0: 1 where the pixel's surface came from map keyframes' points (DepthPoint::from_map).
-  std::vector<unsigned char> from_map_;
+  std::unique_ptr<DepthMapCanvas> own_canvas_;
+  const DepthMapCanvas* last_canvas_ = nullptr;
 };
 
 }  // namespace ldsm

@@ -73,6 +73,7 @@ MappingStage::MappingStage(const MappingStageSettings& settings, const PyramidCa
         return std::make_unique<CoarseTracker>(camera[0].width, camera[0].height, camera.levels(),
                                                tracker);
       }),
+      depth_canvas_(camera[0].width, camera[0].height, camera.levels()),
       timer_({"trace", "mapping", "reuse", "loop"}, 20000),
       describe_(loop_closer != nullptr || settings.reuse.enabled),
       inline_mode_(inline_mode),
@@ -423,7 +424,8 @@ void MappingStage::publishReference() {
   if (!depth_points_.empty()) median_depth_ = medianDepth(depth_points_, idepths_);
   std::unique_ptr<CoarseTracker> tracker = references_.acquire();
   const TrackingReference r = mapper_.newestReference();
-  tracker->setReference(*r.pyramid, mapper_.camera(), depth_points_, r.exposure, r.aff);
+  tracker->setReference(*r.pyramid, mapper_.camera(), depth_points_, r.exposure, r.aff,
+                        &depth_canvas_);
   references_.publish({std::move(tracker), r.keyframe_id, r.T_c_w, r.frame_index});
 }
 

@@ -201,6 +201,9 @@ class MappingStage {
   std::unique_ptr<concurrency::ParallelTasks> parallel_;
   Mapper mapper_;
   ReferenceExchange references_;
+  /// The dense depth maps every tracking reference is built in (publishReference), shared by the
+  /// coarse trackers in circulation, which keep only their point lists.
+  DepthMapCanvas depth_canvas_;
   StageTimer timer_;
   std::vector<DepthPoint> depth_points_;
   bool describe_;     ///< keyframes leaving the window are described (loop closure or reuse)

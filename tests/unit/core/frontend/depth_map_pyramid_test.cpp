@@ -182,5 +182,62 @@ TEST(DepthMapPyramidTest, RejectsBadSizes) {
   EXPECT_THROW(maps.build(nullptr, 0, too_few_levels), InputError);
 }
 
+void expectSamePoints(const DepthMapPyramid& a, const DepthMapPyramid& b) {
+  for (int l = 0; l < kLevels; ++l) {
+    const LevelPoints& pa = a.points(l);
+    const LevelPoints& pb = b.points(l);
+    ASSERT_EQ(pa.count, pb.count) << "level " << l;
+    for (int i = 0; i < pa.count; ++i) {
+      EXPECT_EQ(pa.x[i], pb.x[i]);
+      EXPECT_EQ(pa.y[i], pb.y[i]);
+      EXPECT_EQ(pa.idepth[i], pb.idepth[i]);
+      EXPECT_EQ(pa.intensity[i], pb.intensity[i]);
+      EXPECT_EQ(pa.grad_sq[i], pb.grad_sq[i]);
+    }
+  }
+}
+
+// Pyramids built one after another into one canvas (as the mapping stage builds every tracking
+// reference) get the point lists of their own canvases, bit for bit, whatever the canvas held
+// before; they hold no dense planes themselves.
+TEST(DepthMapPyramidTest, PyramidsSharingACanvasGetTheirOwnCanvasesPoints) {
+  const ImagePyramid ref = makeReference();
+  std::vector<DepthPoint> a, b;
+  for (int i = 0; i < 300; ++i) {
+    const float u = static_cast<float>((i * 37) % kW) + 0.3f;
+    const float v = static_cast<float>((i * 11) % kH) + 0.6f;
+    a.push_back({u, v, planeIdepth(u, v), 1.f + static_cast<float>(i % 3), i % 5 == 0});
+    b.push_back({v, u * 0.7f, 0.5f * planeIdepth(v, u), 2.f, i % 7 == 0});
+  }
+  DepthMapCanvas canvas(kW, kH, kLevels);
+  DepthMapPyramid shared_a(kW, kH, kLevels), shared_b(kW, kH, kLevels);
+  DepthMapPyramid own_a(kW, kH, kLevels), own_b(kW, kH, kLevels);
+  own_a.build(a.data(), a.size(), ref);
+  own_b.build(b.data(), b.size(), ref);
+  for (int round = 0; round < 2; ++round) {  // each also after the other's build
+    shared_a.build(a.data(), a.size(), ref, canvas);
+    expectSamePoints(shared_a, own_a);
+    shared_b.build(b.data(), b.size(), ref, canvas);
+    expectSamePoints(shared_b, own_b);
+  }
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) ASSERT_EQ(canvas.idepthAt(0, x, y), own_b.idepthAt(0, x, y));
+  // The same point lists; the own canvas's planes (at least level 0's sums and weights) only in
+  // the pyramid that has one.
+  EXPECT_GE(own_a.bytes(), shared_a.bytes() + 2 * sizeof(float) * kW * kH);
+  EXPECT_GE(canvas.bytes(), 2 * sizeof(float) * kW * kH);
+}
+
+TEST(DepthMapPyramidTest, RejectsACanvasOfAnotherSize) {
+  const ImagePyramid ref = makeReference();
+  DepthMapPyramid maps(kW, kH, kLevels);
+  DepthMapCanvas wider(kW * 2, kH, kLevels);
+  DepthMapCanvas fewer_levels(kW, kH, 2);
+  EXPECT_THROW(maps.build(nullptr, 0, ref, wider), InputError);
+  EXPECT_THROW(maps.build(nullptr, 0, ref, fewer_levels), InputError);
+  EXPECT_THROW(DepthMapCanvas(0, 10, 1), InputError);
+  EXPECT_THROW(DepthMapCanvas(64, 48, 8), ConfigError);
+}
+
 }  // namespace
 }  // namespace ldsm
