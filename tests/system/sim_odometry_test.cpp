@@ -141,13 +141,15 @@ TEST(SimOdometry, FocalRefinementMovesAWrongFocalLengthTowardsTheTruth) {
 }
 
 // Threaded, not live (`ldsm run --dataset` without --deterministic): a frame waits for the
-// keyframe being mapped, so the odometry makes the keyframes deterministic mode makes. Measured:
-// 63 keyframes, ATE 0.0011-0.0013 m (deterministic: 63, 0.0014 m). Before, tracking never waited:
-// 23-31 keyframes and 0.75-2.2 m on this fast corridor.
+// keyframe being mapped, so the odometry makes the keyframes deterministic mode makes (within
+// what the threads' timing changes; 7/8 of them). Measured at the default keyframe rate of
+// 2026-11: 63 keyframes, ATE 0.0011-0.0013 m (deterministic: 63, 0.0014 m). Before, tracking
+// never waited: 23-31 keyframes (about half) and 0.75-2.2 m on this fast corridor.
 TEST(SimOdometry, OfflineThreadedModeMakesEveryKeyframe) {
+  const RunResult d = runScene("loop", 300, true);
   const RunResult r = runScene("loop", 300, false);
   EXPECT_EQ(r.stats.tracking_losses, 0);
-  EXPECT_GE(r.stats.keyframes, 55);
+  EXPECT_GE(r.stats.keyframes * 8, d.stats.keyframes * 7);
   EXPECT_LT(r.ate.rmse, 0.002 * r.ate.gt_path_length);
 }
 

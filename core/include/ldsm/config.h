@@ -528,6 +528,9 @@ struct ReuseConfig {
   double relocalization_min_direct_inliers = 0.5;
   /// Keyframes searched around the last known pose, times the last median depth.
   double relocalization_search_radius = 3.0;
+  /// Of those, the nearest this many are tried for each frame while lost: each is matched (ORB),
+  /// so this bounds the work per frame however dense the map is around the last pose.
+  int relocalization_near_candidates = 24;
   /// Map keyframes anywhere in the map that look most like the lost frame (bag of words; needs
   /// loop closure's keyframe database) are tried too: a camera carried elsewhere while lost.
   int relocalization_place_candidates = 5;
@@ -608,6 +611,8 @@ struct ReuseConfig {
     v.field("relocalization_search_radius", relocalization_search_radius,
             Range<double>{0.0, 1000.0},
             "keyframes searched around the last known pose, times the last median depth");
+    v.field("relocalization_near_candidates", relocalization_near_candidates, Range<int>{1, 10000},
+            "nearest keyframes to the last known pose tried per lost frame");
     v.field("relocalization_place_candidates", relocalization_place_candidates, Range<int>{0, 100},
             "map keyframes that look most like a lost frame (bag of words) tried anywhere in the "
             "map (0: only near the last pose)");

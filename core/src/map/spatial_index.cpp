@@ -38,18 +38,27 @@ void SpatialIndex::remove(int id) {
 std::vector<int> SpatialIndex::near(const Eigen::Vector3d& centre, double radius) const {
   std::vector<int> out;
   if (!centre.allFinite() || !(radius > 0.0)) return out;
-  const auto lo = [&](double v) {
-    return static_cast<std::int64_t>(std::floor((v - radius) / cell_));
-  };
-  const auto hi = [&](double v) {
-    return static_cast<std::int64_t>(std::floor((v + radius) / cell_));
-  };
-  // Very large radii would visit too many cells: cap the span.
-  constexpr std::int64_t kMaxSpan = 16;
-  const std::int64_t x0 = lo(centre.x()), x1 = std::min(hi(centre.x()), x0 + kMaxSpan);
-  const std::int64_t y0 = lo(centre.y()), y1 = std::min(hi(centre.y()), y0 + kMaxSpan);
-  const std::int64_t z0 = lo(centre.z()), z1 = std::min(hi(centre.z()), z0 + kMaxSpan);
   const double r2 = radius * radius;
+  const auto lo = [&](double v) { return std::floor((v - radius) / cell_); };
+  const auto hi = [&](double v) { return std::floor((v + radius) / cell_); };
+  // A search box of more cells than the index holds (a large radius): every keyframe is tested
+  // instead of visiting the box's cells. (The box was once capped at 16 cells per axis from its
+  // low corner, which dropped the keyframes at the centre for radii above 4 cells.)
+  const double box_cells = (hi(centre.x()) - lo(centre.x()) + 1.0) *
+                           (hi(centre.y()) - lo(centre.y()) + 1.0) *
+                           (hi(centre.z()) - lo(centre.z()) + 1.0);
+  if (!(box_cells <= static_cast<double>(cells_.size()))) {
+    for (const auto& [id, where] : where_)
+      if ((where.second - centre).squaredNorm() <= r2) out.push_back(id);
+    std::sort(out.begin(), out.end());
+    return out;
+  }
+  const auto x0 = static_cast<std::int64_t>(lo(centre.x()));
+  const auto x1 = static_cast<std::int64_t>(hi(centre.x()));
+  const auto y0 = static_cast<std::int64_t>(lo(centre.y()));
+  const auto y1 = static_cast<std::int64_t>(hi(centre.y()));
+  const auto z0 = static_cast<std::int64_t>(lo(centre.z()));
+  const auto z1 = static_cast<std::int64_t>(hi(centre.z()));
   for (std::int64_t x = x0; x <= x1; ++x)
     for (std::int64_t y = y0; y <= y1; ++y)
       for (std::int64_t z = z0; z <= z1; ++z) {

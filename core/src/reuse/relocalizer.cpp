@@ -48,14 +48,34 @@ std::vector<int> Relocalizer::candidates(const MapStore& map, const SE3d& last_T
                                          const std::vector<int>& recent_ids,
                                          double median_depth) const {
   const Eigen::Vector3d centre = last_T_c_w.inverse().translation();
-  std::vector<int> ids = map.keyframesNear(
-      centre, config_.relocalization_search_radius * std::max(median_depth, 1e-3));
+  const double radius = config_.relocalization_search_radius * std::max(median_depth, 1e-3);
+  std::vector<int> ids = map.keyframesNear(centre, radius);
+  const std::size_t near_limit = static_cast<std::size_t>(config_.relocalization_near_candidates);
+  if (ids.size() > near_limit) {
+    // The nearest first (ties by id, so that the order never depends on the store's layout).
+    std::vector<std::pair<double, int>> by_distance;
+    by_distance.reserve(ids.size());
+    for (const int id : ids)
+      by_distance.push_back({(map.keyframe(id).T_w_c.translation() - centre).squaredNorm(), id});
+    std::partial_sort(by_distance.begin(),
+                      by_distance.begin() + static_cast<std::ptrdiff_t>(near_limit),
+                      by_distance.end());
+    ids.clear();
+    for (std::size_t i = 0; i < near_limit; ++i) ids.push_back(by_distance[i].second);
+  }
+  const std::size_t near = ids.size();
   for (const int id : map.covisibleNeighbourhood(recent_ids, config_.search_hops,
                                                  static_cast<std::size_t>(config_.max_candidates)))
     if (std::find(ids.begin(), ids.end(), id) == ids.end()) ids.push_back(id);
+  const std::size_t covisible = ids.size() - near;
   for (const int id : recent_ids)
     if (map.keyframeData(id) && std::find(ids.begin(), ids.end(), id) == ids.end())
       ids.push_back(id);
+  spdlog::debug(
+      "relocalisation candidates: {} nearest within {:.2f} of the last pose, {} more covisible "
+      "with the "
+      "window, {} more of the window",
+      near, radius, covisible, ids.size() - near - covisible);
   return ids;
 }
 

@@ -21,13 +21,30 @@ TEST(SpatialIndex, FindsExactlyTheCentresWithinTheRadius) {
   }
   for (int q = 0; q < 50; ++q) {
     const Eigen::Vector3d p(U(rng), U(rng), U(rng));
-    for (const double r : {0.1, 0.7, 1.3}) {
+    // Up to radii of many cells (13 cells at 6.5, spanning the whole map): the centre's
+    // neighbours are found whatever the radius.
+    for (const double r : {0.1, 0.7, 1.3, 2.5, 4.5, 6.5}) {
       std::vector<int> expected;
       for (int i = 0; i < 400; ++i)
         if ((c[i] - p).norm() <= r) expected.push_back(i);
       EXPECT_EQ(index.near(p, r), expected) << "radius " << r;
     }
   }
+}
+
+// A sparse map (keyframes along a 60-cell line) searched with a radius of 30 cells around its
+// middle: the keyframes at the centre are found (the search once visited only the first 16 cells
+// of each axis from the low corner of the box, and found none of them).
+TEST(SpatialIndex, ALargeRadiusFindsTheKeyframesAtTheCentre) {
+  SpatialIndex index(0.5);
+  for (int i = 0; i <= 60; ++i) index.set(i, {0.5 * i, 0.1, 0.1});
+  std::vector<int> all(61);
+  for (int i = 0; i <= 60; ++i) all[static_cast<std::size_t>(i)] = i;
+  EXPECT_EQ(index.near({15.0, 0.0, 0.0}, 16.0), all);
+  const std::vector<int> middle = index.near({15.0, 0.0, 0.0}, 9.0);
+  ASSERT_EQ(middle.size(), 35u);  // x = 6.5 .. 23.5 (6 and 24 are 9.0011 away)
+  EXPECT_EQ(middle.front(), 13);
+  EXPECT_EQ(middle.back(), 47);
 }
 
 TEST(SpatialIndex, MovedAndRemovedKeyframesAreFoundWhereTheyAre) {

@@ -167,6 +167,26 @@ TEST_F(RelocalizerTest, FailsWithAReasonForAFrameOfAnUnrelatedScene) {
   EXPECT_NE(r.failure.find("ORB matches"), std::string::npos) << r.failure;
 }
 
+// Of the keyframes within the search radius, only the relocalization_near_candidates nearest to
+// the last pose are matched: a frame's work is bounded however dense the map is there. A frame of
+// nothing the map saw fails at the ORB matching, naming the best of the keyframes it was matched
+// against: with one near candidate, always the keyframe nearest to the last pose.
+TEST_F(RelocalizerTest, MatchesOnlyTheKeyframesNearestToTheLastPose) {
+  addPath();  // keyframes 0, 1, 2 at x = 0, 0.5, 1; all within 3 median depths of each other
+  const ImageF img =
+      test::renderImage(kW, kH, [](double x, double y) { return test::texture(x, y, 12.0, 99); });
+  const ImagePyramid frame = test::makePyramid(img, kLevels);
+  config_.relocalization_near_candidates = 1;
+  Relocalizer relocalizer(config_, camera_);
+  for (int nearest = 0; nearest < 3; ++nearest) {
+    const SE3d last_T_c_w = cameraAt({0.5 * nearest - 0.1, 0.0, 0.25 * nearest}).inverse();
+    const RelocalizationResult r = relocalizer.relocalize(frame, 1.0, map_, last_T_c_w, {}, 3.0);
+    EXPECT_FALSE(r.success);
+    EXPECT_NE(r.failure.find("map keyframe " + std::to_string(nearest) + " has"), std::string::npos)
+        << r.failure;
+  }
+}
+
 TEST_F(RelocalizerTest, FailsForAPlaceTheMapNeverSaw) {
   addPath();
   // The same plane 30 m to the side: the same kind of texture, other patterns.
