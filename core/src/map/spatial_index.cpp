@@ -43,7 +43,7 @@ std::vector<int> SpatialIndex::near(const Eigen::Vector3d& centre, double radius
   const auto hi = [&](double v) { return std::floor((v + radius) / cell_); };
   // A search box of more cells than the index holds (a large radius): every keyframe is tested
   // instead of visiting the box's cells. (The box was once capped at 16 cells per axis from its
-  // low corner, which dropped the keyframes at the centre for radii above 4 cells.)
+  // low corner, which dropped the keyframes at the centre for radii above 8 cells.)
   const double box_cells = (hi(centre.x()) - lo(centre.x()) + 1.0) *
                            (hi(centre.y()) - lo(centre.y()) + 1.0) *
                            (hi(centre.z()) - lo(centre.z()) + 1.0);
