@@ -193,6 +193,7 @@ void CalibrationRefinement::addWindowStep(const CalibVector& step, const CalibMa
     const double z2 = var > 0.0 ? innovation[i] * innovation[i] / var : 0.0;
     scatter_[p] = config_.memory * scatter_[p] + (std::isfinite(z2) ? z2 : 0.0);
   }
+  applied_before_[static_cast<size_t>(windows_ % kQuietWindows)] = applied_;
   ++windows_;
   for (Eigen::Index i = 0; i < m; ++i) {
     const int p = refined_[static_cast<size_t>(i)];
@@ -210,6 +211,17 @@ void CalibrationRefinement::addWindowStep(const CalibVector& step, const CalibMa
       engaged_[u] = false;
     applied_[p] = engaged_[u] ? estimate_[p] : 0.0;
   }
+}
+
+bool CalibrationRefinement::settling() const {
+  if (refined_.empty()) return false;
+  if (windows_ == 0) return true;
+  // The correction applied kQuietWindows windows ago (before the first window while fewer).
+  const CalibVector& ago = applied_before_[static_cast<size_t>(
+      windows_ >= kQuietWindows ? windows_ % kQuietWindows : 0)];
+  for (const int p : refined_)
+    if (std::abs(applied_[p] - ago[p]) > kMoveOfDeadBand * dead_band_[p]) return true;
+  return false;
 }
 
 }  // namespace ldsm

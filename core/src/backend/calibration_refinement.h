@@ -102,6 +102,14 @@ class CalibrationRefinement {
   bool engaged(int param) const { return engaged_[static_cast<size_t>(param)]; }
   /// Windows fused so far.
   int windows() const { return windows_; }
+  /// Whether the camera is still being corrected: no window fused yet (nothing is known about the
+  /// calibration), or over the last kQuietWindows windows an applied parameter moved by more than
+  /// kMoveOfDeadBand of its dead band. Each window is one measurement of the calibration, and the
+  /// frames tracked while it moves are the ones a correction bends; the keyframe rule takes
+  /// keyframes more densely meanwhile (KeyframeConfig::settling_flow_scale).
+  bool settling() const;
+  static constexpr int kQuietWindows = 3;
+  static constexpr double kMoveOfDeadBand = 0.5;
   /// The parameters refined.
   const CalibMask& mask() const { return mask_; }
 
@@ -118,6 +126,8 @@ class CalibrationRefinement {
   CalibVector scatter_ = CalibVector::Zero();  ///< fused mean squared normalised innovation
   double scatter_weight_ = 0.0;                ///< its fused weight (windows, with memory)
   int windows_ = 0;
+  /// applied_ before window i + 1 was fused, at i % kQuietWindows (settling()).
+  std::array<CalibVector, kQuietWindows> applied_before_{};
 };
 
 }  // namespace ldsm

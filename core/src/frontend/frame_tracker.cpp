@@ -29,8 +29,9 @@ std::unique_ptr<CoarseTracker> FrameTracker::makeCoarseTracker() const {
 }
 
 void FrameTracker::adoptReference(std::unique_ptr<CoarseTracker>& prepared, int id,
-                                  const SE3d& T_ref_w) {
+                                  const SE3d& T_ref_w, bool calibration_settling) {
   std::swap(tracker_, prepared);
+  flow_scale_ = calibration_settling ? kf_config_.settling_flow_scale : 1.0;
   has_reference_ = tracker_->hasReference();
   reference_id_ = id;
   T_ref_w_ = T_ref_w;
@@ -115,7 +116,7 @@ FrameTrackingOutcome FrameTracker::track(const ImagePyramid& frame, double expos
 }
 
 bool FrameTracker::keyframeWanted(const CoarseTrackingResult& r, double rmse) const {
-  const double size_norm = 1120.0 / (camera_[0].width + camera_[0].height);
+  const double size_norm = flow_scale_ * 1120.0 / (camera_[0].width + camera_[0].height);
   const double score = kf_config_.flow_translation_weight * size_norm * r.flow_translation +
                        kf_config_.flow_full_weight * size_norm * r.flow_full +
                        kf_config_.brightness_weight * std::fabs(std::log(r.brightness_scale));

@@ -45,8 +45,10 @@ class FrameTracker {
   std::unique_ptr<CoarseTracker> makeCoarseTracker() const;
   /// Tracks from now on with `prepared` (a coarse tracker whose reference was set elsewhere, the
   /// keyframe `id` at world -> camera pose T_ref_w); the previous one is handed back in
-  /// `prepared` for reuse.
-  void adoptReference(std::unique_ptr<CoarseTracker>& prepared, int id, const SE3d& T_ref_w);
+  /// `prepared` for reuse. While `calibration_settling`, the keyframe rule's flow weights are
+  /// multiplied by KeyframeConfig::settling_flow_scale.
+  void adoptReference(std::unique_ptr<CoarseTracker>& prepared, int id, const SE3d& T_ref_w,
+                      bool calibration_settling = false);
   /// Starts a fresh motion history at a known pose (after initialisation).
   void resetMotion(const SE3d& T_c_w_last, const AffineLight& aff_last);
   /// The last frame's pose was refined (it became a keyframe): keep the velocity, move the pose.
@@ -89,6 +91,7 @@ class FrameTracker {
   bool keyframeWanted(const CoarseTrackingResult& r, double rmse) const;
 
   KeyframeConfig kf_config_;
+  double flow_scale_ = 1.0;  ///< on the flow weights (adoptReference)
   double max_rmse_growth_ = 0.0;
   PyramidCamera camera_;
   std::unique_ptr<CoarseTracker> tracker_;

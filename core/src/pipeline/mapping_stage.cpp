@@ -426,7 +426,8 @@ void MappingStage::publishReference() {
   const TrackingReference r = mapper_.newestReference();
   tracker->setReference(*r.pyramid, mapper_.camera(), depth_points_, r.exposure, r.aff,
                         &depth_canvas_);
-  references_.publish({std::move(tracker), r.keyframe_id, r.T_c_w, r.frame_index});
+  references_.publish({std::move(tracker), r.keyframe_id, r.T_c_w, r.frame_index,
+                       mapper_.calibration().settling()});
 }
 
 void MappingStage::publishSnapshot() {

@@ -23,6 +23,8 @@ struct PreparedReference {
   int keyframe_id = -1;
   SE3d T_c_w;  ///< the keyframe's pose (world -> camera)
   std::int64_t frame_index = -1;
+  /// The calibration refinement is still correcting the camera (CalibrationRefinement::settling).
+  bool calibration_settling = false;
 };
 
 class ReferenceExchange {

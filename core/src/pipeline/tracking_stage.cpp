@@ -200,7 +200,7 @@ void TrackingStage::publishImage(const ImagePyramid& pyr, const FrameEvent& fram
 bool TrackingStage::adoptNewestReference() {
   PreparedReference ref;
   if (!mapping_.references().takeNewest(ref)) return false;
-  tracker_.adoptReference(ref.tracker, ref.keyframe_id, ref.T_c_w);
+  tracker_.adoptReference(ref.tracker, ref.keyframe_id, ref.T_c_w, ref.calibration_settling);
   mapping_.references().recycle(std::move(ref.tracker));
   // The keyframe was the last tracked frame: continue from its optimised pose.
   if (ref.frame_index == last_tracked_index_) tracker_.refineLastPose(ref.T_c_w);

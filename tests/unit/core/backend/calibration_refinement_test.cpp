@@ -184,6 +184,50 @@ TEST(CalibrationRefinement, RadialConvergesToAConsistentMeasurement) {
   EXPECT_EQ(r.windows(), 200);
 }
 
+// Settling (the keyframe rule takes keyframes more densely meanwhile): before any window, and while
+// the applied correction moved by more than half its dead band over the last three windows.
+TEST(CalibrationRefinement, SettlesUntilTheAppliedCorrectionStopsMoving) {
+  CalibrationRefinementConfig c = radialOnly();
+  c.settle_windows = 0.0;
+  CalibrationRefinement r(c);
+  EXPECT_TRUE(r.settling());  // nothing known yet
+  // Windows that find the configured camera right: nothing is applied, nothing moves.
+  addRadial(r, 0.0, 1.0);
+  EXPECT_FALSE(r.settling());
+  // A correction of 0.02 engages and converges geometrically (half way per window at first).
+  int settling_windows = 0, last_settling = 0;
+  for (int i = 1; i <= 60; ++i) {
+    addRadial(r, 0.02 - appliedK(r), 1.0);
+    if (r.settling()) {
+      ++settling_windows;
+      last_settling = i;
+    }
+  }
+  EXPECT_TRUE(r.engaged(kCalibRadial));
+  EXPECT_NEAR(appliedK(r), 0.02, 1e-3);
+  EXPECT_GE(settling_windows, CalibrationRefinement::kQuietWindows);
+  EXPECT_LT(last_settling, 60);
+  // Settled, it stays so while the applied value moves by less than half the dead band per three
+  // windows ...
+  for (int i = 0; i < 10; ++i) {
+    addRadial(r, 0.02 + 0.0001 * i - appliedK(r), 1.0);
+    EXPECT_FALSE(r.settling()) << i;
+  }
+  // ... and a jump of the estimate makes it settle again, for as long as the jump lies within the
+  // last three windows.
+  addRadial(r, 0.05 - appliedK(r), 1e4);
+  EXPECT_NEAR(appliedK(r), 0.05, 1e-3);
+  EXPECT_TRUE(r.settling());
+  for (int i = 1; i <= 5; ++i) {
+    addRadial(r, 0.05 - appliedK(r), 1.0);
+    EXPECT_EQ(r.settling(), i < CalibrationRefinement::kQuietWindows) << i;
+  }
+  // A parameter that is not refined never settles anything.
+  CalibrationRefinementConfig none = radialOnly();
+  none.refine_radial = false;
+  EXPECT_FALSE(CalibrationRefinement(none).settling());
+}
+
 TEST(CalibrationRefinement, RadialStaysOffInsideTheDeadBandAndSwitchesWithHysteresis) {
   CalibrationRefinementConfig c = radialOnly();
   c.radial_dead_band = 0.004;
