@@ -48,7 +48,7 @@ class FrameTracker {
   /// `prepared` for reuse. While `calibration_settling`, the keyframe rule's flow weights are
   /// multiplied by KeyframeConfig::settling_flow_scale.
   void adoptReference(std::unique_ptr<CoarseTracker>& prepared, int id, const SE3d& T_ref_w,
-                      bool calibration_settling = false);
+                      bool calibration_settling);
   /// Starts a fresh motion history at a known pose (after initialisation).
   void resetMotion(const SE3d& T_c_w_last, const AffineLight& aff_last);
   /// The last frame's pose was refined (it became a keyframe): keep the velocity, move the pose.
