@@ -202,10 +202,16 @@ TEST(MapReuse, AfterNoiseTrackingResumesInTheOldMapFrame) {
   const double before = r.rmseBetween(0.0, t_noise), after = r.rmseBetween(t_noise, 1e9);
   std::printf("noise: ATE %.4f m (before %.4f, after %.4f)\n", r.ate.rmse, before, after);
   EXPECT_GT(r.ate.matched, 700u - 2 * 15u);
-  // The same 700 frames without noise: 0.0024 m (with noise: 0.0030, this machine). The issue's
-  // bar is twice the clean run's.
-  EXPECT_LT(r.ate.rmse, 2.0 * 0.0024);
-  EXPECT_LT(after, 2.0 * 0.0024);
+  // The bar is twice the ATE of the same 700 frames without noise, run here: a figure
+  // written down goes stale with the engine and the machine (it said 0.0024 m, measured when
+  // this test was written; at 6253d0b on an AMD EPYC the clean run is 0.0036 m, the run with
+  // noise 0.0049 m: 0.0043 before it and 0.0056 after).
+  SceneRun clean;
+  clean.frames = 700;
+  clean.run("loop");
+  std::printf("clean: ATE %.4f m\n", clean.ate.rmse);
+  EXPECT_LT(r.ate.rmse, 2.0 * clean.ate.rmse);
+  EXPECT_LT(after, 2.0 * clean.ate.rmse);
 }
 
 class MergeListener : public ReuseListener {
