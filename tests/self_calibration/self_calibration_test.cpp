@@ -45,7 +45,8 @@ struct SelfCalibrationRun {
 };
 
 SelfCalibrationRun runTold(const TellError& error) {
-  if (std::getenv("LDSM_DEBUG")) spdlog::set_level(spdlog::level::debug);
+  if (const char* level = std::getenv("LDSM_DEBUG"))  // LDSM_DEBUG=1: debug, LDSM_DEBUG=trace
+    spdlog::set_level(std::string(level) == "trace" ? spdlog::level::trace : spdlog::level::debug);
   drivers::sim::SimOptions opt;
   opt.frames = 300;
   drivers::sim::SimSource source("loop", opt);

@@ -61,6 +61,8 @@ class InitializerHypotheses {
   /// while panning (rotation scene) the hypotheses' RMS differ by less than 10 %.
   static constexpr double kComparableInliers = 0.9;
   static constexpr double kClearlyBetterRms = 0.8;
+  /// Another hypothesis takes the lead by energy only below this times the leader's energy.
+  static constexpr double kTakeOverEnergy = 0.97;
   /// Two hypotheses closer than this in rotation (degrees) and translation direction (degrees)
   /// are the same: the one with the higher energy is dropped.
   static constexpr double kSameRotationDeg = 0.05;
