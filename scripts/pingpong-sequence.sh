@@ -32,7 +32,8 @@ if [ -d "$src/sequences" ]; then
   # KITTI odometry layout (sequences/NN/image_0/*.png, times.txt, calib.txt; poses/NN.txt): the
   # timestamps renumbered at the sequence's own interval, the poses and groundtruth.txt repeated.
   # A car that reverses in an instant: every second leg is driven backwards.
-  seq=$(ls "$src/sequences" | head -n 1)
+  first_seq=("$src"/sequences/*)  # a glob, not `ls | head` (SIGPIPE under pipefail)
+  seq=${first_seq[0]##*/}
   mkdir -p "$out/sequences/$seq/image_0" "$out/poses"
   cp "$src/sequences/$seq/calib.txt" "$out/sequences/$seq/"
   for f in camera.txt SOURCE.txt; do [ -f "$src/$f" ] && cp "$src/$f" "$out/"; done
@@ -69,7 +70,8 @@ mapfile -t frames < <(awk '!/^#/ && NF >= 2 {print $1}' "$src/times.txt")
 mapfile -t stamps < <(awk '!/^#/ && NF >= 2 {print $2}' "$src/times.txt")
 n=${#frames[@]}
 dt=$(awk -v a="${stamps[0]}" -v b="${stamps[$((n - 1))]}" -v n="$n" 'BEGIN {printf "%.9f", (b - a) / (n - 1)}')
-ext=$(ls "$src/images" | head -n 1 | sed 's/.*\.//')
+first_image=("$src"/images/*)  # a glob, not `ls | head` (SIGPIPE under pipefail)
+ext=${first_image[0]##*.}
 : > "$out/times.txt"
 gt_out="$out/groundtruth.txt"
 echo "# timestamp tx ty tz qx qy qz qw (camera-to-world), $passes forward+backward passes" > "$gt_out"

@@ -16,7 +16,10 @@ cp "$src/camera.txt" "$out/"
 for f in pcalib.txt vignette.png; do [ -f "$src/$f" ] && cp "$src/$f" "$out/"; done
 awk -v a="$first" -v b="$last" '!/^#/ && NF >= 2 && $1 + 0 >= a && $1 + 0 <= b' \
   "$src/times.txt" > "$out/times.txt"
-ext=$(ls "$src/images" | head -n 1 | sed 's/.*\.//')
+# The first image's extension (a glob, not `ls | head`: under pipefail, ls killed by SIGPIPE
+# when head has read its line fails the script, now and then).
+first_image=("$src"/images/*)
+ext=${first_image[0]##*.}
 awk -v src="$src/images" -v ext="$ext" '{print src "/" $1 "." ext "\t" $1 "." ext}' "$out/times.txt" |
   (cd "$out/images" && perl -ne 'chomp; my ($t, $l) = split /\t/; symlink($t, $l) or die "$l: $!\n"')
 if [ -f "$src/groundtruth.txt" ]; then
