@@ -36,6 +36,11 @@ struct EvalOptions {
   std::size_t segment = 0;
   std::string plot_path;
   std::string json_path;
+  /// Another estimate in the same frame (e.g. the session that saved a map): the ATE is also
+  /// measured under the alignment of that one.
+  std::string align_as_path;
+  std::string align_as_format = "auto";
+  std::string align_as_times;
 };
 
 struct LoadedTrajectory {
@@ -64,6 +69,9 @@ LoadedTrajectory load(const std::string& path, const std::string& format_name,
 
 struct EvalResults {
   eval::AteResult ate;
+  /// With --align-as: the estimate under the reference's alignment, and the reference's own ATE.
+  std::optional<eval::AteResult> ate_under_reference;
+  std::optional<eval::AteResult> reference_ate;
   eval::RpeResult rpe;
   double rpe_scale = 1.0;
   std::optional<eval::LoopDriftResult> drift;
@@ -91,7 +99,16 @@ std::string summaryLine(const EvalResults& r) {
   } else {
     std::snprintf(buf, sizeof(buf), ", e_align n/a");
   }
-  return line + buf;
+  line += buf;
+  if (r.ate_under_reference) {
+    std::snprintf(
+        buf, sizeof(buf),
+        "\nATE rmse %.4g m over %zu poses under the alignment of the reference (which has "
+        "%.4g m under its own)",
+        r.ate_under_reference->rmse, r.ate_under_reference->matched, r.reference_ate->rmse);
+    line += buf;
+  }
+  return line;
 }
 
 void writeAlignment(drivers::JsonWriter& w, const eval::Alignment& a) {
@@ -138,6 +155,19 @@ std::string jsonReport(const EvalOptions& o, const LoadedTrajectory& gt,
   w.key("alignment");
   writeAlignment(w, r.ate.alignment);
   w.endObject();
+
+  if (r.ate_under_reference) {
+    w.key("align_as").beginObject();
+    w.key("path").value(o.align_as_path);
+    w.key("reference_rmse").value(r.reference_ate->rmse);
+    w.key("reference_matched").value(static_cast<std::uint64_t>(r.reference_ate->matched));
+    w.key("rmse").value(r.ate_under_reference->rmse);
+    w.key("max").value(r.ate_under_reference->max);
+    w.key("matched").value(static_cast<std::uint64_t>(r.ate_under_reference->matched));
+    w.key("alignment");
+    writeAlignment(w, r.ate_under_reference->alignment);
+    w.endObject();
+  }
 
   w.key("rpe");
   if (r.rpe.valid()) {
@@ -214,6 +244,16 @@ void run(const EvalOptions& o) {
                  r.ate.matched, est.poses.size(), o.max_dt);
   }
 
+  if (!o.align_as_path.empty()) {
+    const LoadedTrajectory ref =
+        load(o.align_as_path, o.align_as_format, o.align_as_times, "--align-as-times");
+    if ((ref.format == drivers::TrajectoryFormat::Kitti && o.align_as_times.empty()) != gt_untimed)
+      throw InputError(ref.path + ": KITTI poses carry no timestamps; pass --align-as-times");
+    r.reference_ate = eval::computeAte(gt.poses, ref.poses, mode, o.max_dt);
+    r.ate_under_reference =
+        eval::computeAteUnder(gt.poses, est.poses, r.reference_ate->alignment, o.max_dt);
+  }
+
   eval::RpeOptions rpe;
   rpe.lengths = o.rpe_lengths;
   rpe.step = o.rpe_step;
@@ -282,6 +322,14 @@ void addEvalCommand(CLI::App& app, CommandResult& result) {
                   "Poses in the start and end segment of the loop drift (0: a fifth of the poses)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  sub->add_option("--align-as", opts->align_as_path,
+                  "Also measure the estimate under the alignment of this trajectory (one in the "
+                  "same frame, e.g. the run that saved the map a --load-map run started in)");
+  sub->add_option("--align-as-format", opts->align_as_format, "auto, tum, euroc or kitti")
+      ->check(CLI::IsMember(formats))
+      ->capture_default_str();
+  sub->add_option("--align-as-times", opts->align_as_times,
+                  "Timestamps of a KITTI --align-as trajectory (times.txt)");
   sub->add_option("--plot", opts->plot_path, "Write a top-view plot (.png or .svg)");
   sub->add_option("--json", opts->json_path, "Write the results as JSON");
   sub->callback([opts]() { run(*opts); });

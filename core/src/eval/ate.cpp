@@ -19,24 +19,22 @@ double median(std::vector<double> v) {
   return 0.5 * (lower + upper);
 }
 
-}  // namespace
-
-AteResult computeAte(const Trajectory& gt, const Trajectory& est, AlignMode mode, double max_dt) {
-  AteResult r;
-  r.pairs = associate(gt, est, max_dt);
-  if (r.pairs.size() < 3) {
-    throw InputError("ATE: only " + std::to_string(r.pairs.size()) + " of " +
+/// The matched pairs of gt and est, or InputError when fewer than 3.
+std::vector<IndexPair> matchedPairs(const Trajectory& gt, const Trajectory& est, double max_dt) {
+  std::vector<IndexPair> pairs = associate(gt, est, max_dt);
+  if (pairs.size() < 3) {
+    throw InputError("ATE: only " + std::to_string(pairs.size()) + " of " +
                      std::to_string(est.size()) +
                      " estimated poses have a ground-truth pose within " + std::to_string(max_dt) +
                      " s; need at least 3 (check the timestamps)");
   }
+  return pairs;
+}
+
+/// Fills r's errors and statistics from r.pairs and r.alignment.
+void measure(const Trajectory& gt, const Trajectory& est, AteResult& r) {
   const std::vector<Eigen::Vector3d> p_gt = gtPositions(gt, r.pairs);
   const std::vector<Eigen::Vector3d> p_est = estPositions(est, r.pairs);
-
-  const Alignment sim3 = alignUmeyama(p_est, p_gt, true);
-  r.sim3_scale = sim3.scale;
-  r.alignment = mode == AlignMode::Sim3 ? sim3 : alignUmeyama(p_est, p_gt, false);
-
   r.matched = r.pairs.size();
   r.errors.resize(r.matched);
   double sum = 0.0;
@@ -65,6 +63,29 @@ AteResult computeAte(const Trajectory& gt, const Trajectory& est, AlignMode mode
   for (const StampedPose& sp : est) {
     r.aligned_estimate.push_back({sp.timestamp, r.alignment.apply(sp.pose)});
   }
+}
+
+}  // namespace
+
+AteResult computeAte(const Trajectory& gt, const Trajectory& est, AlignMode mode, double max_dt) {
+  AteResult r;
+  r.pairs = matchedPairs(gt, est, max_dt);
+  const std::vector<Eigen::Vector3d> p_gt = gtPositions(gt, r.pairs);
+  const std::vector<Eigen::Vector3d> p_est = estPositions(est, r.pairs);
+  const Alignment sim3 = alignUmeyama(p_est, p_gt, true);
+  r.sim3_scale = sim3.scale;
+  r.alignment = mode == AlignMode::Sim3 ? sim3 : alignUmeyama(p_est, p_gt, false);
+  measure(gt, est, r);
+  return r;
+}
+
+AteResult computeAteUnder(const Trajectory& gt, const Trajectory& est, const Alignment& alignment,
+                          double max_dt) {
+  AteResult r;
+  r.pairs = matchedPairs(gt, est, max_dt);
+  r.alignment = alignment;
+  r.sim3_scale = alignment.scale;
+  measure(gt, est, r);
   return r;
 }
 

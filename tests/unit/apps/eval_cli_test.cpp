@@ -122,6 +122,45 @@ TEST_F(EvalCli, BadInputFails) {
   EXPECT_NE(format.output.find("gt.txt:"), std::string::npos) << format.output;
 }
 
+// --align-as: the second session of a saved map is measured under the first session's alignment.
+TEST_F(EvalCli, AlignAsMeasuresASecondSessionInTheFirstOnesFrame) {
+  const Trajectory gt = testing::curvedTrajectory(300);
+  const Alignment g = testing::makeSim3(0.5, {0, 1, 0}, {1, 2, 3}, 0.5);
+  const Trajectory first = testing::transformed(gt, g.inverse());
+  // The second session: the last 100 poses, 4 cm off in the map frame (2 cm in gt units).
+  Trajectory second(first.begin() + 200, first.end());
+  for (StampedPose& sp : second) sp.pose.translation += Eigen::Vector3d(0.04, 0.0, 0.0);
+  drivers::writeTumTrajectory(dir_ + "/gt.txt", gt);
+  drivers::writeTumTrajectory(dir_ + "/first.txt", first);
+  drivers::writeTumTrajectory(dir_ + "/second.txt", second);
+
+  const RunResult r = runLdsm("eval --gt " + dir_ + "/gt.txt --est " + dir_ + "/second.txt" +
+                              " --align-as " + dir_ + "/first.txt --json " + dir_ + "/s.json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  double own = -1.0;
+  ASSERT_EQ(std::sscanf(r.output.c_str(), "ATE rmse %lf", &own), 1) << r.output;
+  EXPECT_LT(own, 1e-6);  // its own alignment hides the offset
+  const std::size_t at = r.output.find("\nATE rmse ");
+  ASSERT_NE(at, std::string::npos) << r.output;
+  double under = -1.0, reference = -1.0;
+  ASSERT_EQ(std::sscanf(r.output.c_str() + at + 1,
+                        "ATE rmse %lf m over 100 poses under the alignment of the reference "
+                        "(which has %lf m under its own)",
+                        &under, &reference),
+            2)
+      << r.output;
+  EXPECT_NEAR(under, 0.02, 1e-5);
+  EXPECT_LT(reference, 1e-6);
+  const std::string json = slurp(dir_ + "/s.json");
+  for (const char* key : {"\"align_as\"", "\"reference_rmse\"", "\"reference_matched\": 300"})
+    EXPECT_NE(json.find(key), std::string::npos) << key << " missing in\n" << json;
+
+  const RunResult missing = runLdsm("eval --gt " + dir_ + "/gt.txt --est " + dir_ +
+                                    "/second.txt --align-as " + dir_ + "/none.txt");
+  EXPECT_NE(missing.exit_code, 0);
+  EXPECT_NE(missing.output.find("none.txt"), std::string::npos) << missing.output;
+}
+
 TEST_F(EvalCli, SharedGroundTruthAgainstItself) {
   const std::string gt = std::string(LDSM_SHARED_DATA) + "/vamr_desk_loop/groundtruth.txt";
   if (!std::filesystem::exists(gt)) GTEST_SKIP() << "../shared/data absent: " << gt;

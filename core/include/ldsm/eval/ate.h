@@ -40,4 +40,11 @@ struct AteResult {
 AteResult computeAte(const Trajectory& gt, const Trajectory& est, AlignMode mode = AlignMode::Sim3,
                      double max_dt = 0.02);
 
+/// The ATE of `est` under a given alignment (est -> gt) instead of its own: for an estimate that
+/// must be in the same frame as another, e.g. a session started in a saved map, measured under the
+/// Sim(3) that aligns the session that made the map (docs/map-sessions.md). `sim3_scale` is the
+/// given alignment's scale. Throws ldsm::InputError when fewer than 3 poses match.
+AteResult computeAteUnder(const Trajectory& gt, const Trajectory& est, const Alignment& alignment,
+                          double max_dt = 0.02);
+
 }  // namespace ldsm::eval

@@ -54,6 +54,42 @@ TEST(Ate, Se3ModeReportsTheScaleError) {
   EXPECT_NEAR(sim3.alignment.scale, 0.8, 1e-9);
 }
 
+// A second estimate in the frame of a first (a session started in a saved map) is measured under
+// the first one's alignment, unchanged: an offset its own alignment would hide counts in full.
+TEST(Ate, UnderAGivenAlignmentAnOffsetCountsInFull) {
+  const Trajectory gt = curvedTrajectory(300);
+  const Alignment g = makeSim3(0.7, {0.0, 1.0, 0.5}, {2.0, -1.0, 4.0}, 0.4);
+  const Trajectory est = transformed(gt, g.inverse());
+  const AteResult exact = computeAteUnder(gt, est, g);
+  EXPECT_LT(exact.rmse, 1e-9);
+  EXPECT_EQ(exact.matched, 300u);
+  EXPECT_EQ(exact.sim3_scale, 0.4);
+  EXPECT_LT(exact.rotation_rmse_deg, 1e-6);
+
+  // The same estimate 5 cm off in its own frame (units of est): 0.4 * 0.05 = 2 cm in gt units,
+  // at every pose, while its own alignment takes the offset away.
+  Trajectory shifted = est;
+  for (StampedPose& sp : shifted) sp.pose.translation += Eigen::Vector3d(0.0, 0.05, 0.0);
+  const AteResult under = computeAteUnder(gt, shifted, g);
+  EXPECT_NEAR(under.rmse, 0.02, 1e-9);
+  EXPECT_NEAR(under.max, 0.02, 1e-9);
+  EXPECT_NEAR(under.median, 0.02, 1e-9);
+  EXPECT_LT(computeAte(gt, shifted).rmse, 1e-9);
+  ASSERT_EQ(under.aligned_estimate.size(), shifted.size());
+  EXPECT_NEAR((under.aligned_estimate[7].pose.translation - gt[7].pose.translation).norm(), 0.02,
+              1e-9);
+
+  // A part of the trajectory only: the matched poses are those of the part.
+  const Trajectory second_half(shifted.begin() + 150, shifted.end());
+  const AteResult half = computeAteUnder(gt, second_half, g);
+  EXPECT_EQ(half.matched, 150u);
+  EXPECT_NEAR(half.rmse, 0.02, 1e-9);
+
+  Trajectory late = est;
+  for (StampedPose& sp : late) sp.timestamp += 1000.0;
+  EXPECT_THROW(computeAteUnder(gt, late, g), InputError);
+}
+
 TEST(Ate, GaussianNoiseGivesSigmaSqrt3) {
   const std::size_t n = 4000;
   const double sigma = 0.05;
