@@ -247,8 +247,14 @@ void run(const EvalOptions& o) {
   if (!o.align_as_path.empty()) {
     const LoadedTrajectory ref =
         load(o.align_as_path, o.align_as_format, o.align_as_times, "--align-as-times");
-    if ((ref.format == drivers::TrajectoryFormat::Kitti && o.align_as_times.empty()) != gt_untimed)
-      throw InputError(ref.path + ": KITTI poses carry no timestamps; pass --align-as-times");
+    const bool ref_untimed =
+        ref.format == drivers::TrajectoryFormat::Kitti && o.align_as_times.empty();
+    if (ref_untimed != gt_untimed) {
+      throw InputError((ref_untimed ? ref.path : gt.path) +
+                       ": KITTI poses carry no timestamps; pass " +
+                       (ref_untimed ? "--align-as-times" : "--gt-times") +
+                       " (or give both as KITTI files to match them by index)");
+    }
     r.reference_ate = eval::computeAte(gt.poses, ref.poses, mode, o.max_dt);
     r.ate_under_reference =
         eval::computeAteUnder(gt.poses, est.poses, r.reference_ate->alignment, o.max_dt);

@@ -159,6 +159,16 @@ TEST_F(EvalCli, AlignAsMeasuresASecondSessionInTheFirstOnesFrame) {
                                     "/second.txt --align-as " + dir_ + "/none.txt");
   EXPECT_NE(missing.exit_code, 0);
   EXPECT_NE(missing.output.find("none.txt"), std::string::npos) << missing.output;
+
+  // A KITTI reference without its timestamps cannot be matched with a timed ground truth.
+  drivers::writeKittiPoses(dir_ + "/first_kitti.txt", first);
+  const RunResult untimed = runLdsm("eval --gt " + dir_ + "/gt.txt --est " + dir_ +
+                                    "/second.txt --align-as " + dir_ + "/first_kitti.txt");
+  EXPECT_NE(untimed.exit_code, 0);
+  EXPECT_NE(untimed.output.find("first_kitti.txt: KITTI poses carry no timestamps; pass "
+                                "--align-as-times"),
+            std::string::npos)
+      << untimed.output;
 }
 
 TEST_F(EvalCli, SharedGroundTruthAgainstItself) {
