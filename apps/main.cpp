@@ -9,6 +9,7 @@
 #include <string>
 
 #include "commands.h"
+#include "ldsm/drivers/allocator_policy.h"
 #include "ldsm/error.h"
 #include "logging.h"
 
@@ -17,6 +18,8 @@ int main(int argc, char** argv) {
   // code paths off, a stand-in for a machine with fewer CPU features.
   if (const char* v = std::getenv("LDSM_CV_UNOPTIMIZED"); v != nullptr && std::string(v) == "1")
     cv::setUseOptimized(false);
+  // Freed image-sized buffers go back to the system (ldsm/drivers/allocator_policy.h).
+  ldsm::drivers::setHeapPolicy();
   CLI::App app{"ldsm: live monocular direct SLAM for robots", "ldsm"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("ldsm ") + LDSM_VERSION_STRING);

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "bench_input.h"
+#include "ldsm/drivers/allocator_policy.h"
 #include "ldsm/drivers/machine_info.h"
 #include "ldsm/error.h"
 #include "ldsm/eval/ate.h"
@@ -99,6 +100,7 @@ Result runSequence(const Sequence& s, const std::string& data, int threads) {
 
 int main(int argc, char** argv) {
   spdlog::set_level(spdlog::level::warn);
+  ldsm::drivers::setHeapPolicy();  // as `ldsm run` does, so that peak RSS compares
   std::string data = LDSM_BENCH_DATA;
   std::string only;
   bool check = false;

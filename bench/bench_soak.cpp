@@ -32,6 +32,7 @@
 #include <thread>
 
 #include "bench_input.h"
+#include "ldsm/drivers/allocator_policy.h"
 #include "ldsm/drivers/config_yaml.h"
 #include "ldsm/drivers/machine_info.h"
 #include "ldsm/drivers/trajectory_io.h"
@@ -77,6 +78,7 @@ double ate(const ldsm::Trajectory& gt, const ldsm::Trajectory& est) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  ldsm::drivers::setHeapPolicy();  // as `ldsm run` does
   std::string dataset;
   std::int64_t per_pass = 0;
   bool realtime = false, reuse = true, loop = true;

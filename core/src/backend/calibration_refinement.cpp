@@ -45,9 +45,11 @@ bool positiveDefinite(const Eigen::LDLT<Eigen::MatrixXd>& ldlt) {
 }  // namespace
 
 bool calibrationEnvelopeStep(const Eigen::MatrixXd& H, const Eigen::VectorXd& b,
-                             const Eigen::MatrixXd& coupling, const std::vector<double>& H_dd,
-                             const std::vector<double>& b_d, const CalibrationTerms& terms,
-                             const CalibMask& mask, CalibVector* step, CalibMatrix* curvature) {
+                             const Eigen::Ref<const Eigen::MatrixXd>& coupling,
+                             const std::vector<double>& H_dd, const std::vector<double>& b_d,
+                             const CalibrationTerms& terms, const CalibMask& mask,
+                             CalibVector* step, CalibMatrix* curvature,
+                             Eigen::MatrixXd* schur_scratch) {
   step->setZero();
   curvature->setZero();
   const Eigen::Index dim = H.rows();
@@ -74,7 +76,8 @@ bool calibrationEnvelopeStep(const Eigen::MatrixXd& H, const Eigen::VectorXd& b,
     }
   }
   Eigen::MatrixXd A = H;
-  subtractDepthSchur(A, coupling, inv_d);
+  Eigen::MatrixXd local_scratch;
+  subtractDepthSchur(A, coupling, inv_d, schur_scratch ? *schur_scratch : local_scratch);
   Eigen::VectorXd g = b;
   g.noalias() -= coupling * wb;
   // Eliminate the frames. Monocular scale is a null direction of A that c does not touch (the

@@ -62,11 +62,14 @@ struct CalibrationTerms {
 ///   curvature S = H_cc - h^T A^-1 h,  step = -S^-1 (b_c - h^T A^-1 g)
 /// over the depth-reduced frame block A, restricted to the parameters of `mask` (the others:
 /// zero step, zero rows and columns). False (step and curvature 0) when S is not positive
-/// definite or not finite.
+/// definite or not finite. `schur_scratch` (optional) is the depth elimination's scratch
+/// (subtractDepthSchur), kept by the caller between calls.
 bool calibrationEnvelopeStep(const Eigen::MatrixXd& H, const Eigen::VectorXd& b,
-                             const Eigen::MatrixXd& coupling, const std::vector<double>& H_dd,
-                             const std::vector<double>& b_d, const CalibrationTerms& terms,
-                             const CalibMask& mask, CalibVector* step, CalibMatrix* curvature);
+                             const Eigen::Ref<const Eigen::MatrixXd>& coupling,
+                             const std::vector<double>& H_dd, const std::vector<double>& b_d,
+                             const CalibrationTerms& terms, const CalibMask& mask,
+                             CalibVector* step, CalibMatrix* curvature,
+                             Eigen::MatrixXd* schur_scratch = nullptr);
 
 /// Fuses the windows' envelope steps into one estimate of c and keeps the correction the window
 /// applies. Each window's measurement applied + step is weighted by its curvature matrix against

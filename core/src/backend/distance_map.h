@@ -15,7 +15,15 @@ namespace ldsm {
 /// once, without spreading.
 class DistanceMap {
  public:
-  DistanceMap(int w, int h) : w_(w), h_(h), d_(static_cast<std::size_t>(w) * h, kFar) {}
+  DistanceMap() = default;
+  DistanceMap(int w, int h) { reset(w, h); }
+  /// A w x h map with no cell marked. Keeps its memory when it is large enough (the mapper resets
+  /// one map at every keyframe instead of allocating an image-sized one).
+  void reset(int w, int h) {
+    w_ = w;
+    h_ = h;
+    d_.assign(static_cast<std::size_t>(w) * h, kFar);
+  }
   void mark(float u0, float v0) {
     const int x = static_cast<int>(u0 * 0.5f + 0.5f), y = static_cast<int>(v0 * 0.5f + 0.5f);
     if (x < 0 || y < 0 || x >= w_ || y >= h_) return;
@@ -53,7 +61,7 @@ class DistanceMap {
 
  private:
   static constexpr int kFar = 1 << 20;
-  int w_, h_;
+  int w_ = 0, h_ = 0;
   std::vector<int> d_;
 };
 

@@ -8,6 +8,7 @@
 #include <memory>
 #include <vector>
 
+#include "backend/distance_map.h"
 #include "backend/marginalization_prior.h"
 #include "backend/window_keyframe.h"
 #include "backend/window_optimizer.h"
@@ -252,6 +253,7 @@ class Mapper {
   int chain_start_id_ = 0;
   std::uint64_t next_point_id_ = 0;
   float min_activation_distance_ = 2.f;
+  DistanceMap activation_distance_;  ///< activatePoints()' spacing map, kept for its memory
   MapUpdate update_;  ///< collected during the current operation
   float coverage_radius_ = 0.f;
   std::vector<ReactivatedFit> reactivated_fit_;

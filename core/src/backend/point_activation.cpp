@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "backend/distance_map.h"
 #include "backend/mapper.h"
 
 namespace ldsm {
@@ -92,7 +91,8 @@ int Mapper::activatePoints() {
     min_activation_distance_ += 0.1f;
   min_activation_distance_ = std::clamp(min_activation_distance_, 0.f, 4.f);
 
-  DistanceMap dist((cam.width + 1) / 2, (cam.height + 1) / 2);
+  DistanceMap& dist = activation_distance_;
+  dist.reset((cam.width + 1) / 2, (cam.height + 1) / 2);
   std::vector<DepthPoint> projected;
   trackingPoints(projected);
   for (const auto& p : projected) dist.mark(p.u, p.v);

@@ -193,7 +193,7 @@ void WindowOptimizer::linearize(const std::vector<WindowKeyframe*>& window,
 
   size_t num_points = 0;
   for (const auto* kf : window) num_points += kf->points.size();
-  sys.coupling.setZero(dim, static_cast<Eigen::Index>(num_points));
+  sys.resetCoupling(dim, static_cast<Eigen::Index>(num_points));
 
   // The hosts' points are independent (each writes its own points, its own pair blocks and its
   // own coupling columns), so they are linearised as parallel tasks, one per host; the energies
@@ -229,7 +229,7 @@ void WindowOptimizer::linearize(const std::vector<WindowKeyframe*>& window,
           ++inl;
           H_dd += acc.H_dd;
           b_d += acc.b_d;
-          addCoupling(adjoints_[pi], acc.coupling, h, t, sys.coupling.col(col));
+          addCoupling(adjoints_[pi], acc.coupling, h, t, sys.coupling().col(col));
         } else {
           ht.energies.push_back(outlierEnergy(pairs_[pi], settings_.residual));
           ht.inlier.push_back(0);
@@ -306,9 +306,10 @@ void WindowOptimizer::solve(const System& sys, double lambda, Eigen::VectorXd& f
     inv_dd[i] = hdd > 1e-10 && !sys.points[i]->fixed ? 1.0 / hdd : 0.0;
   }
   Eigen::MatrixXd Hs = sys.H;
-  subtractDepthSchur(Hs, sys.coupling, inv_dd, schur_scratch_);
+  const auto coupling = sys.coupling();
+  subtractDepthSchur(Hs, coupling, inv_dd, schur_scratch_);
   Eigen::VectorXd bs = sys.b;
-  for (Eigen::Index i = 0; i < np; ++i) bs -= sys.coupling.col(i) * (sys.b_d[i] * inv_dd[i]);
+  for (Eigen::Index i = 0; i < np; ++i) bs -= coupling.col(i) * (sys.b_d[i] * inv_dd[i]);
 
   // Jacobi scaling makes poses, affine parameters and depths comparable; LM damping on top.
   Eigen::VectorXd s(dim);
@@ -321,7 +322,7 @@ void WindowOptimizer::solve(const System& sys, double lambda, Eigen::VectorXd& f
 
   point_step.assign(static_cast<size_t>(np), 0.0);
   for (Eigen::Index i = 0; i < np; ++i)
-    point_step[i] = -(sys.b_d[i] + sys.coupling.col(i).dot(frame_step)) * inv_dd[i];
+    point_step[i] = -(sys.b_d[i] + coupling.col(i).dot(frame_step)) * inv_dd[i];
 }
 
 void WindowOptimizer::saveResidualStates(const std::vector<ActivePoint*>& points) {
@@ -368,7 +369,8 @@ WindowOptimizationResult WindowOptimizer::optimize(const std::vector<WindowKeyfr
                                                    const MarginalizationPrior& prior) {
   WindowOptimizationResult result;
   if (window.size() < 2) return result;
-  System sys, trial;
+  System& sys = sys_;
+  System& trial = trial_;
   precalcPairs(window);
   linearize(window, prior, sys);
   result.initial_energy = sys.energy;
@@ -425,9 +427,9 @@ WindowOptimizationResult WindowOptimizer::optimize(const std::vector<WindowKeyfr
     Eigen::MatrixXd H = sys.H;
     Eigen::VectorXd b = sys.b;
     addMarginalizationPrior(window, prior, -1.0, &H, &b);
-    result.calibration_valid =
-        calibrationEnvelopeStep(H, b, sys.coupling, sys.H_dd, sys.b_d, sys.calibration, mask,
-                                &result.calibration_step, &result.calibration_curvature);
+    result.calibration_valid = calibrationEnvelopeStep(
+        H, b, sys.coupling(), sys.H_dd, sys.b_d, sys.calibration, mask, &result.calibration_step,
+        &result.calibration_curvature, &schur_scratch_);
   }
   return result;
 }

@@ -104,7 +104,22 @@ class WindowOptimizer {
   struct System {
     Eigen::MatrixXd H;  ///< frames (8n x 8n), residuals + priors
     Eigen::VectorXd b;
-    Eigen::MatrixXd coupling;  ///< 8n x points: sum w J_frame^T J_d per point
+    /// 8n x points: sum w J_frame^T J_d per point. The first columns of coupling_buffer, which
+    /// keeps its memory from one linearisation to the next: the points change with every
+    /// keyframe, and a matrix of their exact size (about 1 MB) was allocated each time.
+    Eigen::MatrixXd::ColsBlockXpr coupling() { return coupling_buffer.leftCols(num_points); }
+    Eigen::MatrixXd::ConstColsBlockXpr coupling() const {
+      return coupling_buffer.leftCols(num_points);
+    }
+    /// A zero coupling of `rows` x `points`, grown (by a quarter more) only when too small.
+    void resetCoupling(Eigen::Index rows, Eigen::Index points) {
+      if (coupling_buffer.rows() != rows || coupling_buffer.cols() < points)
+        coupling_buffer.resize(rows, points + points / 4);
+      num_points = points;
+      coupling().setZero();
+    }
+    Eigen::MatrixXd coupling_buffer;
+    Eigen::Index num_points = 0;
     std::vector<double> H_dd;  ///< per point
     std::vector<double> b_d;   ///< per point
     std::vector<ActivePoint*> points;
@@ -164,6 +179,8 @@ class WindowOptimizer {
   /// The solve's scaled coupling matrix (subtractDepthSchur), kept between solves: only its
   /// memory is reused, every solve writes all of it.
   mutable Eigen::MatrixXd schur_scratch_;
+  /// The optimisation's current and trial systems, kept between keyframes for their memory.
+  System sys_, trial_;
   concurrency::ParallelTasks* tasks_ = nullptr;
 };
 
