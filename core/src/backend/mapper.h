@@ -254,7 +254,7 @@ class Mapper {
   std::uint64_t next_point_id_ = 0;
   float min_activation_distance_ = 2.f;
   DistanceMap activation_distance_;  ///< activatePoints()' spacing map, kept for its memory
-  MapUpdate update_;  ///< collected during the current operation
+  MapUpdate update_;                 ///< collected during the current operation
   float coverage_radius_ = 0.f;
   std::vector<ReactivatedFit> reactivated_fit_;
   /// The fit of each reactivated keyframe in the newest keyframe now.
