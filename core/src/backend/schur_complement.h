@@ -3,19 +3,18 @@
 
 #include <Eigen/Core>
 
+#include "backend/kept_columns.h"
+
 namespace ldsm {
 
 /// A -= C diag(inv_d) C^T for a symmetric A and non-negative inv_d, as one symmetric rank-k
 /// update (half the products of the general product), then mirrored into the upper triangle.
-/// C diag(sqrt(inv_d)) is written into the first columns of `scratch`, which is grown (by a
-/// quarter more than needed) only when it is too small: passing the same matrix every time keeps
-/// its memory (about 1 MB for a window) instead of allocating it for each solve, also when the
-/// number of points changes from one keyframe to the next.
+/// C diag(sqrt(inv_d)) is written into the first columns of `scratch` (keptColumns()): passing
+/// the same matrix every time keeps its memory (about 1 MB for a window) instead of allocating it
+/// for each solve, also when the number of points changes from one keyframe to the next.
 inline void subtractDepthSchur(Eigen::MatrixXd& A, const Eigen::Ref<const Eigen::MatrixXd>& C,
                                const Eigen::VectorXd& inv_d, Eigen::MatrixXd& scratch) {
-  if (scratch.rows() != C.rows() || scratch.cols() < C.cols())
-    scratch.resize(C.rows(), C.cols() + C.cols() / 4);
-  auto scaled = scratch.leftCols(C.cols());
+  auto scaled = keptColumns(scratch, C.rows(), C.cols());
   scaled.noalias() = C * inv_d.cwiseSqrt().asDiagonal();
   A.selfadjointView<Eigen::Lower>().rankUpdate(scaled, -1.0);
   A.triangularView<Eigen::StrictlyUpper>() = A.transpose();

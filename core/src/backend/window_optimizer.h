@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "backend/calibration_refinement.h"
+#include "backend/kept_columns.h"
 #include "backend/marginalization_prior.h"
 #include "backend/photometric_residual.h"
 #include "backend/window_keyframe.h"
@@ -111,12 +112,10 @@ class WindowOptimizer {
     Eigen::MatrixXd::ConstColsBlockXpr coupling() const {
       return coupling_buffer.leftCols(num_points);
     }
-    /// A zero coupling of `rows` x `points`, grown (by a quarter more) only when too small.
+    /// A zero coupling of `rows` x `points` (keptColumns()).
     void resetCoupling(Eigen::Index rows, Eigen::Index points) {
-      if (coupling_buffer.rows() != rows || coupling_buffer.cols() < points)
-        coupling_buffer.resize(rows, points + points / 4);
+      keptColumns(coupling_buffer, rows, points).setZero();
       num_points = points;
-      coupling().setZero();
     }
     Eigen::MatrixXd coupling_buffer;
     Eigen::Index num_points = 0;
