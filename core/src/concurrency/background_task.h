@@ -112,6 +112,8 @@ class BackgroundTask {
     return idle();
   }
 
+  /// Every submitted job has been processed (a snapshot).
+  bool idle() const { return processed() >= submitted(); }
   /// Raises the abort flag (the running job should return soon), joins the worker and drops what
   /// is still queued. Idempotent; the destructor calls it.
   void stop() {
@@ -128,7 +130,6 @@ class BackgroundTask {
 
  private:
   bool aborted() const { return abort_.load(std::memory_order_acquire); }
-  bool idle() const { return processed() >= submitted(); }
 
   // Worker thread: everything queued, unless stopping.
   void drain() {

@@ -48,7 +48,10 @@ class SlamPipeline {
   /// caller's, deterministic).
   TrackingStage& tracking() { return tracking_; }
   /// End of a run (tracking idle): waits for mapping and loop closure, publishes the window.
-  void finish() { mapping_.finish(); }
+  void finish() {
+    tracking_.finish();
+    mapping_.finish();
+  }
 
   TrackingStatus status() const { return tracking_.status(); }
   const PyramidCamera& camera() const { return camera_; }

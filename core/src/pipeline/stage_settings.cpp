@@ -108,6 +108,7 @@ TrackingStageSettings trackingStageSettings(const Config& config, int levels,
   s.localize_only = config.map.localize_only;
   s.wait_for_keyframes = !config.system.live && !config.system.deterministic;
   s.parallel_threads = parallelThreads(config);
+  s.async_initialization = config.system.live && !config.system.deterministic;
   return s;
 }
 

@@ -102,6 +102,8 @@ struct System::Impl {
       max_backlog.store(backlog, std::memory_order_relaxed);
     const double done_ms = msSince(submitted_ns);
     latency.record(kSubmitToProcessed, done_ms);
+    spdlog::trace("frame {}: submit -> processed {:.1f} ms ({})", index, done_ms,
+                  frame.has_pose ? "pose" : "no pose");
     if (frame.has_pose) latency.record(kSubmitToTracked, done_ms);
   }
 

@@ -30,6 +30,17 @@ TrackingStage::TrackingStage(const TrackingStageSettings& settings, const Pyrami
     parallel_ = std::make_unique<concurrency::ParallelTasks>(settings.parallel_threads);
     initializer_.setParallelTasks(parallel_.get());
   }
+  concurrency::TaskOptions options;
+  options.mode = settings.async_initialization ? concurrency::TaskMode::kThreaded
+                                               : concurrency::TaskMode::kInline;
+  options.queue_capacity = 1;
+  options.priority = concurrency::WorkerPriority::kNormal;
+  init_task_ =
+      std::make_unique<concurrency::BackgroundTask<InitializationFrame, InitializationDone>>(
+          [this](InitializationFrame& job, const std::atomic<bool>&) {
+            return initializeFrame(job);
+          },
+          options);
 }
 
 FrameEvent TrackingStage::process(ImageView<const std::uint8_t> image, std::int64_t index,
@@ -61,9 +72,34 @@ FrameEvent TrackingStage::process(ImageView<const std::uint8_t> image, std::int6
 
 void TrackingStage::initializeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent& frame,
                                    double exposure) {
+  // Live mode: an initialisation finished on the initializer's thread since the last frame. This
+  // frame is the first one tracked in its map.
+  if (std::optional<InitializationDone> done = takeInitialization()) {
+    adoptInitialization(*done, frame);
+    trackStep(std::move(pyr), frame, exposure);
+    return;
+  }
+  // The initializer takes the frame when it is free (always in deterministic and offline mode,
+  // where it runs here); a frame that comes while it works on an older one goes without a pose,
+  // as every frame before a map exists. It waits for nothing here.
+  if (init_task_->idle() && !initialization_pending_.load(std::memory_order_acquire)) {
+    InitializationFrame job;
+    job.pyramid = std::move(pyr);
+    job.info = {frame.frame_index, frame.timestamp, exposure, world_anchor_, AffineLight{}};
+    init_task_->submit(std::move(job));
+  } else {
+    spdlog::debug("frame {}: the initializer is busy with an earlier frame", frame.frame_index);
+    pyramids_.release(std::move(pyr));
+  }
+  if (std::optional<InitializationDone> done = takeInitialization())
+    adoptInitialization(*done, frame);
+}
+
+std::optional<TrackingStage::InitializationDone> TrackingStage::initializeFrame(
+    InitializationFrame& job) {
   StageTimer::Scope t(timer_, kInitialize);
-  const std::int64_t index = frame.frame_index;
-  const bool done = initializer_.addFrame(*pyr, exposure);
+  const std::int64_t index = job.info.frame_index;
+  const bool done = initializer_.addFrame(*job.pyramid, job.info.exposure);
   const InitFrameStats& is = initializer_.lastFrameStats();
   spdlog::debug("frame {}: initialiser {} (flow {:.1f} px, rms {:.1f}, good {:.0f} %)", index,
                 toString(initializer_.status()), is.flow_translation, is.rms_residual,
@@ -71,45 +107,75 @@ void TrackingStage::initializeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent
   if (initializer_.framesTracked() == 0 && !done) {
     // This frame became the initializer's reference: keep its pyramid for the first keyframe.
     pyramids_.release(std::move(init_reference_));
-    init_reference_ = std::move(pyr);
-    init_reference_info_ = {index, frame.timestamp, exposure, world_anchor_, AffineLight{}};
-    return;
+    init_reference_ = std::move(job.pyramid);
+    init_reference_info_ = job.info;
+    return std::nullopt;
   }
   if (!done) {
     if (initializer_.failed())
       spdlog::info("frame {}: initialisation restarts ({})", index,
                    toString(initializer_.failure()));
-    pyramids_.release(std::move(pyr));
-    return;
+    pyramids_.release(std::move(job.pyramid));
+    return std::nullopt;
   }
-  // The map is made by the mapping stage; tracking needs it before the next frame.
+  // The map is made by the mapping stage; tracking needs it before its next frame.
   const InitializationResult& r = initializer_.result();
-  MappingJob job;
-  job.kind = MappingJob::Kind::kInitialize;
-  job.pyramid = std::move(pyr);
-  job.info = {index, frame.timestamp, exposure, r.T_frame_ref * world_anchor_, r.affine_frame};
-  job.initialization = r;
-  job.reference_pyramid = std::move(init_reference_);
-  job.reference_info = init_reference_info_;
-  mapping_.submit(std::move(job));
+  MappingJob map_job;
+  map_job.kind = MappingJob::Kind::kInitialize;
+  map_job.pyramid = std::move(job.pyramid);
+  map_job.info = {index, job.info.timestamp, job.info.exposure, r.T_frame_ref * job.info.T_c_w,
+                  r.affine_frame};
+  map_job.initialization = r;
+  map_job.reference_pyramid = std::move(init_reference_);
+  map_job.reference_info = init_reference_info_;
+  mapping_.submit(std::move(map_job));
   mapping_.waitIdle();
   const InitializationOutcome& outcome = mapping_.lastInitialization();
   if (!outcome.ok) {
     initializer_.reset();
-    return;
+    return std::nullopt;
   }
   initializer_.releaseMemory();
+  initialization_pending_.store(true, std::memory_order_release);
+  return InitializationDone{init_reference_info_, job.info, outcome};
+}
+
+std::optional<TrackingStage::InitializationDone> TrackingStage::takeInitialization() {
+  if (!initialization_pending_.load(std::memory_order_acquire)) return std::nullopt;
+  // Posted before the task counts the job done; the non-blocking take may miss it while the
+  // worker posts (then the next frame takes it).
+  std::vector<InitializationDone> done = init_task_->mode() == concurrency::TaskMode::kInline
+                                             ? init_task_->takeResults()
+                                             : init_task_->tryTakeResults();
+  if (done.empty()) return std::nullopt;
+  initialization_pending_.store(false, std::memory_order_release);
+  return std::move(done.back());
+}
+
+void TrackingStage::adoptInitialization(const InitializationDone& done, FrameEvent& frame) {
+  const InitializationOutcome& outcome = done.outcome;
   status_ = TrackingStatus::Tracking;
   initializations_.fetch_add(1, std::memory_order_relaxed);
-  store_.addFrame({init_reference_info_.frame_index, init_reference_info_.timestamp,
-                   outcome.keyframe_id - 1, SE3d()});
-  store_.addFrame({index, frame.timestamp, outcome.keyframe_id, SE3d()});
+  store_.addFrame(
+      {done.reference.frame_index, done.reference.timestamp, outcome.keyframe_id - 1, SE3d()});
+  store_.addFrame({done.frame.frame_index, done.frame.timestamp, outcome.keyframe_id, SE3d()});
   adoptNewestReference();
   tracker_.resetMotion(outcome.T_c_w, outcome.aff);
-  last_tracked_index_ = index;
+  last_tracked_index_ = done.frame.frame_index;
+  if (frame.frame_index != done.frame.frame_index) return;
   frame.has_pose = true;
   frame.is_keyframe = true;
   frame.pose = outcome.T_c_w.inverse().toPose();
+}
+
+void TrackingStage::finish() {
+  while (!init_task_->waitIdle(std::chrono::seconds(10)))
+    spdlog::debug("tracking: the initializer is still busy");
+  if (std::optional<InitializationDone> done = takeInitialization()) {
+    FrameEvent none;
+    none.frame_index = -1;
+    adoptInitialization(*done, none);
+  }
 }
 
 void TrackingStage::trackStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent& frame,

@@ -1,6 +1,8 @@
 // The tracking stage: what happens to every frame on the tracking thread (the caller's thread in
 // deterministic mode). The frame is preprocessed into a pyramid; until a map exists it goes to
-// the initializer, and a finished initialisation becomes a job for the mapping stage; afterwards
+// the initializer, and a finished initialisation becomes a job for the mapping stage (in live
+// mode the initializer runs on a thread of its own, which takes the newest frame whenever it is
+// free, so that the tracking thread never waits for it: see initializeStep()); afterwards
 // it is tracked against the newest reference the mapping stage published (ReferenceExchange),
 // its pose goes to the map store, and the frame goes on to the mapping stage (to trace, or as a
 // keyframe). A failed frame loses tracking: the window goes to the map, and the next frames are
@@ -12,8 +14,10 @@
 #include <atomic>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 
+#include "concurrency/background_task.h"
 #include "concurrency/latest_value.h"
 #include "frontend/coarse_initializer_settings.h"
 #include "frontend/frame_tracker.h"
@@ -45,6 +49,10 @@ struct TrackingStageSettings {
   bool wait_for_keyframes = false;
   /// Threads for the initializer's hypotheses (system.parallel_threads resolved), >= 1.
   int parallel_threads = 1;
+  /// Live mode: the initializer runs on its own thread and takes the newest frame whenever it is
+  /// free (the frames that come meanwhile go without a pose, as every frame before a map exists);
+  /// otherwise it takes every frame on the tracking thread.
+  bool async_initialization = false;
 };
 
 class TrackingStage {
@@ -71,6 +79,10 @@ class TrackingStage {
   /// loss); a new map starts only when that fails for reuse.relocalization_timeout_s.
   void startInLoadedMap();
 
+  /// End of a run (the tracking thread idle): waits for an initialisation in progress on its own
+  /// thread and, when it made a map, takes it over (its two keyframes' frames into the map store).
+  void finish();
+
   TrackingStatus status() const { return status_; }
   std::int64_t initializations() const { return initializations_.load(std::memory_order_relaxed); }
   std::int64_t losses() const { return losses_.load(std::memory_order_relaxed); }
@@ -83,7 +95,25 @@ class TrackingStage {
   std::vector<StageTiming> timings() const { return timer_.summary(); }
 
  private:
+  /// A frame for the initializer, and the initialisation it finished (the map made).
+  struct InitializationFrame {
+    std::unique_ptr<ImagePyramid> pyramid;
+    MapperFrame info;  ///< T_c_w: the world anchor of the map it would start
+  };
+  struct InitializationDone {
+    MapperFrame reference;  ///< the first keyframe's frame
+    MapperFrame frame;      ///< the second keyframe's frame
+    InitializationOutcome outcome;
+  };
   void initializeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent& frame, double exposure);
+  /// The initializer's task: one frame into the initializer; a finished initialisation becomes
+  /// the mapping stage's kInitialize job (waited for). Touches only the initializer's state.
+  std::optional<InitializationDone> initializeFrame(InitializationFrame& job);
+  /// The finished initialisation the initializer's task handed back, if any.
+  std::optional<InitializationDone> takeInitialization();
+  /// Tracking from the initialisation's map on; `frame` gets its pose when it is the second
+  /// keyframe's frame.
+  void adoptInitialization(const InitializationDone& done, FrameEvent& frame);
   void trackStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent& frame, double exposure);
   /// Tracks from now on against the newest reference the mapping stage published, if any
   /// (true); never waits for one.
@@ -137,6 +167,11 @@ class TrackingStage {
   std::atomic<std::int64_t> relocalizations_{0};
   std::atomic<std::int64_t> initializations_{0};
   std::atomic<std::int64_t> losses_{0};
+  /// Set by the initializer's task when it finished a map, cleared when tracking took it over: no
+  /// frame goes to the initializer in between.
+  std::atomic<bool> initialization_pending_{false};
+  /// Last member: stopped first, while what it uses is still there.
+  std::unique_ptr<concurrency::BackgroundTask<InitializationFrame, InitializationDone>> init_task_;
 };
 
 }  // namespace ldsm
