@@ -30,17 +30,19 @@ TrackingStage::TrackingStage(const TrackingStageSettings& settings, const Pyrami
     parallel_ = std::make_unique<concurrency::ParallelTasks>(settings.parallel_threads);
     initializer_.setParallelTasks(parallel_.get());
   }
-  concurrency::TaskOptions options;
-  options.mode = settings.async_initialization ? concurrency::TaskMode::kThreaded
-                                               : concurrency::TaskMode::kInline;
-  options.queue_capacity = 1;
-  options.priority = concurrency::WorkerPriority::kNormal;
-  init_task_ =
-      std::make_unique<concurrency::BackgroundTask<InitializationFrame, InitializationDone>>(
-          [this](InitializationFrame& job, const std::atomic<bool>&) {
-            return initializeFrame(job);
-          },
-          options);
+  if (settings.async_initialization) {
+    concurrency::TaskOptions options;
+    options.queue_capacity = 1;
+    options.priority = concurrency::WorkerPriority::kNormal;
+    init_task_ =
+        std::make_unique<concurrency::BackgroundTask<InitializationFrame, InitializationDone>>(
+            [this](InitializationFrame& job, const std::atomic<bool>&) {
+              std::optional<InitializationDone> done = initializeFrame(job);
+              if (done) initialization_pending_.store(true, std::memory_order_release);
+              return done;
+            },
+            options);
+  }
 }
 
 FrameEvent TrackingStage::process(ImageView<const std::uint8_t> image, std::int64_t index,
@@ -72,6 +74,15 @@ FrameEvent TrackingStage::process(ImageView<const std::uint8_t> image, std::int6
 
 void TrackingStage::initializeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent& frame,
                                    double exposure) {
+  InitializationFrame job;
+  job.info = {frame.frame_index, frame.timestamp, exposure, world_anchor_, AffineLight{}};
+  if (!init_task_) {
+    // Deterministic and offline mode: every frame, here.
+    job.pyramid = std::move(pyr);
+    if (std::optional<InitializationDone> done = initializeFrame(job))
+      adoptInitialization(*done, frame);
+    return;
+  }
   // Live mode: an initialisation finished on the initializer's thread since the last frame. This
   // frame is the first one tracked in its map.
   if (std::optional<InitializationDone> done = takeInitialization()) {
@@ -79,20 +90,15 @@ void TrackingStage::initializeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent
     trackStep(std::move(pyr), frame, exposure);
     return;
   }
-  // The initializer takes the frame when it is free (always in deterministic and offline mode,
-  // where it runs here); a frame that comes while it works on an older one goes without a pose,
-  // as every frame before a map exists. It waits for nothing here.
+  // The initializer takes the frame when it is free; a frame that comes while it works on an
+  // older one goes without a pose, as every frame before a map exists. Nothing waits here.
   if (init_task_->idle() && !initialization_pending_.load(std::memory_order_acquire)) {
-    InitializationFrame job;
     job.pyramid = std::move(pyr);
-    job.info = {frame.frame_index, frame.timestamp, exposure, world_anchor_, AffineLight{}};
     init_task_->submit(std::move(job));
   } else {
     spdlog::debug("frame {}: the initializer is busy with an earlier frame", frame.frame_index);
     pyramids_.release(std::move(pyr));
   }
-  if (std::optional<InitializationDone> done = takeInitialization())
-    adoptInitialization(*done, frame);
 }
 
 std::optional<TrackingStage::InitializationDone> TrackingStage::initializeFrame(
@@ -136,17 +142,13 @@ std::optional<TrackingStage::InitializationDone> TrackingStage::initializeFrame(
     return std::nullopt;
   }
   initializer_.releaseMemory();
-  initialization_pending_.store(true, std::memory_order_release);
   return InitializationDone{init_reference_info_, job.info, outcome};
 }
 
 std::optional<TrackingStage::InitializationDone> TrackingStage::takeInitialization() {
   if (!initialization_pending_.load(std::memory_order_acquire)) return std::nullopt;
-  // Posted before the task counts the job done; the non-blocking take may miss it while the
-  // worker posts (then the next frame takes it).
-  std::vector<InitializationDone> done = init_task_->mode() == concurrency::TaskMode::kInline
-                                             ? init_task_->takeResults()
-                                             : init_task_->tryTakeResults();
+  // The non-blocking take may miss the result while the worker posts it (the next frame takes it).
+  std::vector<InitializationDone> done = init_task_->tryTakeResults();
   if (done.empty()) return std::nullopt;
   initialization_pending_.store(false, std::memory_order_release);
   return std::move(done.back());
@@ -169,13 +171,15 @@ void TrackingStage::adoptInitialization(const InitializationDone& done, FrameEve
 }
 
 void TrackingStage::finish() {
+  if (!init_task_) return;
   while (!init_task_->waitIdle(std::chrono::seconds(10)))
     spdlog::debug("tracking: the initializer is still busy");
-  if (std::optional<InitializationDone> done = takeInitialization()) {
-    FrameEvent none;
-    none.frame_index = -1;
-    adoptInitialization(*done, none);
-  }
+  std::vector<InitializationDone> done = init_task_->takeResults();
+  initialization_pending_.store(false, std::memory_order_release);
+  if (done.empty()) return;
+  FrameEvent none;
+  none.frame_index = -1;
+  adoptInitialization(done.back(), none);
 }
 
 void TrackingStage::trackStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent& frame,

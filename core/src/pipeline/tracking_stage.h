@@ -106,8 +106,9 @@ class TrackingStage {
     InitializationOutcome outcome;
   };
   void initializeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent& frame, double exposure);
-  /// The initializer's task: one frame into the initializer; a finished initialisation becomes
-  /// the mapping stage's kInitialize job (waited for). Touches only the initializer's state.
+  /// One frame into the initializer (on the initializer's thread in live mode, else here); a
+  /// finished initialisation becomes the mapping stage's kInitialize job (waited for). Touches
+  /// only the initializer's state.
   std::optional<InitializationDone> initializeFrame(InitializationFrame& job);
   /// The finished initialisation the initializer's task handed back, if any.
   std::optional<InitializationDone> takeInitialization();
@@ -170,7 +171,8 @@ class TrackingStage {
   /// Set by the initializer's task when it finished a map, cleared when tracking took it over: no
   /// frame goes to the initializer in between.
   std::atomic<bool> initialization_pending_{false};
-  /// Last member: stopped first, while what it uses is still there.
+  /// Live mode only (null otherwise). Last member: stopped first, while what it uses is still
+  /// there.
   std::unique_ptr<concurrency::BackgroundTask<InitializationFrame, InitializationDone>> init_task_;
 };
 
