@@ -154,12 +154,17 @@ struct SimRun {
   LastPoseListener listener;
 };
 
-void runSim(const Config& config, SimRun& r, int frames = 60) {
+/// The rendered forward drive at 320x240, `frames` long.
+drivers::sim::SimOptions forwardDrive(int frames) {
   drivers::sim::SimOptions o;
   o.width = 320;
   o.height = 240;
   o.frames = frames;
-  drivers::sim::SimSource source("forward", o);
+  return o;
+}
+
+void runSim(const Config& config, SimRun& r, int frames = 60) {
+  drivers::sim::SimSource source("forward", forwardDrive(frames));
   System system(config, source.geometricCalibration(), source.photometricCalibration());
   system.setListener(&r.listener);
   EXPECT_FALSE(system.latestPose().has_value());
@@ -237,6 +242,21 @@ class HeldInitializationListener : public SystemListener {
   std::atomic<bool> held{false}, released{false};
 };
 
+/// Every frame of `source`, rendered into memory first (so that pacing measures the pipeline).
+std::vector<drivers::Frame> renderAll(drivers::sim::SimSource& source) {
+  std::vector<drivers::Frame> frames;
+  for (drivers::Frame f; source.next(f);) frames.push_back(std::move(f));
+  return frames;
+}
+
+/// Submits `f` at its own time after `start`, as a camera gives it.
+void submitOnTime(System& system, const drivers::Frame& f,
+                  std::chrono::steady_clock::time_point start) {
+  std::this_thread::sleep_until(start + std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                            std::chrono::duration<double>(f.timestamp)));
+  system.submit({f.image.view(), f.timestamp, f.exposure_ms});
+}
+
 // Live mode: the initializer runs beside the tracking thread, so that making the first map never
 // holds up the frames behind it (before, the tracking thread waited for it: 95-177 ms per frame
 // at vamr_desk_loop's start, frames dropped). While the first map is held half-made, every frame
@@ -244,25 +264,15 @@ class HeldInitializationListener : public SystemListener {
 // frame is tracked in it, and the trajectory is one consistent map that includes the
 // initialisation's keyframes.
 TEST(SystemPipeline, LiveTrackingNeverWaitsForTheFirstMap) {
-  drivers::sim::SimOptions o;
-  o.width = 320;
-  o.height = 240;
-  o.frames = 60;
-  drivers::sim::SimSource source("forward", o);
-  std::vector<drivers::Frame> frames;
-  for (drivers::Frame f; source.next(f);) frames.push_back(std::move(f));
+  drivers::sim::SimSource source("forward", forwardDrive(60));
+  const std::vector<drivers::Frame> frames = renderAll(source);
   Config c = threaded(true);
   System system(c, source.geometricCalibration(), source.photometricCalibration());
   HeldInitializationListener listener;
   system.setListener(&listener);
   // Frames at the scene's own rate (30 Hz), as a camera gives them.
   const auto start = std::chrono::steady_clock::now();
-  const auto submit = [&](std::size_t i) {
-    const drivers::Frame& f = frames[i];
-    std::this_thread::sleep_until(start + std::chrono::duration_cast<std::chrono::nanoseconds>(
-                                              std::chrono::duration<double>(f.timestamp)));
-    system.submit({f.image.view(), f.timestamp, f.exposure_ms});
-  };
+  const auto submit = [&](std::size_t i) { submitOnTime(system, frames[i], start); };
   std::size_t next = 0;
   while (next < frames.size() && !listener.held.load()) submit(next++);
   ASSERT_TRUE(listener.held.load()) << "no initialisation in " << frames.size() << " frames";
@@ -307,13 +317,8 @@ TEST(SystemPipeline, LiveTrackingNeverWaitsForTheFirstMap) {
 // initialised: the second initialisation runs on the initializer's thread too, and the frames
 // after it are tracked in the new map; nothing is dropped.
 TEST(SystemPipeline, LiveModeInitialisesASecondMapAfterALoss) {
-  drivers::sim::SimOptions o;
-  o.width = 320;
-  o.height = 240;
-  o.frames = 120;
-  drivers::sim::SimSource source("forward", o);
-  std::vector<drivers::Frame> frames;
-  for (drivers::Frame f; source.next(f);) frames.push_back(std::move(f));
+  drivers::sim::SimSource source("forward", forwardDrive(120));
+  std::vector<drivers::Frame> frames = renderAll(source);
   constexpr std::size_t kNoiseFirst = 40, kNoiseLast = 49;
   for (std::size_t i = kNoiseFirst; i <= kNoiseLast; ++i) {
     std::uint32_t x = static_cast<std::uint32_t>(i) * 2654435761u + 1u;
@@ -330,11 +335,7 @@ TEST(SystemPipeline, LiveModeInitialisesASecondMapAfterALoss) {
   listener.released = true;
   system.setListener(&listener);
   const auto start = std::chrono::steady_clock::now();
-  for (const drivers::Frame& f : frames) {
-    std::this_thread::sleep_until(start + std::chrono::duration_cast<std::chrono::nanoseconds>(
-                                              std::chrono::duration<double>(f.timestamp)));
-    system.submit({f.image.view(), f.timestamp, f.exposure_ms});
-  }
+  for (const drivers::Frame& f : frames) submitOnTime(system, f, start);
   system.finish();
   const SystemStats s = system.stats();
   std::printf("second map: %lld frames, %lld tracked, %lld initialisations, %lld losses\n",
@@ -382,11 +383,7 @@ TEST(SystemPipeline, ThreadsArePinnedToTheConfiguredCpus) {
   Config c;
   c.system.tracking_cpu = cpu;
   c.system.mapping_cpu = cpu;
-  drivers::sim::SimOptions o;
-  o.width = 320;
-  o.height = 240;
-  o.frames = 60;
-  drivers::sim::SimSource source("forward", o);
+  drivers::sim::SimSource source("forward", forwardDrive(60));
   System system(c, source.geometricCalibration(), source.photometricCalibration());
   AffinityListener listener;
   system.setListener(&listener);
