@@ -66,7 +66,8 @@ void FrameTracker::resetMotion(const SE3d& T_c_w_last, const AffineLight& aff_la
   last_rmse_ = 0.0;
 }
 
-FrameTrackingOutcome FrameTracker::track(const ImagePyramid& frame, double exposure) {
+FrameTrackingOutcome FrameTracker::track(const ImagePyramid& frame, double exposure,
+                                         bool rotations) {
   FrameTrackingOutcome out;
   if (!has_reference_) {
     out.failure = "no reference keyframe";
@@ -78,8 +79,10 @@ FrameTrackingOutcome FrameTracker::track(const ImagePyramid& frame, double expos
   history.has_velocity = has_velocity_;
   history.last_affine = last_aff_;
   history.last_rmse = last_rmse_ > 0.0 ? last_rmse_ : std::numeric_limits<double>::infinity();
+  HypothesisSettings hypotheses = hypotheses_;
+  if (!rotations) hypotheses.rotation_angle_count = 0;
   const HypothesisTrackingResult r =
-      trackWithHypotheses(*tracker_, frame, exposure, history, hypotheses_);
+      trackWithHypotheses(*tracker_, frame, exposure, history, hypotheses);
   out.hypotheses_tried = r.tried;
   if (!r.success || !std::isfinite(r.rmse)) {
     out.failure = std::string("coarse tracking failed: ") + toString(r.tracking.failure);

@@ -57,7 +57,9 @@ class FrameTracker {
   int referenceKeyframeId() const { return reference_id_; }
   const SE3d& referencePose() const { return T_ref_w_; }
 
-  FrameTrackingOutcome track(const ImagePyramid& frame, double exposure);
+  /// Tracks `frame` against the reference from the motion guesses; `rotations` false leaves out
+  /// the extra rotated guesses (the start pose is known from elsewhere, e.g. a relocalisation).
+  FrameTrackingOutcome track(const ImagePyramid& frame, double exposure, bool rotations = true);
 
   /// The pixels of `level` where the reference's points of that level fall for a frame at
   /// world -> camera pose T_c_w (points behind the camera or outside the image left out).

@@ -350,7 +350,10 @@ void TrackingStage::relocalizeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent
       start.last_aff = r.aff;
     }
     tracker_.restoreMotion(start);
-    const FrameTrackingOutcome outcome = tracker_.track(*pyr, exposure);
+    // Found in the map: from that pose only (the rotated guesses around it cost 100 ms and more
+    // on the tracking thread, and the map's pose needs none); not found: the whole search from
+    // where the camera was last seen.
+    const FrameTrackingOutcome outcome = tracker_.track(*pyr, exposure, /*rotations=*/!r.success);
     // After a loss the frame may show somewhere else entirely (the camera was carried, or the
     // map found it far from the window): only a fit as good as before the loss resumes here.
     const bool near_window = [&] {

@@ -175,6 +175,22 @@ TEST_F(HypothesisTrackingTest, UnexpectedRotationIsFoundByRotatedHypotheses) {
   EXPECT_TRUE(close(r.T_frame_ref, truth));
 }
 
+// Without rotation angles (FrameTracker::track(..., rotations = false): after a relocalisation,
+// whose pose needs no rotated guesses) only the basic guesses are tracked: the same frame is then
+// not found, and nothing is screened.
+TEST_F(HypothesisTrackingTest, WithoutRotationAnglesOnlyTheBasicGuessesAreTried) {
+  MotionHistory h;
+  h.last_rmse = 1.0;
+  const SE3d truth = rotationAboutY(-0.12);
+  const ImagePyramid frame = renderFrame(truth);
+  HypothesisSettings settings;
+  settings.rotation_angle_count = 0;
+  const HypothesisTrackingResult r = trackWithHypotheses(*tracker_, frame, 1.0, h, settings);
+  EXPECT_EQ(r.screened, 0);
+  EXPECT_LE(r.tried, 2);  // the identity guess and the reference pose (the same here)
+  EXPECT_FALSE(r.success && close(r.T_frame_ref, truth));
+}
+
 TEST_F(HypothesisTrackingTest, UnscreenedSearchTriesTheRotationsInOrder) {
   MotionHistory h;
   h.last_rmse = 1.0;
