@@ -15,6 +15,7 @@
 #include "ldsm/drivers/sim/sim_source.h"
 #include "ldsm/eval/ate.h"
 #include "ldsm/system.h"
+#include "noise_image.h"
 
 namespace ldsm {
 namespace {
@@ -41,15 +42,6 @@ Config deterministicConfig(bool reuse) {
 }
 
 /// A frame of uniform noise (a camera glitch: nothing to track, nothing to initialise from).
-void fillWithNoise(ImageU8& image, std::uint32_t seed) {
-  std::uint32_t x = seed * 2654435761u + 1u;
-  for (int y = 0; y < image.height(); ++y)
-    for (int u = 0; u < image.width(); ++u) {
-      x = x * 1664525u + 1013904223u;
-      image(u, y) = static_cast<std::uint8_t>(x >> 24);
-    }
-}
-
 struct SceneRun {
   std::int64_t frames = 0;   ///< 0: the scene's default length
   double mark_time = 1e300;  ///< stats are also taken when the frames reach this time
@@ -76,7 +68,7 @@ struct SceneRun {
         marked = true;
       }
       if (frame.index >= noise_first && frame.index <= noise_last)
-        fillWithNoise(frame.image, static_cast<std::uint32_t>(frame.index));
+        test::fillWithNoise(frame.image, static_cast<std::uint32_t>(frame.index));
       system.submit({frame.image.view(), frame.timestamp, frame.exposure_ms});
     }
     system.finish();
@@ -244,7 +236,7 @@ TEST(MapReuse, MapStartedAfterALongLossIsMergedIntoTheFirstMap) {
   bool saw_second_map = false;
   while (source.next(frame)) {
     if (frame.index >= noise_first && frame.index <= noise_last)
-      fillWithNoise(frame.image, static_cast<std::uint32_t>(frame.index));
+      test::fillWithNoise(frame.image, static_cast<std::uint32_t>(frame.index));
     system.submit({frame.image.view(), frame.timestamp, frame.exposure_ms});
     if (frame.index == 900) {
       // Before the camera is back: the second map's poses are labelled as such.
@@ -304,7 +296,7 @@ TEST(MapReuse, KidnappedCameraIsFoundAnywhereInTheMap) {
     double t = 0.0;
     const double dt = 1.0 / drivers::sim::SimOptions{}.fps;
     auto feed = [&](drivers::Frame& f, bool noise) {
-      if (noise) fillWithNoise(f.image, static_cast<std::uint32_t>(f.index + 7919));
+      if (noise) test::fillWithNoise(f.image, static_cast<std::uint32_t>(f.index + 7919));
       system.submit({f.image.view(), t, f.exposure_ms});
       if (!noise) addTruth(source.groundTruth(), f.index, t, truth);
       t += dt;

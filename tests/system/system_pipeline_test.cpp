@@ -23,6 +23,7 @@
 #include "ldsm/error.h"
 #include "ldsm/eval/ate.h"
 #include "ldsm/system.h"
+#include "noise_image.h"
 
 namespace ldsm {
 namespace {
@@ -320,14 +321,8 @@ TEST(SystemPipeline, LiveModeInitialisesASecondMapAfterALoss) {
   drivers::sim::SimSource source("forward", forwardDrive(120));
   std::vector<drivers::Frame> frames = renderAll(source);
   constexpr std::size_t kNoiseFirst = 40, kNoiseLast = 49;
-  for (std::size_t i = kNoiseFirst; i <= kNoiseLast; ++i) {
-    std::uint32_t x = static_cast<std::uint32_t>(i) * 2654435761u + 1u;
-    for (int y = 0; y < frames[i].image.height(); ++y)
-      for (int u = 0; u < frames[i].image.width(); ++u) {
-        x = x * 1664525u + 1013904223u;
-        frames[i].image(u, y) = static_cast<std::uint8_t>(x >> 24);
-      }
-  }
+  for (std::size_t i = kNoiseFirst; i <= kNoiseLast; ++i)
+    test::fillWithNoise(frames[i].image, static_cast<std::uint32_t>(i));
   Config c = threaded(true);
   c.reuse.enabled = false;
   System system(c, source.geometricCalibration(), source.photometricCalibration());

@@ -12,7 +12,10 @@ FrameTracker::FrameTracker(const FrameTrackerSettings& settings, const PyramidCa
       max_rmse_growth_(settings.max_rmse_growth),
       camera_(camera),
       tracker_(std::make_unique<CoarseTracker>(camera[0].width, camera[0].height, camera.levels(),
-                                               settings.coarse)) {}
+                                               settings.coarse)) {
+  hypotheses_without_rotations_ = hypotheses_;
+  hypotheses_without_rotations_.rotation_angle_count = 0;
+}
 
 void FrameTracker::setReference(const TrackingReference& reference,
                                 const std::vector<DepthPoint>& points) {
@@ -79,10 +82,8 @@ FrameTrackingOutcome FrameTracker::track(const ImagePyramid& frame, double expos
   history.has_velocity = has_velocity_;
   history.last_affine = last_aff_;
   history.last_rmse = last_rmse_ > 0.0 ? last_rmse_ : std::numeric_limits<double>::infinity();
-  HypothesisSettings hypotheses = hypotheses_;
-  if (!rotations) hypotheses.rotation_angle_count = 0;
-  const HypothesisTrackingResult r =
-      trackWithHypotheses(*tracker_, frame, exposure, history, hypotheses);
+  const HypothesisTrackingResult r = trackWithHypotheses(
+      *tracker_, frame, exposure, history, rotations ? hypotheses_ : hypotheses_without_rotations_);
   out.hypotheses_tried = r.tried;
   if (!r.success || !std::isfinite(r.rmse)) {
     out.failure = std::string("coarse tracking failed: ") + toString(r.tracking.failure);

@@ -98,6 +98,7 @@ class FrameTracker {
   PyramidCamera camera_;
   std::unique_ptr<CoarseTracker> tracker_;
   HypothesisSettings hypotheses_;
+  HypothesisSettings hypotheses_without_rotations_;  ///< track(..., rotations = false)
   bool has_reference_ = false;
   int reference_id_ = -1;
   SE3d T_ref_w_;
