@@ -174,6 +174,8 @@ void writeRunOutputs(const std::string& dir, const System& system, const Traject
   j.key("rejected_frames").value(s.rejected_frames);
   j.key("keyframes").value(s.keyframes);
   j.key("initializations").value(s.initializations);
+  j.key("initializer_frames").value(s.initializer_frames);
+  j.key("initializer_busy_frames").value(s.initializer_busy_frames);
   j.key("tracking_losses").value(s.tracking_losses);
   j.key("map_points").value(static_cast<std::int64_t>(xyz.size()));
   j.key("wall_seconds").value(summary.wall_seconds);

@@ -131,6 +131,8 @@ py::dict statsToDict(const SystemStats& s) {
   d["keyframes"] = s.keyframes;
   d["initializations"] = s.initializations;
   d["tracking_losses"] = s.tracking_losses;
+  d["initializer_frames"] = s.initializer_frames;
+  d["initializer_busy_frames"] = s.initializer_busy_frames;
   d["rejected_frames"] = s.rejected_frames;
   d["submitted_frames"] = s.submitted_frames;
   d["dropped_frames"] = s.dropped_frames;

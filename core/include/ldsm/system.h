@@ -115,6 +115,12 @@ struct SystemStats {
   std::int64_t initializations = 0;  ///< times the map was (re)initialised
   std::int64_t tracking_losses = 0;
   std::int64_t rejected_frames = 0;  ///< frames refused as bad input (size, timestamp, content)
+  /// Frames given to the initializer (stage "initialize" counts those it finished), and, in live
+  /// mode, those that came while it was still busy with an earlier frame and so went without it
+  /// (no pose, as every frame before a map exists). Many of those mean that the initializer sees
+  /// frames far apart: the machine is slow for the camera's rate.
+  std::int64_t initializer_frames = 0;
+  std::int64_t initializer_busy_frames = 0;
   std::vector<StageTiming> stages;
   /// Loops closed, in order: the newest kMaxLoopEvents (loops_closed counts them all).
   std::vector<LoopClosureEvent> loops;

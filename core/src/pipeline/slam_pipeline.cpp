@@ -84,6 +84,8 @@ void SlamPipeline::fillStats(SystemStats& stats) const {
   stats.keyframes = mapping_.keyframes();
   stats.initializations = tracking_.initializations();
   stats.tracking_losses = tracking_.losses();
+  stats.initializer_frames = tracking_.initializerFrames();
+  stats.initializer_busy_frames = tracking_.initializerBusyFrames();
   // Stage timings in the order preprocess, initialize, track, trace, mapping (with its parts
   // reuse and loop), total.
   const std::vector<StageTiming> t = tracking_.timings();

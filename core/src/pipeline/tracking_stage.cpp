@@ -78,6 +78,7 @@ void TrackingStage::initializeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent
   job.info = {frame.frame_index, frame.timestamp, exposure, world_anchor_, AffineLight{}};
   if (!init_task_) {
     // Deterministic and offline mode: every frame, here.
+    initializer_frames_.fetch_add(1, std::memory_order_relaxed);
     job.pyramid = std::move(pyr);
     if (std::optional<InitializationDone> done = initializeFrame(job))
       adoptInitialization(*done, frame);
@@ -93,9 +94,11 @@ void TrackingStage::initializeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent
   // The initializer takes the frame when it is free; a frame that comes while it works on an
   // older one goes without a pose, as every frame before a map exists. Nothing waits here.
   if (init_task_->idle() && !initialization_pending_.load(std::memory_order_acquire)) {
+    initializer_frames_.fetch_add(1, std::memory_order_relaxed);
     job.pyramid = std::move(pyr);
     init_task_->submit(std::move(job));
   } else {
+    initializer_busy_frames_.fetch_add(1, std::memory_order_relaxed);
     spdlog::debug("frame {}: the initializer is busy with an earlier frame", frame.frame_index);
     pyramids_.release(std::move(pyr));
   }

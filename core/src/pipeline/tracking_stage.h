@@ -86,6 +86,14 @@ class TrackingStage {
   TrackingStatus status() const { return status_; }
   std::int64_t initializations() const { return initializations_.load(std::memory_order_relaxed); }
   std::int64_t losses() const { return losses_.load(std::memory_order_relaxed); }
+  /// Frames given to the initializer, and (live mode) those that came while it was busy with an
+  /// earlier one and so went without it.
+  std::int64_t initializerFrames() const {
+    return initializer_frames_.load(std::memory_order_relaxed);
+  }
+  std::int64_t initializerBusyFrames() const {
+    return initializer_busy_frames_.load(std::memory_order_relaxed);
+  }
   std::int64_t relocalizationAttempts() const {
     return relocalization_attempts_.load(std::memory_order_relaxed);
   }
@@ -168,6 +176,8 @@ class TrackingStage {
   std::atomic<std::int64_t> relocalizations_{0};
   std::atomic<std::int64_t> initializations_{0};
   std::atomic<std::int64_t> losses_{0};
+  std::atomic<std::int64_t> initializer_frames_{0};
+  std::atomic<std::int64_t> initializer_busy_frames_{0};
   /// Set by the initializer's task when it finished a map, cleared when tracking took it over: no
   /// frame goes to the initializer in between.
   std::atomic<bool> initialization_pending_{false};
