@@ -5,11 +5,11 @@
 // (offline and replays alike): this corridor makes a keyframe every ~5 frames, and with the
 // default density mapping cannot keep up with 4x on two loaded cores (70 % dropped, measured).
 //
-// Tolerance: at 1x and 4x the trajectory's ATE must be within 2x the offline (deterministic) run's
-// ATE + 1 cm, without tracking loss. At a speed the machine cannot sustain (frames 4x faster than
-// the offline run's per-frame tracking cost, at least 20x), frames must be dropped and reported
-// honestly: received + dropped == submitted, the received frames in order without duplicates,
-// the newest frame never dropped.
+// Tolerance: at 1x and faster (4x where the machine sustains it) the trajectory's ATE must be
+// within 2x the offline (deterministic) run's ATE + 1 cm, without tracking loss. At a speed the
+// machine cannot sustain (frames 4x faster than the offline run's per-frame tracking cost, at least
+// 20x), frames must be dropped and reported honestly: received + dropped == submitted, the received
+// frames in order without duplicates, the newest frame never dropped.
 #include <gtest/gtest.h>
 #include <spdlog/spdlog.h>
 
@@ -142,6 +142,15 @@ class RealtimeReplay : public ::testing::Test {
     return r;
   }
 
+  /// The replay speed the offline run suggests this machine sustains: the frame period over its
+  /// mean cost of a frame (tracking and mapping on one thread; live, two threads share it).
+  static double sustainedSpeed() {
+    for (const StageTiming& t : offline_.stats.stages)
+      if (t.stage == "total" && t.mean_ms > 0.0) return (1000.0 / kFps) / t.mean_ms;
+    ADD_FAILURE() << "no stage \"total\" in the offline run's stats";
+    return 1.0;
+  }
+
   static RunResult replay(double speed) {
     Config live = engineConfig();
     live.system.live = true;
@@ -198,8 +207,14 @@ TEST_F(RealtimeReplay, OneTimesRealTimeMatchesOffline) {
   expectCloseToOffline(replay(1.0), 1.0);
 }
 
-TEST_F(RealtimeReplay, FourTimesRealTimeMatchesOffline) {
-  expectCloseToOffline(replay(4.0), 4.0);
+// Faster than real time: 4x where the machine sustains it (0.6 times the offline run's frame
+// period over its mean cost of a frame: 4.2 ms measured on a 2-core EPYC, so 4x), slower on a
+// slower machine, never below 1x. At a fixed 4x a machine five times slower (the test process on
+// one core shared with four busy loops; offline 24 ms a frame) gave the initializer every ninth
+// frame of the corridor, too far apart to initialise: no pose at all.
+TEST_F(RealtimeReplay, FasterThanRealTimeMatchesOffline) {
+  const double speed = std::clamp(0.6 * sustainedSpeed(), 1.0, 4.0);
+  expectCloseToOffline(replay(speed), speed);
 }
 
 TEST_F(RealtimeReplay, UnsustainableSpeedReportsDrops) {

@@ -76,7 +76,13 @@ TEST_F(RunLiveCli, RealtimeReplayReportsDropsAndLatencyInStatsJson) {
   EXPECT_NE(json.find("\"submit_to_tracked\""), std::string::npos) << json;
   EXPECT_NE(json.find("\"queue_wait\""), std::string::npos) << json;
   EXPECT_GE(jsonNumber(json, "wall_seconds"), 0.95 * 59.0 / 30.0 / 2.0) << json;
-  EXPECT_GT(jsonNumber(json, "rmse_m"), 0.0) << json;  // evaluated against the ground truth
+  // Evaluated against the ground truth when the run has poses: a machine too slow for 60 Hz
+  // (the test process on one core shared with busy loops, CI's slowest runs) gives the
+  // initializer frames too far apart for this 2-second clip, and there is nothing to evaluate.
+  if (jsonNumber(json, "tracked_frames") >= 3.0)
+    EXPECT_GT(jsonNumber(json, "rmse_m"), 0.0) << json;
+  else
+    EXPECT_NE(json.find("\"ate\": null"), std::string::npos) << json;
 }
 
 TEST_F(RunLiveCli, OfflineRunsReportTheirModeAndNothingDropped) {
@@ -90,6 +96,7 @@ TEST_F(RunLiveCli, OfflineRunsReportTheirModeAndNothingDropped) {
   EXPECT_EQ(jsonNumber(json, "submitted_frames"), 20.0) << json;
   EXPECT_EQ(jsonNumber(json, "dropped_frames"), 0.0) << json;
   EXPECT_EQ(json.find("realtime_speed"), std::string::npos) << json;
+  EXPECT_GT(jsonNumber(json, "rmse_m"), 0.0) << json;  // evaluated against the ground truth
 }
 
 TEST_F(RunLiveCli, BadCombinationsAreClearErrors) {

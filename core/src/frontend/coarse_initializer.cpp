@@ -156,6 +156,14 @@ bool CoarseInitializer::addFrame(const ImagePyramid& pyramid, double exposure) {
   return status_ == InitStatus::kComplete;
 }
 
+bool CoarseInitializer::continueMotion(double scale) {
+  if (status_ != InitStatus::kConfirming || !std::isfinite(scale) || !(scale > 1.0)) return false;
+  const SE3d guess = SE3d::exp(scale * T_.log());
+  if (!finitePose(guess)) return false;
+  T_ = guess;
+  return true;
+}
+
 void CoarseInitializer::releaseMemory() {
   reset();
   for (Level& L : levels_data_) L = Level{};

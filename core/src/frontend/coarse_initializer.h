@@ -79,6 +79,12 @@ class CoarseInitializer {
   /// the motion guess `start` (scale: mean inverse depth 1): a fresh hypothesis for the same
   /// reference once the parallax is real (InitializerHypotheses). Frames are counted anew.
   void restartFrom(const CoarseInitializer& source, const SE3d& start);
+  /// The camera moved on for `scale` times the time from the reference to the last frame before
+  /// the next frame comes (frames went by that this initializer did not see): once the parallax
+  /// is real (confirming), the motion guess for the next frame continues the estimated motion,
+  /// its twist times `scale`; before that the estimate is mostly noise and stays the guess.
+  /// Returns whether the guess moved (scale > 1, finite, confirming).
+  bool continueMotion(double scale);
   /// reset() and give the reference's memory back (it is allocated again with the next one).
   void releaseMemory();
   /// Photometric cost of every level-0 point in the last frame (outliers at the cap): comparable

@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -61,16 +62,34 @@ void FrameTracker::projectReferencePoints(int level, const SE3d& T_c_w,
   }
 }
 
-void FrameTracker::resetMotion(const SE3d& T_c_w_last, const AffineLight& aff_last) {
+void FrameTracker::resetMotion(const SE3d& T_c_w_last, const AffineLight& aff_last,
+                               double timestamp) {
   T_last_w_ = T_c_w_last;
   last_aff_ = aff_last;
   has_last_ = true;
   has_velocity_ = false;
   last_rmse_ = 0.0;
+  t_last_ = timestamp;
+  velocity_dt_ = std::numeric_limits<double>::quiet_NaN();
+}
+
+void FrameTracker::setVelocity(const SE3d& T_last_prelast, double seconds) {
+  T_last_prelast_ = T_last_prelast;
+  velocity_dt_ = seconds;
+  has_velocity_ = true;
+}
+
+double FrameTracker::velocityScale(double t, double t_last, double velocity_dt) {
+  const double dt = t - t_last;
+  if (!std::isfinite(dt) || !std::isfinite(velocity_dt) || !(dt > 0.0) || !(velocity_dt > 0.0))
+    return 1.0;
+  const double s = dt / velocity_dt;
+  if (std::fabs(s - 1.0) <= kEvenSpacingTolerance) return 1.0;
+  return std::min(s, kMaxVelocityScale);
 }
 
 FrameTrackingOutcome FrameTracker::track(const ImagePyramid& frame, double exposure,
-                                         bool rotations) {
+                                         double timestamp, bool rotations) {
   FrameTrackingOutcome out;
   if (!has_reference_) {
     out.failure = "no reference keyframe";
@@ -80,6 +99,7 @@ FrameTrackingOutcome FrameTracker::track(const ImagePyramid& frame, double expos
   history.T_last_ref = has_last_ ? T_last_w_ * T_ref_w_.inverse() : SE3d();
   history.T_last_prelast = T_last_prelast_;
   history.has_velocity = has_velocity_;
+  history.velocity_scale = has_velocity_ ? velocityScale(timestamp, t_last_, velocity_dt_) : 1.0;
   history.last_affine = last_aff_;
   history.last_rmse = last_rmse_ > 0.0 ? last_rmse_ : std::numeric_limits<double>::infinity();
   const HypothesisTrackingResult r = trackWithHypotheses(
@@ -111,6 +131,8 @@ FrameTrackingOutcome FrameTracker::track(const ImagePyramid& frame, double expos
   out.wants_keyframe = keyframeWanted(r.tracking, r.rmse);
 
   T_last_prelast_ = has_last_ ? out.T_c_w * T_last_w_.inverse() : SE3d();
+  velocity_dt_ = has_last_ ? timestamp - t_last_ : std::numeric_limits<double>::quiet_NaN();
+  t_last_ = timestamp;
   has_velocity_ = has_last_;
   T_last_w_ = out.T_c_w;
   has_last_ = true;

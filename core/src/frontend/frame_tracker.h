@@ -3,6 +3,7 @@
 // (optical flow, brightness change and residual growth, as in DSO).
 #pragma once
 
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -49,17 +50,35 @@ class FrameTracker {
   /// multiplied by KeyframeConfig::settling_flow_scale.
   void adoptReference(std::unique_ptr<CoarseTracker>& prepared, int id, const SE3d& T_ref_w,
                       bool calibration_settling);
-  /// Starts a fresh motion history at a known pose (after initialisation).
-  void resetMotion(const SE3d& T_c_w_last, const AffineLight& aff_last);
+  /// Starts a fresh motion history at a known pose, that of a frame taken at `timestamp` (seconds),
+  /// with no velocity known.
+  void resetMotion(const SE3d& T_c_w_last, const AffineLight& aff_last, double timestamp);
+  /// The camera's motion over the last `seconds` before the last frame (prelast -> last, e.g. from
+  /// the initialisation's reference to its last frame): the constant-velocity guess from now on.
+  void setVelocity(const SE3d& T_last_prelast, double seconds);
   /// The last frame's pose was refined (it became a keyframe): keep the velocity, move the pose.
   void refineLastPose(const SE3d& T_c_w) { T_last_w_ = T_c_w; }
   bool hasReference() const { return has_reference_; }
   int referenceKeyframeId() const { return reference_id_; }
   const SE3d& referencePose() const { return T_ref_w_; }
 
-  /// Tracks `frame` against the reference from the motion guesses; `rotations` false leaves out
-  /// the extra rotated guesses (the start pose is known from elsewhere, e.g. a relocalisation).
-  FrameTrackingOutcome track(const ImagePyramid& frame, double exposure, bool rotations = true);
+  /// Tracks `frame`, taken at `timestamp` (seconds), against the reference from the motion
+  /// guesses; `rotations` false leaves out the extra rotated guesses (the start pose is known from
+  /// elsewhere, e.g. a relocalisation). The constant-velocity guess continues the last motion for
+  /// the time since the last tracked frame (velocityScale()).
+  FrameTrackingOutcome track(const ImagePyramid& frame, double exposure, double timestamp,
+                             bool rotations = true);
+
+  /// Frames closer to even spacing than this (the time since the last frame over the time the
+  /// velocity spans, within 1 +- this) take the last motion as it is: timestamps jitter, and the
+  /// frames of a steady camera are evenly spaced.
+  static constexpr double kEvenSpacingTolerance = 0.25;
+  /// The motion is continued for at most this many times the time it spans.
+  static constexpr double kMaxVelocityScale = 10.0;
+  /// MotionHistory::velocity_scale for a frame at `t` after the last one at `t_last`, the velocity
+  /// spanning `velocity_dt` seconds: 1 when unknown (a time not finite, not increasing) or
+  /// within the tolerance of even spacing, else the ratio, at most kMaxVelocityScale.
+  static double velocityScale(double t, double t_last, double velocity_dt);
 
   /// The pixels of `level` where the reference's points of that level fall for a frame at
   /// world -> camera pose T_c_w (points behind the camera or outside the image left out).
@@ -74,10 +93,12 @@ class FrameTracker {
     bool has_velocity = false, has_last = false;
     AffineLight last_aff;
     double last_rmse = 0.0, first_rmse = -1.0;
+    double t_last = std::numeric_limits<double>::quiet_NaN();       ///< the last frame's time
+    double velocity_dt = std::numeric_limits<double>::quiet_NaN();  ///< time T_last_prelast spans
   };
   MotionState motionState() const {
-    return {T_last_w_, T_last_prelast_, has_velocity_, has_last_,
-            last_aff_, last_rmse_,      first_rmse_};
+    return {T_last_w_,  T_last_prelast_, has_velocity_, has_last_,   last_aff_,
+            last_rmse_, first_rmse_,     t_last_,       velocity_dt_};
   }
   void restoreMotion(const MotionState& m) {
     T_last_w_ = m.T_last_w;
@@ -87,6 +108,8 @@ class FrameTracker {
     last_aff_ = m.last_aff;
     last_rmse_ = m.last_rmse;
     first_rmse_ = m.first_rmse;
+    t_last_ = m.t_last;
+    velocity_dt_ = m.velocity_dt;
   }
 
  private:
@@ -109,6 +132,8 @@ class FrameTracker {
   AffineLight last_aff_;
   double last_rmse_ = 0.0;
   double first_rmse_ = -1.0;  ///< RMSE of the first frame tracked against the reference
+  double t_last_ = std::numeric_limits<double>::quiet_NaN();
+  double velocity_dt_ = std::numeric_limits<double>::quiet_NaN();
 };
 
 }  // namespace ldsm

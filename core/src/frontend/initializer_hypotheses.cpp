@@ -205,17 +205,26 @@ void InitializerHypotheses::restartDropped() {
   }
 }
 
-bool InitializerHypotheses::addFrame(const ImagePyramid& pyramid, double exposure) {
+bool InitializerHypotheses::addFrame(const ImagePyramid& pyramid, double exposure, double timestamp,
+                                     bool after_skipped) {
   const bool tracking = status_ == InitStatus::kWaitingForParallax ||
                         status_ == InitStatus::kConfirming || status_ == InitStatus::kComplete;
   if (!tracking) {
     startReference(pyramid, exposure);
+    t_reference_ = t_last_ = timestamp;
     return false;
   }
   ++frames_;
+  const double scale = (timestamp - t_reference_) / (t_last_ - t_reference_);
+  t_last_ = timestamp;
   alive_scratch_.clear();
-  for (std::size_t i = 0; i < members_.size(); ++i)
-    if (members_[i].alive) alive_scratch_.push_back(static_cast<int>(i));
+  for (std::size_t i = 0; i < members_.size(); ++i) {
+    if (!members_[i].alive) continue;
+    alive_scratch_.push_back(static_cast<int>(i));
+    if (after_skipped && members_[i].initializer->continueMotion(scale))
+      spdlog::trace("initializer frame {} hypothesis {}: motion continued x{:.2f}", frames_, i,
+                    scale);
+  }
   const auto track = [&](int k) {
     members_[static_cast<std::size_t>(alive_scratch_[static_cast<std::size_t>(k)])]
         .initializer->addFrame(pyramid, exposure);

@@ -30,6 +30,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -74,8 +75,15 @@ class InitializerHypotheses {
                         int hypotheses);
 
   /// Same contract as CoarseInitializer::addFrame(): the first frame (after a failure or reset())
-  /// becomes the reference; returns true when the initialisation is complete.
-  bool addFrame(const ImagePyramid& pyramid, double exposure);
+  /// becomes the reference; returns true when the initialisation is complete. `timestamp`
+  /// (seconds) is when the frame was taken; `after_skipped`: frames came since the previous one
+  /// given here that this initializer did not see (live mode, it was busy with that one). Then
+  /// the confirming hypotheses continue their motion for the time that passed
+  /// (CoarseInitializer::continueMotion()): from its last estimate alone, a frame three frames of
+  /// a car's motion on was fitted at 10 grey levels RMS and the initialisation went astray.
+  bool addFrame(const ImagePyramid& pyramid, double exposure,
+                double timestamp = std::numeric_limits<double>::quiet_NaN(),
+                bool after_skipped = false);
   void reset();
   /// reset() and give back every hypothesis' memory, the primary's point selector included
   /// (about 10 MB at 1232x368); it is allocated again with the next reference. For after a
@@ -125,6 +133,8 @@ class InitializerHypotheses {
   int leader_ = 0;
   concurrency::ParallelTasks* tasks_ = nullptr;
   bool second_chance_ = true;
+  double t_reference_ = std::numeric_limits<double>::quiet_NaN();  ///< the reference's time
+  double t_last_ = std::numeric_limits<double>::quiet_NaN();       ///< the last frame's time
   std::vector<int> alive_scratch_;  ///< indices of the live hypotheses of the frame
 };
 

@@ -96,9 +96,12 @@ void TrackingStage::initializeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent
   if (init_task_->idle() && !initialization_pending_.load(std::memory_order_acquire)) {
     initializer_frames_.fetch_add(1, std::memory_order_relaxed);
     job.pyramid = std::move(pyr);
+    job.after_skipped = initializer_skipped_;
+    initializer_skipped_ = false;
     init_task_->submit(std::move(job));
   } else {
     initializer_busy_frames_.fetch_add(1, std::memory_order_relaxed);
+    initializer_skipped_ = true;
     spdlog::debug("frame {}: the initializer is busy with an earlier frame", frame.frame_index);
     pyramids_.release(std::move(pyr));
   }
@@ -108,7 +111,8 @@ std::optional<TrackingStage::InitializationDone> TrackingStage::initializeFrame(
     InitializationFrame& job) {
   StageTimer::Scope t(timer_, kInitialize);
   const std::int64_t index = job.info.frame_index;
-  const bool done = initializer_.addFrame(*job.pyramid, job.info.exposure);
+  const bool done =
+      initializer_.addFrame(*job.pyramid, job.info.exposure, job.info.timestamp, job.after_skipped);
   const InitFrameStats& is = initializer_.lastFrameStats();
   spdlog::debug("frame {}: initialiser {} (flow {:.1f} px, rms {:.1f}, good {:.0f} %)", index,
                 toString(initializer_.status()), is.flow_translation, is.rms_residual,
@@ -165,9 +169,18 @@ void TrackingStage::adoptInitialization(const InitializationDone& done, FrameEve
       {done.reference.frame_index, done.reference.timestamp, outcome.keyframe_id - 1, SE3d()});
   store_.addFrame({done.frame.frame_index, done.frame.timestamp, outcome.keyframe_id, SE3d()});
   adoptNewestReference();
-  tracker_.resetMotion(outcome.T_c_w, outcome.aff);
+  tracker_.resetMotion(outcome.T_c_w, outcome.aff, done.frame.timestamp);
   last_tracked_index_ = done.frame.frame_index;
-  if (frame.frame_index != done.frame.frame_index) return;
+  if (frame.frame_index != done.frame.frame_index) {
+    // Live mode: the map came from the initializer's thread while later frames went by, and
+    // `frame`, the first one tracked in it, can be many frames on (kitti00_200 replayed twice as
+    // fast: 3 frames of a car's motion, beyond every guess from rest). The motion over the
+    // initialisation (its reference is the map's fixed first keyframe) is the velocity, continued
+    // for the time since (FrameTracker::velocityScale()).
+    tracker_.setVelocity(outcome.T_c_w * done.reference.T_c_w.inverse(),
+                         done.frame.timestamp - done.reference.timestamp);
+    return;
+  }
   frame.has_pose = true;
   frame.is_keyframe = true;
   frame.pose = outcome.T_c_w.inverse().toPose();
@@ -193,7 +206,7 @@ void TrackingStage::trackStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent& fra
   FrameTrackingOutcome outcome;
   {
     StageTimer::Scope t(timer_, kTrack);
-    outcome = tracker_.track(*pyr, exposure);
+    outcome = tracker_.track(*pyr, exposure, frame.timestamp);
   }
   if (mapping_.keyframeInFlight()) {
     // Live mode (offline mode waited above): tracked against the reference before the keyframe
@@ -204,7 +217,7 @@ void TrackingStage::trackStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent& fra
     if (!outcome.success && adoptNewestReference()) {
       tracker_.restoreMotion(motion);
       StageTimer::Scope t(timer_, kTrack);
-      outcome = tracker_.track(*pyr, exposure);
+      outcome = tracker_.track(*pyr, exposure, frame.timestamp);
     }
     if (!outcome.success && mapping_.keyframeInFlight()) {
       spdlog::debug("frame {}: not tracked while a keyframe is mapped ({})", frame.frame_index,
@@ -356,7 +369,8 @@ void TrackingStage::relocalizeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent
     // Found in the map: from that pose only (the rotated guesses around it cost 100 ms and more
     // on the tracking thread, and the map's pose needs none); not found: the whole search from
     // where the camera was last seen.
-    const FrameTrackingOutcome outcome = tracker_.track(*pyr, exposure, /*rotations=*/!r.success);
+    const FrameTrackingOutcome outcome =
+        tracker_.track(*pyr, exposure, frame.timestamp, /*rotations=*/!r.success);
     // After a loss the frame may show somewhere else entirely (the camera was carried, or the
     // map found it far from the window): only a fit as good as before the loss resumes here.
     const bool near_window = [&] {
@@ -399,7 +413,7 @@ void TrackingStage::relocalizeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent
   if (!outcome.ok) return;
   store_.addFrame({frame.frame_index, frame.timestamp, outcome.keyframe_id, SE3d()});
   adoptNewestReference();
-  tracker_.resetMotion(outcome.T_c_w, outcome.aff);
+  tracker_.resetMotion(outcome.T_c_w, outcome.aff, frame.timestamp);
   last_tracked_index_ = frame.frame_index;
   frame.has_pose = true;
   frame.is_keyframe = true;

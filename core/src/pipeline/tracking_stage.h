@@ -107,6 +107,8 @@ class TrackingStage {
   struct InitializationFrame {
     std::unique_ptr<ImagePyramid> pyramid;
     MapperFrame info;  ///< T_c_w: the world anchor of the map it would start
+    /// Frames went by since the initializer's previous frame (live mode: it was busy).
+    bool after_skipped = false;
   };
   struct InitializationDone {
     MapperFrame reference;  ///< the first keyframe's frame
@@ -178,6 +180,7 @@ class TrackingStage {
   std::atomic<std::int64_t> losses_{0};
   std::atomic<std::int64_t> initializer_frames_{0};
   std::atomic<std::int64_t> initializer_busy_frames_{0};
+  bool initializer_skipped_ = false;  ///< a frame went without the initializer since its last
   /// Set by the initializer's task when it finished a map, cleared when tracking took it over: no
   /// frame goes to the initializer in between.
   std::atomic<bool> initialization_pending_{false};

@@ -5,11 +5,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <random>
 #include <set>
 #include <tuple>
 
+#include "frontend/frame_tracker.h"
 #include "track_scene.h"
 
 namespace ldsm {
@@ -70,6 +72,51 @@ TEST(MotionHypothesesTest, WithoutVelocityTheConstantGuessIsTheLastPose) {
   EXPECT_LT(
       (motionHypothesis(0, h, HypothesisSettings(), nullptr).inverse() * h.T_last_ref).log().norm(),
       1e-12);
+}
+
+// Frames further apart than the last two (frames dropped, a slow initializer): the guesses
+// continue the last motion for the time that has passed, scaled in the tangent space.
+TEST(MotionHypothesesTest, ScaledVelocityContinuesTheMotionForTheTimePassed) {
+  MotionHistory h;
+  h.T_last_ref = SE3d(SO3d::exp(Eigen::Vector3d(0.01, 0.02, -0.01)), Eigen::Vector3d(0.1, 0, 0));
+  h.T_last_prelast = SE3d(SO3d::exp(Eigen::Vector3d(0, 0.05, 0.01)), Eigen::Vector3d(0, 0.02, 0));
+  h.has_velocity = true;
+  const HypothesisSettings settings;
+  const SE3d& V = h.T_last_prelast;
+  // Scale 1: the motion itself, bit for bit as before scaling existed.
+  EXPECT_EQ(motionHypothesis(0, h, settings, nullptr).matrix(), (V * h.T_last_ref).matrix());
+  EXPECT_EQ(motionHypothesis(1, h, settings, nullptr).matrix(), (V * (V * h.T_last_ref)).matrix());
+  h.velocity_scale = 3.0;  // two frames dropped
+  const auto near = [](const SE3d& a, const SE3d& b) {
+    return (a.inverse() * b).log().norm() < 1e-12;
+  };
+  const SE3d V3 = V * V * V;  // a constant twist three times over
+  EXPECT_TRUE(near(motionHypothesis(0, h, settings, nullptr), V3 * h.T_last_ref));
+  EXPECT_TRUE(near(motionHypothesis(1, h, settings, nullptr), V3 * V3 * h.T_last_ref));
+  const SE3d half = motionHypothesis(2, h, settings, nullptr) * h.T_last_ref.inverse();
+  EXPECT_TRUE(near(half * half, V3));
+  EXPECT_TRUE(near(motionHypothesis(3, h, settings, nullptr), h.T_last_ref));  // zero motion
+  // The rotated guesses turn the scaled constant-velocity guess.
+  const SE3d delta = motionHypothesis(5, h, settings, nullptr) * (V3 * h.T_last_ref).inverse();
+  EXPECT_LT(delta.translation().norm(), 1e-12);
+  EXPECT_NEAR(delta.so3().log().norm(), settings.rotation_angles[0], 1e-12);
+}
+
+TEST(MotionHypothesesTest, VelocityScaleIsTheTimePassedOverTheTimeTheMotionSpans) {
+  EXPECT_EQ(FrameTracker::velocityScale(0.2, 0.1, 0.1), 1.0);
+  EXPECT_DOUBLE_EQ(FrameTracker::velocityScale(0.4, 0.1, 0.1), 3.0);   // two frames dropped
+  EXPECT_DOUBLE_EQ(FrameTracker::velocityScale(0.15, 0.1, 0.1), 0.5);  // a faster camera
+  // Jitter within the tolerance of even spacing: the motion as it is.
+  EXPECT_EQ(FrameTracker::velocityScale(0.22, 0.1, 0.1), 1.0);
+  EXPECT_EQ(FrameTracker::velocityScale(0.18, 0.1, 0.1), 1.0);
+  // At most kMaxVelocityScale; unknown or not increasing times: 1.
+  EXPECT_EQ(FrameTracker::velocityScale(100.0, 0.1, 0.1), FrameTracker::kMaxVelocityScale);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(FrameTracker::velocityScale(0.4, nan, 0.1), 1.0);
+  EXPECT_EQ(FrameTracker::velocityScale(0.4, 0.1, nan), 1.0);
+  EXPECT_EQ(FrameTracker::velocityScale(0.1, 0.1, 0.1), 1.0);
+  EXPECT_EQ(FrameTracker::velocityScale(0.0, 0.1, 0.1), 1.0);
+  EXPECT_EQ(FrameTracker::velocityScale(0.4, 0.1, 0.0), 1.0);
 }
 
 class HypothesisTrackingTest : public ::testing::Test {
@@ -154,6 +201,29 @@ TEST_F(HypothesisTrackingTest, SkippedFrameIsFoundByDoubleMotion) {
       trackWithHypotheses(*tracker_, frame, 1.0, h, HypothesisSettings());
   ASSERT_TRUE(r.success);
   EXPECT_EQ(r.kind, MotionHypothesisKind::kDoubleMotion);
+  EXPECT_TRUE(close(r.T_frame_ref, truth));
+}
+
+// Three frames dropped after a fast motion: the plain constant-velocity guess (one frame's
+// motion) is out of reach and so is double motion, but the guess scaled to the time that passed
+// tracks at once.
+TEST_F(HypothesisTrackingTest, DroppedFramesAreBridgedByTheScaledVelocity) {
+  MotionHistory h;
+  h.T_last_ref = rotationAboutY(0.02, {0.02, 0, 0});
+  h.T_last_prelast = rotationAboutY(0.05, {0.03, 0, 0.01});
+  h.has_velocity = true;
+  h.last_rmse = 1.0;
+  const SE3d& V = h.T_last_prelast;
+  const SE3d truth = V * V * V * V * h.T_last_ref;
+  const ImagePyramid frame = renderFrame(truth);
+  EXPECT_FALSE(plainTrackFinds(frame, V * h.T_last_ref, truth));
+  EXPECT_FALSE(plainTrackFinds(frame, V * V * h.T_last_ref, truth));
+  h.velocity_scale = 4.0;
+  const HypothesisTrackingResult r =
+      trackWithHypotheses(*tracker_, frame, 1.0, h, HypothesisSettings());
+  ASSERT_TRUE(r.success);
+  EXPECT_EQ(r.kind, MotionHypothesisKind::kConstantVelocity);
+  EXPECT_EQ(r.tried, 1);
   EXPECT_TRUE(close(r.T_frame_ref, truth));
 }
 
