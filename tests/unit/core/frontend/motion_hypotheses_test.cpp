@@ -23,16 +23,23 @@ SE3d rotationAboutY(double angle, const Eigen::Vector3d& t = Eigen::Vector3d::Ze
   return SE3d(SO3d::exp(Eigen::Vector3d(0, angle, 0)), t);
 }
 
-TEST(MotionHypothesesTest, BuildsTheExpectedPoses) {
+/// A history with a last pose and a velocity, both turned and moved.
+MotionHistory movingHistory() {
   MotionHistory h;
   h.T_last_ref = SE3d(SO3d::exp(Eigen::Vector3d(0.01, 0.02, -0.01)), Eigen::Vector3d(0.1, 0, 0));
   h.T_last_prelast = SE3d(SO3d::exp(Eigen::Vector3d(0, 0.05, 0.01)), Eigen::Vector3d(0, 0.02, 0));
   h.has_velocity = true;
+  return h;
+}
+
+bool near(const SE3d& a, const SE3d& b) {
+  return (a.inverse() * b).log().norm() < 1e-12;
+}
+
+TEST(MotionHypothesesTest, BuildsTheExpectedPoses) {
+  const MotionHistory h = movingHistory();
   const HypothesisSettings settings;
   ASSERT_EQ(motionHypothesisCount(settings), 5 + 26 * settings.rotation_angle_count);
-  const auto near = [](const SE3d& a, const SE3d& b) {
-    return (a.inverse() * b).log().norm() < 1e-12;
-  };
   MotionHypothesisKind kind;
   const SE3d& V = h.T_last_prelast;
   EXPECT_TRUE(near(motionHypothesis(0, h, settings, &kind), V * h.T_last_ref));
@@ -77,19 +84,13 @@ TEST(MotionHypothesesTest, WithoutVelocityTheConstantGuessIsTheLastPose) {
 // Frames further apart than the last two (frames dropped, a slow initializer): the guesses
 // continue the last motion for the time that has passed, scaled in the tangent space.
 TEST(MotionHypothesesTest, ScaledVelocityContinuesTheMotionForTheTimePassed) {
-  MotionHistory h;
-  h.T_last_ref = SE3d(SO3d::exp(Eigen::Vector3d(0.01, 0.02, -0.01)), Eigen::Vector3d(0.1, 0, 0));
-  h.T_last_prelast = SE3d(SO3d::exp(Eigen::Vector3d(0, 0.05, 0.01)), Eigen::Vector3d(0, 0.02, 0));
-  h.has_velocity = true;
+  MotionHistory h = movingHistory();
   const HypothesisSettings settings;
   const SE3d& V = h.T_last_prelast;
   // Scale 1: the motion itself, bit for bit as before scaling existed.
   EXPECT_EQ(motionHypothesis(0, h, settings, nullptr).matrix(), (V * h.T_last_ref).matrix());
   EXPECT_EQ(motionHypothesis(1, h, settings, nullptr).matrix(), (V * (V * h.T_last_ref)).matrix());
-  h.velocity_scale = 3.0;  // two frames dropped
-  const auto near = [](const SE3d& a, const SE3d& b) {
-    return (a.inverse() * b).log().norm() < 1e-12;
-  };
+  h.velocity_scale = 3.0;     // two frames dropped
   const SE3d V3 = V * V * V;  // a constant twist three times over
   EXPECT_TRUE(near(motionHypothesis(0, h, settings, nullptr), V3 * h.T_last_ref));
   EXPECT_TRUE(near(motionHypothesis(1, h, settings, nullptr), V3 * V3 * h.T_last_ref));
