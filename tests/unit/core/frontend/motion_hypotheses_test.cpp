@@ -149,16 +149,23 @@ class HypothesisTrackingTest : public ::testing::Test {
     return test::rotationError(a, b) < 1e-3 && test::translationError(a, b) < 2e-3;
   }
 
+  /// The last frame at `T_last_ref`, after the motion `T_last_prelast`, tracked at 1 grey level.
+  static MotionHistory history(const SE3d& T_last_ref, const SE3d& T_last_prelast) {
+    MotionHistory h;
+    h.T_last_ref = T_last_ref;
+    h.T_last_prelast = T_last_prelast;
+    h.has_velocity = true;
+    h.last_rmse = 1.0;
+    return h;
+  }
+
   TrackScene scene_;
   std::unique_ptr<CoarseTracker> tracker_;
 };
 
 TEST_F(HypothesisTrackingTest, GoodConstantVelocityGuessStopsAtOnce) {
-  MotionHistory h;
-  h.T_last_ref = rotationAboutY(0.01, {0.02, 0, 0.01});
-  h.T_last_prelast = rotationAboutY(0.01, {0.02, 0, 0.01});
-  h.has_velocity = true;
-  h.last_rmse = 1.0;
+  MotionHistory h =
+      history(rotationAboutY(0.01, {0.02, 0, 0.01}), rotationAboutY(0.01, {0.02, 0, 0.01}));
   const SE3d truth = h.T_last_prelast * h.T_last_ref;
   const HypothesisTrackingResult r =
       trackWithHypotheses(*tracker_, renderFrame(truth), 1.0, h, HypothesisSettings());
@@ -172,11 +179,9 @@ TEST_F(HypothesisTrackingTest, GoodConstantVelocityGuessStopsAtOnce) {
 }
 
 TEST_F(HypothesisTrackingTest, CameraThatStoppedIsFoundByZeroMotion) {
-  MotionHistory h;
-  h.T_last_ref = rotationAboutY(0.02, {0.03, 0, 0});
-  h.T_last_prelast = rotationAboutY(0.15, {0.1, 0, 0});  // fast pan ... then the camera stops
-  h.has_velocity = true;
-  h.last_rmse = 1.0;
+  MotionHistory h =
+      history(rotationAboutY(0.02, {0.03, 0, 0}),
+              rotationAboutY(0.15, {0.1, 0, 0}));  // fast pan ... then the camera stops
   const SE3d truth = h.T_last_ref;
   const ImagePyramid frame = renderFrame(truth);
   // The premise: the constant-velocity guess alone does not track.
@@ -190,11 +195,7 @@ TEST_F(HypothesisTrackingTest, CameraThatStoppedIsFoundByZeroMotion) {
 }
 
 TEST_F(HypothesisTrackingTest, SkippedFrameIsFoundByDoubleMotion) {
-  MotionHistory h;
-  h.T_last_ref = rotationAboutY(0.12, {0.05, 0, 0});
-  h.T_last_prelast = h.T_last_ref;
-  h.has_velocity = true;
-  h.last_rmse = 1.0;
+  MotionHistory h = history(rotationAboutY(0.12, {0.05, 0, 0}), h.T_last_ref);
   const SE3d truth = h.T_last_prelast * h.T_last_prelast * h.T_last_ref;  // a frame was dropped
   const ImagePyramid frame = renderFrame(truth);
   EXPECT_FALSE(plainTrackFinds(frame, h.T_last_prelast * h.T_last_ref, truth));
@@ -209,11 +210,8 @@ TEST_F(HypothesisTrackingTest, SkippedFrameIsFoundByDoubleMotion) {
 // motion) is out of reach and so is double motion, but the guess scaled to the time that passed
 // tracks at once.
 TEST_F(HypothesisTrackingTest, DroppedFramesAreBridgedByTheScaledVelocity) {
-  MotionHistory h;
-  h.T_last_ref = rotationAboutY(0.02, {0.02, 0, 0});
-  h.T_last_prelast = rotationAboutY(0.05, {0.03, 0, 0.01});
-  h.has_velocity = true;
-  h.last_rmse = 1.0;
+  MotionHistory h =
+      history(rotationAboutY(0.02, {0.02, 0, 0}), rotationAboutY(0.05, {0.03, 0, 0.01}));
   const SE3d& V = h.T_last_prelast;
   const SE3d truth = V * V * V * V * h.T_last_ref;
   const ImagePyramid frame = renderFrame(truth);
@@ -306,11 +304,7 @@ TEST_F(HypothesisTrackingTest, UnrelatedImageFailsAfterTryingEverything) {
   for (int y = 0; y < image.height(); ++y) {
     for (int x = 0; x < image.width(); ++x) image(x, y) = noise(rng);
   }
-  MotionHistory h;
-  h.T_last_ref = rotationAboutY(0.01, {0.02, 0, 0});
-  h.T_last_prelast = h.T_last_ref;
-  h.has_velocity = true;
-  h.last_rmse = 1.0;
+  MotionHistory h = history(rotationAboutY(0.01, {0.02, 0, 0}), h.T_last_ref);
   HypothesisSettings settings;
   settings.rotation_angle_count = 1;
   const HypothesisTrackingResult r =
