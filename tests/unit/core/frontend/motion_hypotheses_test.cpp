@@ -195,7 +195,8 @@ TEST_F(HypothesisTrackingTest, CameraThatStoppedIsFoundByZeroMotion) {
 }
 
 TEST_F(HypothesisTrackingTest, SkippedFrameIsFoundByDoubleMotion) {
-  MotionHistory h = history(rotationAboutY(0.12, {0.05, 0, 0}), h.T_last_ref);
+  const SE3d step = rotationAboutY(0.12, {0.05, 0, 0});
+  MotionHistory h = history(step, step);
   const SE3d truth = h.T_last_prelast * h.T_last_prelast * h.T_last_ref;  // a frame was dropped
   const ImagePyramid frame = renderFrame(truth);
   EXPECT_FALSE(plainTrackFinds(frame, h.T_last_prelast * h.T_last_ref, truth));
