@@ -305,7 +305,8 @@ TEST_F(HypothesisTrackingTest, UnrelatedImageFailsAfterTryingEverything) {
   for (int y = 0; y < image.height(); ++y) {
     for (int x = 0; x < image.width(); ++x) image(x, y) = noise(rng);
   }
-  MotionHistory h = history(rotationAboutY(0.01, {0.02, 0, 0}), h.T_last_ref);
+  const SE3d step = rotationAboutY(0.01, {0.02, 0, 0});
+  const MotionHistory h = history(step, step);
   HypothesisSettings settings;
   settings.rotation_angle_count = 1;
   const HypothesisTrackingResult r =
