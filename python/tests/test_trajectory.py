@@ -44,6 +44,9 @@ def test_python_matches_the_cli(scene, scratch):
     points = system.map_points()
     assert points.ndim == 2 and points.shape[1] == 4 and points.shape[0] > 100
     assert system.keyframe_trajectory().shape[1] == 8
+    # Deterministic: the initializer had every frame until the map, none went without it.
+    stats = system.stats()
+    assert stats["initializer_frames"] > 1 and stats["initializer_busy_frames"] == 0
 
 
 def test_calibration_refinement_in_stats(scene):

@@ -72,6 +72,9 @@ TEST_F(RunLiveCli, RealtimeReplayReportsDropsAndLatencyInStatsJson) {
   EXPECT_EQ(jsonNumber(json, "received_frames") + jsonNumber(json, "dropped_frames"), 60.0) << json;
   EXPECT_EQ(jsonNumber(json, "queue_capacity"), 4.0) << json;
   EXPECT_EQ(jsonNumber(json, "realtime_speed"), 2.0) << json;
+  // The initializer took the first frame at least; those it went without are counted.
+  EXPECT_GE(jsonNumber(json, "initializer_frames"), 1.0) << json;
+  EXPECT_GE(jsonNumber(json, "initializer_busy_frames"), 0.0) << json;
   EXPECT_GE(jsonNumber(json, "max_source_lateness_ms"), 0.0) << json;
   EXPECT_NE(json.find("\"submit_to_tracked\""), std::string::npos) << json;
   EXPECT_NE(json.find("\"queue_wait\""), std::string::npos) << json;
