@@ -51,6 +51,21 @@ inline BenchInput openBenchInput(const Config& config, const std::string& folder
   return in;
 }
 
+/// The sequence benches' shared options: takes argv[i] (and its value, advancing i) when it is
+/// `--data DIR` or `--only NAME[,NAME...]`; false otherwise.
+inline bool takeSequenceOption(int argc, char** argv, int& i, std::string& data,
+                               std::string& only) {
+  const std::string a = argv[i];
+  if ((a != "--data" && a != "--only") || i + 1 >= argc) return false;
+  (a == "--data" ? data : only) = argv[++i];
+  return true;
+}
+
+/// Whether `name` is among the comma-separated `only` (empty: every name is).
+inline bool selected(const std::string& only, const std::string& name) {
+  return only.empty() || ("," + only + ",").find("," + name + ",") != std::string::npos;
+}
+
 /// printf-formatted value, "-" for NaN.
 inline std::string cell(double v, const char* format) {
   if (std::isnan(v)) return "-";

@@ -112,10 +112,8 @@ int main(int argc, char** argv) {
   bool check = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--data" && i + 1 < argc) {
-      data = argv[++i];
-    } else if (a == "--only" && i + 1 < argc) {
-      only = argv[++i];
+    if (ldsm::bench::takeSequenceOption(argc, argv, i, data, only)) {
+      continue;
     } else if (a == "--speeds" && i + 1 < argc && !parseSpeeds(argv[i + 1]).empty()) {
       speeds = parseSpeeds(argv[++i]);
     } else if (a == "--rounds" && i + 1 < argc && std::atoi(argv[i + 1]) >= 1 &&
@@ -137,7 +135,7 @@ int main(int argc, char** argv) {
               "drop", "track", "maps/lost", "init/busy", "p50 ms", "p99 ms", "max ms", "ATE [m]");
   bool all_ok = true;
   for (const std::string name : {"kitti00_200", "vamr_desk_loop"}) {
-    if (!only.empty() && ("," + only + ",").find("," + name + ",") == std::string::npos) continue;
+    if (!ldsm::bench::selected(only, name)) continue;
     const std::string folder = data + "/" + name;
     if (!std::filesystem::is_directory(folder)) {
       std::printf("%-28s skipped: %s not found\n", name.c_str(), folder.c_str());

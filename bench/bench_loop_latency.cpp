@@ -84,10 +84,8 @@ int main(int argc, char** argv) {
   double speed = 1.0;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--data" && i + 1 < argc) {
-      data = argv[++i];
-    } else if (a == "--only" && i + 1 < argc) {
-      only = argv[++i];
+    if (ldsm::bench::takeSequenceOption(argc, argv, i, data, only)) {
+      continue;
     } else if (a == "--speed" && i + 1 < argc) {
       speed = std::stod(argv[++i]);
     } else {
@@ -102,7 +100,7 @@ int main(int argc, char** argv) {
   std::printf("%-16s %-5s %8s %7s %5s %9s %8s %8s %9s %7s\n", "sequence", "loop", "received",
               "dropped", "loops", "ATE [m]", "lat p50", "lat p99", "track p99", "RSS MB");
   for (const Sequence& s : all) {
-    if (!only.empty() && ("," + only + ",").find("," + s.name + ",") == std::string::npos) continue;
+    if (!ldsm::bench::selected(only, s.name)) continue;
     if (!s.folder.empty() && !std::filesystem::is_directory(data + "/" + s.folder)) {
       std::printf("%-16s skipped: %s/%s not found\n", s.name.c_str(), data.c_str(),
                   s.folder.c_str());

@@ -108,10 +108,8 @@ int main(int argc, char** argv) {
   int threads = 1;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--data" && i + 1 < argc)
-      data = argv[++i];
-    else if (a == "--only" && i + 1 < argc)
-      only = argv[++i];
+    if (ldsm::bench::takeSequenceOption(argc, argv, i, data, only))
+      continue;
     else if (a == "--check")
       check = true;
     else if (a == "--instructions" && i + 1 < argc)
@@ -157,7 +155,7 @@ int main(int argc, char** argv) {
               "RSS MiB", "Minstr/f", "targets");
   bool all_ok = true;
   for (const Sequence& s : all) {
-    if (!only.empty() && ("," + only + ",").find("," + s.name + ",") == std::string::npos) continue;
+    if (!ldsm::bench::selected(only, s.name)) continue;
     if (!s.folder.empty() && !std::filesystem::is_directory(data + "/" + s.folder)) {
       std::printf("%-20s skipped: %s/%s not found\n", s.name.c_str(), data.c_str(),
                   s.folder.c_str());

@@ -158,7 +158,7 @@ bool CoarseInitializer::addFrame(const ImagePyramid& pyramid, double exposure) {
 
 bool CoarseInitializer::continueMotion(double scale) {
   if (status_ != InitStatus::kConfirming || !std::isfinite(scale) || !(scale > 1.0)) return false;
-  const SE3d guess = SE3d::exp(scale * T_.log());
+  const SE3d guess = interpolateGeodesic(SE3d(), T_, scale);
   if (!finitePose(guess)) return false;
   T_ = guess;
   return true;

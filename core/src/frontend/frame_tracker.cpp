@@ -88,6 +88,12 @@ double FrameTracker::velocityScale(double t, double t_last, double velocity_dt) 
   return std::min(s, kMaxVelocityScale);
 }
 
+SE3d FrameTracker::continuedVelocity(const SE3d& T_last_prelast, double t, double t_last,
+                                     double velocity_dt) {
+  const double s = velocityScale(t, t_last, velocity_dt);
+  return s == 1.0 ? T_last_prelast : interpolateGeodesic(SE3d(), T_last_prelast, s);
+}
+
 FrameTrackingOutcome FrameTracker::track(const ImagePyramid& frame, double exposure,
                                          double timestamp, bool rotations) {
   FrameTrackingOutcome out;
@@ -97,9 +103,10 @@ FrameTrackingOutcome FrameTracker::track(const ImagePyramid& frame, double expos
   }
   MotionHistory history;
   history.T_last_ref = has_last_ ? T_last_w_ * T_ref_w_.inverse() : SE3d();
-  history.T_last_prelast = T_last_prelast_;
+  history.T_last_prelast =
+      has_velocity_ ? continuedVelocity(T_last_prelast_, timestamp, t_last_, velocity_dt_)
+                    : T_last_prelast_;
   history.has_velocity = has_velocity_;
-  history.velocity_scale = has_velocity_ ? velocityScale(timestamp, t_last_, velocity_dt_) : 1.0;
   history.last_affine = last_aff_;
   history.last_rmse = last_rmse_ > 0.0 ? last_rmse_ : std::numeric_limits<double>::infinity();
   const HypothesisTrackingResult r = trackWithHypotheses(

@@ -64,8 +64,8 @@ class FrameTracker {
 
   /// Tracks `frame`, taken at `timestamp` (seconds), against the reference from the motion
   /// guesses; `rotations` false leaves out the extra rotated guesses (the start pose is known from
-  /// elsewhere, e.g. a relocalisation). The constant-velocity guess continues the last motion for
-  /// the time since the last tracked frame (velocityScale()).
+  /// elsewhere, e.g. a relocalisation). The motion guesses continue the last motion for the time
+  /// since the last tracked frame (continuedVelocity()).
   FrameTrackingOutcome track(const ImagePyramid& frame, double exposure, double timestamp,
                              bool rotations = true);
 
@@ -75,10 +75,16 @@ class FrameTracker {
   static constexpr double kEvenSpacingTolerance = 0.25;
   /// The motion is continued for at most this many times the time it spans.
   static constexpr double kMaxVelocityScale = 10.0;
-  /// MotionHistory::velocity_scale for a frame at `t` after the last one at `t_last`, the velocity
-  /// spanning `velocity_dt` seconds: 1 when unknown (a time not finite, not increasing) or
-  /// within the tolerance of even spacing, else the ratio, at most kMaxVelocityScale.
+  /// How many times the velocity's time span passed from the last frame at `t_last` to a frame
+  /// at `t`, the velocity spanning `velocity_dt` seconds: 1 when unknown (a time not finite, not
+  /// increasing) or within the tolerance of even spacing, else the ratio, at most
+  /// kMaxVelocityScale.
   static double velocityScale(double t, double t_last, double velocity_dt);
+  /// The motion guesses' velocity for a frame at `t`: `T_last_prelast` (spanning `velocity_dt`)
+  /// continued along its screw motion for velocityScale() times its span; exactly
+  /// `T_last_prelast` for evenly spaced frames.
+  static SE3d continuedVelocity(const SE3d& T_last_prelast, double t, double t_last,
+                                double velocity_dt);
 
   /// The pixels of `level` where the reference's points of that level fall for a frame at
   /// world -> camera pose T_c_w (points behind the camera or outside the image left out).

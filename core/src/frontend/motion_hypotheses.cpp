@@ -61,12 +61,7 @@ int motionHypothesisCount(const HypothesisSettings& settings) {
 SE3d motionHypothesis(int index, const MotionHistory& history, const HypothesisSettings& settings,
                       MotionHypothesisKind* kind) {
   const SE3d V = history.has_velocity ? history.T_last_prelast : SE3d();
-  // Evenly spaced frames (scale 1) take the motion itself; otherwise it is scaled in the tangent
-  // space, the motion continued for the time that has passed.
-  const double s = history.velocity_scale;
-  const bool even = s == 1.0;
-  const SE3d::Tangent v = even ? SE3d::Tangent::Zero() : SE3d::Tangent(V.log());
-  const SE3d constant = (even ? V : SE3d::exp(s * v)) * history.T_last_ref;
+  const SE3d constant = V * history.T_last_ref;
   MotionHypothesisKind k = MotionHypothesisKind::kRotated;
   SE3d T = constant;
   switch (index) {
@@ -75,11 +70,11 @@ SE3d motionHypothesis(int index, const MotionHistory& history, const HypothesisS
       break;
     case 1:
       k = MotionHypothesisKind::kDoubleMotion;
-      T = even ? V * constant : SE3d::exp(2.0 * s * v) * history.T_last_ref;
+      T = V * constant;
       break;
     case 2:
       k = MotionHypothesisKind::kHalfMotion;
-      T = SE3d::exp(0.5 * s * V.log()) * history.T_last_ref;
+      T = SE3d::exp(0.5 * V.log()) * history.T_last_ref;
       break;
     case 3:
       k = MotionHypothesisKind::kZeroMotion;

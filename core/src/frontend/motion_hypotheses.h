@@ -22,10 +22,6 @@ struct MotionHistory {
   SE3d T_last_ref;      ///< pose of the last tracked frame relative to the reference (ref -> last)
   SE3d T_last_prelast;  ///< motion between the two last frames (prelast -> last)
   bool has_velocity = false;  ///< false: T_last_prelast is unknown (e.g. second frame)
-  /// How many times the time T_last_prelast spans passed since the last frame: the constant-
-  /// velocity guess is T_last_prelast to this power (double and half motion follow). 1 for
-  /// evenly spaced frames; more when frames were dropped or skipped in between.
-  double velocity_scale = 1.0;
   AffineLight last_affine;    ///< affine brightness of the last frame (initial guess)
   /// Level-0 RMSE of the last frame; infinity when unknown (then the first success is kept).
   double last_rmse = std::numeric_limits<double>::infinity();

@@ -176,7 +176,7 @@ void TrackingStage::adoptInitialization(const InitializationDone& done, FrameEve
     // `frame`, the first one tracked in it, can be many frames on (kitti00_200 replayed twice as
     // fast: 3 frames of a car's motion, beyond every guess from rest). The motion over the
     // initialisation (its reference is the map's fixed first keyframe) is the velocity, continued
-    // for the time since (FrameTracker::velocityScale()).
+    // for the time since (FrameTracker::continuedVelocity()).
     tracker_.setVelocity(outcome.T_c_w * done.reference.T_c_w.inverse(),
                          done.frame.timestamp - done.reference.timestamp);
     return;

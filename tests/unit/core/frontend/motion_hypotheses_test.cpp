@@ -82,25 +82,16 @@ TEST(MotionHypothesesTest, WithoutVelocityTheConstantGuessIsTheLastPose) {
 }
 
 // Frames further apart than the last two (frames dropped, a slow initializer): the guesses
-// continue the last motion for the time that has passed, scaled in the tangent space.
-TEST(MotionHypothesesTest, ScaledVelocityContinuesTheMotionForTheTimePassed) {
-  MotionHistory h = movingHistory();
-  const HypothesisSettings settings;
-  const SE3d& V = h.T_last_prelast;
-  // Scale 1: the motion itself, bit for bit as before scaling existed.
-  EXPECT_EQ(motionHypothesis(0, h, settings, nullptr).matrix(), (V * h.T_last_ref).matrix());
-  EXPECT_EQ(motionHypothesis(1, h, settings, nullptr).matrix(), (V * (V * h.T_last_ref)).matrix());
-  h.velocity_scale = 3.0;     // two frames dropped
-  const SE3d V3 = V * V * V;  // a constant twist three times over
-  EXPECT_TRUE(near(motionHypothesis(0, h, settings, nullptr), V3 * h.T_last_ref));
-  EXPECT_TRUE(near(motionHypothesis(1, h, settings, nullptr), V3 * V3 * h.T_last_ref));
-  const SE3d half = motionHypothesis(2, h, settings, nullptr) * h.T_last_ref.inverse();
-  EXPECT_TRUE(near(half * half, V3));
-  EXPECT_TRUE(near(motionHypothesis(3, h, settings, nullptr), h.T_last_ref));  // zero motion
-  // The rotated guesses turn the scaled constant-velocity guess.
-  const SE3d delta = motionHypothesis(5, h, settings, nullptr) * (V3 * h.T_last_ref).inverse();
-  EXPECT_LT(delta.translation().norm(), 1e-12);
-  EXPECT_NEAR(delta.so3().log().norm(), settings.rotation_angles[0], 1e-12);
+// continue the last motion along its screw motion for the time that has passed.
+TEST(MotionHypothesesTest, ContinuedVelocityFollowsTheTimePassed) {
+  const SE3d V = movingHistory().T_last_prelast;
+  // Evenly spaced (jitter within the tolerance too): the motion itself, bit for bit.
+  EXPECT_EQ(FrameTracker::continuedVelocity(V, 0.2, 0.1, 0.1).matrix(), V.matrix());
+  EXPECT_EQ(FrameTracker::continuedVelocity(V, 0.22, 0.1, 0.1).matrix(), V.matrix());
+  // Two frames dropped: the motion three times over; a frame after half the time: half of it.
+  EXPECT_TRUE(near(FrameTracker::continuedVelocity(V, 0.4, 0.1, 0.1), V * V * V));
+  const SE3d half = FrameTracker::continuedVelocity(V, 0.15, 0.1, 0.1);
+  EXPECT_TRUE(near(half * half, V));
 }
 
 TEST(MotionHypothesesTest, VelocityScaleIsTheTimePassedOverTheTimeTheMotionSpans) {
@@ -213,12 +204,12 @@ TEST_F(HypothesisTrackingTest, SkippedFrameIsFoundByDoubleMotion) {
 TEST_F(HypothesisTrackingTest, DroppedFramesAreBridgedByTheScaledVelocity) {
   MotionHistory h =
       history(rotationAboutY(0.02, {0.02, 0, 0}), rotationAboutY(0.05, {0.03, 0, 0.01}));
-  const SE3d& V = h.T_last_prelast;
+  const SE3d V = h.T_last_prelast;  // a copy: h.T_last_prelast is replaced below
   const SE3d truth = V * V * V * V * h.T_last_ref;
   const ImagePyramid frame = renderFrame(truth);
   EXPECT_FALSE(plainTrackFinds(frame, V * h.T_last_ref, truth));
   EXPECT_FALSE(plainTrackFinds(frame, V * V * h.T_last_ref, truth));
-  h.velocity_scale = 4.0;
+  h.T_last_prelast = FrameTracker::continuedVelocity(V, 0.5, 0.1, 0.1);  // 4 frame periods on
   const HypothesisTrackingResult r =
       trackWithHypotheses(*tracker_, frame, 1.0, h, HypothesisSettings());
   ASSERT_TRUE(r.success);
