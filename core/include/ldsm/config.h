@@ -491,6 +491,11 @@ struct ReuseConfig {
   /// A reactivated keyframe stays while at least this share of its points' residuals in the
   /// newest keyframe are inliers.
   double min_inlier_fraction = 0.5;
+  /// A map keyframe taken out of the window (it no longer fitted, or a better one replaced it)
+  /// twice within this many keyframes is not searched again for as many keyframes: one that fits
+  /// about as well as min_inlier_fraction may come back in the search that took it out (often
+  /// rightly), but not come and go with every keyframe (docs/map-reuse.md, "Resting").
+  int rest_keyframes = 5;
   /// Candidates that passed both checks are tried in a window optimisation that is undone: one
   /// whose points then fit the newest keyframe less than min_inlier_fraction is not brought
   /// back, and rests for trial_rest_keyframes keyframes. Off by default: it fixes the desk soak
@@ -581,6 +586,8 @@ struct ReuseConfig {
             "largest distance of a consistent match from the projected corner (pixels)");
     v.field("min_inlier_fraction", min_inlier_fraction, Range<double>{0.0, 1.0},
             "inlier share of a reactivated keyframe's residuals in the newest keyframe to stay");
+    v.field("rest_keyframes", rest_keyframes, Range<int>{0, 1000},
+            "keyframes within which a second take-out of a map keyframe makes it rest as long");
     v.field("trial_check", trial_check,
             "try new map keyframes in an undone window optimisation before bringing them back");
     v.field("trial_rest_keyframes", trial_rest_keyframes, Range<int>{0, 1000},

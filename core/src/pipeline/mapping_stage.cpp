@@ -88,6 +88,7 @@ MappingStage::MappingStage(const MappingStageSettings& settings, const PyramidCa
   }
   if (settings.reuse.enabled) {
     reuse_ = std::make_unique<ReactivationSearch>(settings.reuse);
+    resting_ = RestingKeyframes(settings.reuse.rest_keyframes);
     mapper_.setCoverageRadius(static_cast<float>(settings.reuse.coverage_radius_px));
   }
   depth_points_.reserve(64 * 1024);

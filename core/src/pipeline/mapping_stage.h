@@ -34,6 +34,7 @@
 #include "pipeline/reference_exchange.h"
 #include "pipeline/stage_timer.h"
 #include "reuse/reactivation_search.h"
+#include "reuse/resting_keyframes.h"
 
 namespace ldsm {
 
@@ -181,6 +182,8 @@ class MappingStage {
   /// no longer fit, bring back those that see the newest keyframe.
   void reuseMap(int newest_frame_index, double newest_timestamp);
   void takeBackMisfits();
+  /// Takes reactivated keyframe `id` out of the window (it rests after a second time soon).
+  void takeOut(int id);
   /// The reactivated keyframes that lost most of the view they came back for, as (inliers in the
   /// newest keyframe, id), weakest first (updates each one's peak).
   std::vector<std::pair<int, int>> replaceableReactivated();
@@ -229,8 +232,7 @@ class MappingStage {
   /// Per reactivated keyframe: the most inliers it has had in a newest keyframe (how well it
   /// fitted the view it was brought back for).
   std::vector<std::pair<int, int>> reactivated_peak_;  // (id, inliers)
-  // Map keyframes the trial optimisation turned down: (id, keyframe id until which they rest).
-  std::vector<std::pair<int, int>> trial_rejected_;
+  RestingKeyframes resting_;  ///< taken out of the window or turned down by the trial
   int last_left_id_ = -1;
   double median_depth_ = 1.0;
   CalibrationHistory calibration_history_;  ///< written by publishSnapshot() only

@@ -48,9 +48,15 @@ void MappingStage::takeBackMisfits() {
     if (fits) continue;
     spdlog::debug("reuse: keyframe {} no longer fits ({} of {} residuals in the newest keyframe)",
                   f.id, f.inliers, f.residuals);
-    mapper_.deactivate(f.id);
-    ++reuse_stats_.deactivations;
+    takeOut(f.id);
   }
+}
+
+void MappingStage::takeOut(int id) {
+  mapper_.deactivate(id);
+  ++reuse_stats_.deactivations;
+  if (resting_.takenOut(id, mapper_.newestKeyframe().id()))
+    spdlog::debug("reuse: keyframe {} taken out again soon: it rests", id);
 }
 
 std::vector<std::pair<int, int>> MappingStage::replaceableReactivated() {
@@ -102,13 +108,9 @@ ReuseView MappingStage::reuseView(const WindowKeyframe& newest) {
 }
 
 std::vector<int> MappingStage::reuseExclusions(int newest_id) {
-  // The map keyframes already in the window, and those the trial turned down, while they rest.
+  // The map keyframes already in the window, and those taken out or turned down, while they rest.
   std::vector<int> exclude = mapper_.reactivatedIds();
-  trial_rejected_.erase(
-      std::remove_if(trial_rejected_.begin(), trial_rejected_.end(),
-                     [&](const std::pair<int, int>& r) { return r.second < newest_id; }),
-      trial_rejected_.end());
-  for (const auto& r : trial_rejected_) exclude.push_back(r.first);
+  for (const int id : resting_.resting(newest_id)) exclude.push_back(id);
   return exclude;
 }
 
@@ -139,8 +141,7 @@ void MappingStage::bringBack(const std::vector<ReuseCheck>& checks,
         break;
       spdlog::debug("reuse: keyframe {} ({} inliers) makes room for keyframe {} ({} in view)",
                     held.front().second, held.front().first, c.id, c.in_view);
-      mapper_.deactivate(held.front().second);
-      ++reuse_stats_.deactivations;
+      takeOut(held.front().second);
       held.erase(held.begin());
       ++room;
     }
@@ -178,7 +179,7 @@ void MappingStage::confirmByTrial(ReuseEvent& event) {
     event.reactivated.erase(it);
     --reuse_stats_.reactivations;
     ++reuse_stats_.rejected_photometric;
-    trial_rejected_.push_back({f.id, newest_id + settings_.reuse.trial_rest_keyframes});
+    resting_.rest(f.id, newest_id, settings_.reuse.trial_rest_keyframes);
   }
 }
 
