@@ -265,6 +265,7 @@ void writeRunOutputs(const std::string& dir, const System& system, const Traject
   j.key("new_maps").value(s.reuse.new_maps);
   j.key("map_corrections").value(s.reuse.map_corrections);
   j.key("merges").value(s.reuse.merges);
+  j.key("window_reanchors").value(s.reuse.window_reanchors);
   j.endObject();
   j.key("map").beginObject();
   j.key("keyframes").value(s.map.keyframes);

@@ -521,6 +521,21 @@ struct ReuseConfig {
   double direct_min_correlation = 0.7;
   double direct_basin_px = 1.0;
   double direct_max_shift_px = 0.0;
+  /// Map keyframes that fit the newest keyframe but lie beyond the basin (the direct check) and
+  /// agree within reanchor_agreement_px on where it is in the map: with at least
+  /// reanchor_min_keyframes of them (and no map keyframe in the window), the window has drifted
+  /// off the map beyond its reach, and tracking starts a new window from the map at the next frame
+  /// (docs/map-reuse.md, "Re-anchoring a window that drifted off the map"; 0: never).
+  int reanchor_min_keyframes = 0;  // off until the suite has run with it (2 measured: see docs)
+  double reanchor_agreement_px = 1.0;
+  /// ... and put it at least this far from the window's pose (pixels, the mean shift of the scene;
+  /// nearer, the window optimisation pulls the window onto them). On vamr_desk_loop map keyframes
+  /// 6-8 px off passed the basin test, were brought back and no longer fitted after one
+  /// optimisation (docs/map-reuse.md).
+  double reanchor_min_drift_px = 4.0;
+  /// ... and only when the window held a map keyframe (or started from one) at most this many
+  /// keyframes before: the drift of a long way round is loop closure's to spread over the way.
+  int reanchor_max_keyframes_off = 10;
   double coverage_radius_px = 3.0;  ///< no new point this close to a map point seen (0: off)
   /// A keyframe leaving the window keeps only its pose when a map keyframe of an earlier visit
   /// stands within redundancy_distance times its median depth, looks within
@@ -604,6 +619,17 @@ struct ReuseConfig {
     v.field("direct_max_shift_px", direct_max_shift_px, Range<double>{0.0, 1000.0},
             "largest mean shift of the candidate's points between the window's pose and the "
             "aligned one (pixels; 0: no limit)");
+    v.field("reanchor_min_keyframes", reanchor_min_keyframes, Range<int>{0, 1000},
+            "map keyframes beyond the basin that must agree before the window is started again "
+            "from the map (0: never)");
+    v.field("reanchor_min_drift_px", reanchor_min_drift_px, Range<double>{0.0, 1000.0},
+            "how far from the window's pose they must put the newest keyframe (pixels)");
+    v.field("reanchor_max_keyframes_off", reanchor_max_keyframes_off, Range<int>{0, 100000},
+            "keyframes since the window last held a map keyframe within which it may be "
+            "started again from the map");
+    v.field("reanchor_agreement_px", reanchor_agreement_px, Range<double>{0.0, 1000.0},
+            "how closely (pixels at the median depth) they must agree on the newest keyframe's "
+            "pose");
     v.field("coverage_radius_px", coverage_radius_px, Range<double>{0.0, 50.0},
             "no new point this close to a map point seen in the keyframe (0: off)");
     v.field("cull_redundant", cull_redundant,

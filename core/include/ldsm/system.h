@@ -53,6 +53,10 @@ struct ReuseStats {
   /// drift a revisit revealed, spread over the keyframes in between).
   std::int64_t map_corrections = 0;
   std::int64_t merges = 0;  ///< maps merged into the current one (a loop connected them)
+  /// Times a new window was started from the map because map keyframes agreed the window had
+  /// drifted beyond its optimisation's reach (docs/map-reuse.md, "Re-anchoring a window that
+  /// drifted off the map").
+  std::int64_t window_reanchors = 0;
 };
 
 /// The size of the map: keyframes (created, and kept with their points and features), points,

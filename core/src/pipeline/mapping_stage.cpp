@@ -222,6 +222,7 @@ void MappingStage::relocalize(MappingJob& job) {
   keyframes_.fetch_add(1, std::memory_order_relaxed);
   ++reuse_stats_.reactivations;
   if (!settings_.localize_only) store_.connect(mapper_.newestKeyframe().id(), job.anchor_keyframe);
+  last_on_map_id_ = mapper_.newestKeyframe().id();
   startWindow(job.info, ins.map_points_in_view, /*initialized=*/false);
 }
 
@@ -244,6 +245,7 @@ void MappingStage::continueAfterLoadedMap(int next_keyframe_id, const MapCalibra
 }
 
 void MappingStage::reset() {
+  reanchor_.publish(ReanchorRequest());  // (none: a window that no longer exists drifted)
   publishMap(mapper_.reset());
   window_descriptions_.clear();
   last_left_id_ = -1;

@@ -22,6 +22,7 @@
 
 #include "backend/mapper.h"
 #include "concurrency/background_task.h"
+#include "concurrency/latest_value.h"
 #include "features/orb_extractor.h"
 #include "frontend/coarse_tracker.h"
 #include "image/pyramid_pool.h"
@@ -50,6 +51,14 @@ struct MappingJob {
   MapperFrame reference_info;
   // kRelocalize only: the map keyframe the frame was found in.
   int anchor_keyframe = -1;
+};
+
+/// Map reuse found the window drifted off the map beyond its optimisation's reach
+/// (MappingStage::checkDriftOffTheMap): where the map puts the newest keyframe.
+struct ReanchorRequest {
+  int anchor_keyframe = -1;  ///< the map keyframe a new window starts from (-1: none)
+  SE3d T_newest_w_window;    ///< the newest keyframe's pose in the window
+  SE3d T_newest_w_map;       ///< where the map keyframes put it
 };
 
 /// What queries read of the mapping (published after every job that changed the window).
@@ -122,6 +131,11 @@ class MappingStage {
   std::optional<std::thread::native_handle_type> threadHandle() { return task_->workerHandle(); }
   /// A keyframe job was submitted and its reference is not published yet.
   bool keyframeInFlight() const { return keyframe_in_flight_.load(std::memory_order_acquire); }
+  /// Whether map reuse found the window drifted off the map (checkDriftOffTheMap) since the last
+  /// call, and where the map puts it: the tracking stage then starts a new window from the map.
+  bool takeReanchorRequest(ReanchorRequest& out) {
+    return reanchor_.readNew(out) && out.anchor_keyframe >= 0;
+  }
   /// Waits while a keyframe is in flight.
   void waitForKeyframe();
   ReferenceExchange& references() { return references_; }
@@ -188,6 +202,11 @@ class MappingStage {
   /// newest keyframe, id), weakest first (updates each one's peak).
   std::vector<std::pair<int, int>> replaceableReactivated();
   ReuseView reuseView(const WindowKeyframe& newest);
+  /// With no map keyframe in the window and none accepted: do map keyframes that fit but lie
+  /// beyond the basin agree that the window drifted off the map (reuse/drift_consensus.h), and
+  /// pass every check from where they put it? Then a re-anchoring is requested.
+  bool checkDriftOffTheMap(const ReuseView& view, const std::vector<ReuseCheck>& checks,
+                           bool can_take);
   std::vector<int> reuseExclusions(int newest_id);
   /// Reactivates the accepted candidates while there is room (or a weak one to replace).
   void bringBack(const std::vector<ReuseCheck>& checks, std::vector<std::pair<int, int>>& held,
@@ -233,6 +252,9 @@ class MappingStage {
   /// fitted the view it was brought back for).
   std::vector<std::pair<int, int>> reactivated_peak_;  // (id, inliers)
   RestingKeyframes resting_;  ///< taken out of the window or turned down by the trial
+  concurrency::LatestValue<ReanchorRequest> reanchor_;
+  int last_on_map_id_ = -1;  ///< the newest keyframe whose window held a map keyframe
+  static constexpr std::size_t kDriftScenePoints = 300;  ///< scene points the drift is measured on
   int last_left_id_ = -1;
   double median_depth_ = 1.0;
   CalibrationHistory calibration_history_;  ///< written by publishSnapshot() only

@@ -7,21 +7,25 @@
 #include <algorithm>
 
 #include "pipeline/mapping_stage.h"
+#include "reuse/drift_consensus.h"
 
 namespace ldsm {
 
 void MappingStage::reuseMap(int newest_frame_index, double newest_timestamp) {
+  // Map keyframes took part in this keyframe's optimisation: the window was on the map.
+  if (!mapper_.reactivatedIds().empty()) last_on_map_id_ = mapper_.newestKeyframe().id();
   takeBackMisfits();
   std::vector<std::pair<int, int>> held = replaceableReactivated();
   const int room =
       settings_.reuse.max_reactivated - static_cast<int>(mapper_.reactivatedIds().size());
   const WindowKeyframe& newest = mapper_.newestKeyframe();
-  const ReuseView view = reuseView(newest);
+  ReuseView view = reuseView(newest);
   // Without room and without a weakened map keyframe to replace, nothing found could come back:
   // the candidates are counted, but not aligned (bringBack would stop at the first accepted).
   const bool can_take = room > 0 || (!held.empty() && settings_.reuse.replace_ratio > 0.0);
   const std::vector<ReuseCheck> checks =
       reuse_->search(view, store_, reuseExclusions(newest.id()), can_take);
+  if (checkDriftOffTheMap(view, checks, can_take)) return;
   spdlog::trace("reuse: keyframe {}: {} candidates (median depth {:.3f})", newest.id(),
                 checks.size(), view.median_depth);
   ReuseEvent event;
@@ -37,6 +41,71 @@ void MappingStage::reuseMap(int newest_frame_index, double newest_timestamp) {
       for (const int id : event.reactivated) store_.connect(newest.id(), id);
   }
   if (!event.reactivated.empty()) events_.reactivated(event);
+}
+
+bool MappingStage::checkDriftOffTheMap(const ReuseView& view, const std::vector<ReuseCheck>& checks,
+                                       bool can_take) {
+  const ReuseConfig& cfg = settings_.reuse;
+  if (cfg.reanchor_min_keyframes <= 0 || !can_take || !mapper_.reactivatedIds().empty())
+    return false;
+  // Only a window that was on the map a few keyframes ago: odometry does not drift by pixels in
+  // a few keyframes, the window lost the map. The drift of a long way round is loop closure's
+  // to spread over the way (a new window would leave it in the trajectory behind).
+  if (last_on_map_id_ < 0 || view.keyframe_id - last_on_map_id_ > cfg.reanchor_max_keyframes_off)
+    return false;
+  std::vector<DriftCandidate> candidates;
+  for (const ReuseCheck& c : checks) {
+    // Every map keyframe the direct check found where it fits, within the basin or beyond.
+    if (!(c.accepted || c.outside_basin) || !store_.inCurrentMap(c.id)) continue;
+    const KeyframeRecord pose = store_.keyframe(c.id);
+    if (pose.id < 0) continue;
+    candidates.push_back({c.id, c.T_view_kf_aligned * pose.T_w_c.inverse(), c.in_view});
+  }
+  if (static_cast<int>(candidates.size()) < cfg.reanchor_min_keyframes) return false;
+  // The scene the newest keyframe sees (a few hundred of the window's points), in the world.
+  std::vector<Eigen::Vector3d> scene_w;
+  const std::size_t step = depth_points_.size() / kDriftScenePoints + 1;
+  const SE3d T_w_c = view.T_c_w.inverse();
+  for (std::size_t i = 0; i < depth_points_.size(); i += step) {
+    const DepthPoint& p = depth_points_[i];
+    if (!(p.idepth > 0.f)) continue;
+    scene_w.push_back(T_w_c * (view.camera.unproject(p.u, p.v).cast<double>() / p.idepth));
+  }
+  const DriftConsensus drift = findDriftConsensus(
+      candidates, view.camera, scene_w, cfg.reanchor_agreement_px, cfg.reanchor_min_keyframes);
+  if (!drift.found) return false;
+  const double px = poseDistancePx(view.T_c_w, drift.T_c_w, view.camera, scene_w);
+  // Near enough, the window optimisation pulls the window onto the map keyframes brought back.
+  if (!(px > cfg.reanchor_min_drift_px)) return false;
+  // Aligned again from where they put it, the agreeing keyframes must pass the direct check
+  // there, basin included (they passed the others from the window's pose): the map is consistent
+  // with itself at that place.
+  ReuseView moved = view;
+  moved.T_c_w = drift.T_c_w;
+  int confirmed = 0;
+  std::string unconfirmed;
+  for (const int id : drift.agreeing) {
+    const std::shared_ptr<const MarginalizedKeyframe> data = store_.keyframeData(id);
+    const KeyframeRecord pose = store_.keyframe(id);
+    if (!data || pose.id < 0) continue;
+    ReuseCheck c;
+    if (reuse_->checkDirect(moved, *data, pose, c))
+      ++confirmed;
+    else
+      unconfirmed += "; keyframe " + std::to_string(id) + ": " + c.reason;
+  }
+  if (confirmed < cfg.reanchor_min_keyframes) {
+    spdlog::debug("reuse: keyframe {}: {} map keyframes put it {:.1f} px away, {} confirmed there{}",
+                  view.keyframe_id, drift.agreeing.size(), px, confirmed, unconfirmed);
+    return false;
+  }
+  spdlog::debug(
+      "reuse: keyframe {}: the window drifted {:.1f} px off the map ({} map keyframes agree "
+      "within {:.2f} px, {} confirmed): a new window from the map",
+      view.keyframe_id, px, drift.agreeing.size(), drift.spread_px, confirmed);
+  ++reuse_stats_.window_reanchors;
+  reanchor_.publish(ReanchorRequest{drift.id, view.T_c_w, drift.T_c_w});
+  return true;
 }
 
 void MappingStage::takeBackMisfits() {

@@ -233,6 +233,23 @@ void TrackingStage::trackStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent& fra
     loseTracking(frame, "frame " + std::to_string(frame.frame_index) + ": " + outcome.failure);
     return;
   }
+  ReanchorRequest reanchor;
+  if (relocalizer_ && mapping_.takeReanchorRequest(reanchor)) {
+    // Map reuse found the window drifted off the map beyond its optimisation's reach (map
+    // keyframes agree where the newest keyframe is in the map, several pixels from the window's
+    // pose): this frame starts a new window from the map, where they put it.
+    RelocalizationResult r;
+    r.success = true;
+    r.keyframe_id = reanchor.anchor_keyframe;
+    r.T_c_w = outcome.T_c_w * reanchor.T_newest_w_window.inverse() * reanchor.T_newest_w_map;
+    r.aff = outcome.aff;
+    spdlog::info("frame {}: the window drifted off the map; a new window from map keyframe {}",
+                 frame.frame_index, r.keyframe_id);
+    window_kept_ = true;
+    lost_since_ = frame.timestamp;
+    startWindowInMap(std::move(pyr), frame, exposure, r);
+    return;
+  }
   acceptTrackedFrame(std::move(pyr), frame, exposure, outcome);
 }
 
@@ -343,19 +360,7 @@ void TrackingStage::relocalizeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent
   StageTimer::Scope t(timer_, kTrack);
   relocalization_attempts_.fetch_add(1, std::memory_order_relaxed);
   const std::shared_ptr<const MappingSnapshot> snap = mapping_.snapshot();
-  const std::shared_ptr<const loop::PlaceSnapshot> places = mapping_.places();
-  Relocalizer::PlaceQuery query;
-  if (places && place_candidates_ > 0)
-    query = [&](const std::vector<OrbDescriptor>& descriptors) {
-      std::vector<int> ids;
-      // Only the current map shares the window's frame (another map is merged by a loop).
-      for (const loop::PlaceCandidate& c : places->query(descriptors, 2 * place_candidates_))
-        if (store_.inCurrentMap(c.keyframe_id) && static_cast<int>(ids.size()) < place_candidates_)
-          ids.push_back(c.keyframe_id);
-      return ids;
-    };
-  const RelocalizationResult r = relocalizer_->relocalize(
-      *pyr, exposure, store_, snap->newest_T_c_w, snap->window_ids, snap->median_depth, query);
+  const RelocalizationResult r = findInMap(*pyr, exposure, *snap);
   if (window_kept_) {
     // The window is still there: track the frame against its reference, from where the map says
     // the camera is (or, not found, from where it was last seen).
@@ -401,6 +406,28 @@ void TrackingStage::relocalizeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent
     return;
   }
   // Found in the map but away from the window: a new window from the map keyframe.
+  startWindowInMap(std::move(pyr), frame, exposure, r);
+}
+
+RelocalizationResult TrackingStage::findInMap(const ImagePyramid& pyr, double exposure,
+                                              const MappingSnapshot& snap) {
+  const std::shared_ptr<const loop::PlaceSnapshot> places = mapping_.places();
+  Relocalizer::PlaceQuery query;
+  if (places && place_candidates_ > 0)
+    query = [&](const std::vector<OrbDescriptor>& descriptors) {
+      std::vector<int> ids;
+      // Only the current map shares the window's frame (another map is merged by a loop).
+      for (const loop::PlaceCandidate& c : places->query(descriptors, 2 * place_candidates_))
+        if (store_.inCurrentMap(c.keyframe_id) && static_cast<int>(ids.size()) < place_candidates_)
+          ids.push_back(c.keyframe_id);
+      return ids;
+    };
+  return relocalizer_->relocalize(pyr, exposure, store_, snap.newest_T_c_w, snap.window_ids,
+                                  snap.median_depth, query);
+}
+
+void TrackingStage::startWindowInMap(std::unique_ptr<ImagePyramid> pyr, FrameEvent& frame,
+                                     double exposure, const RelocalizationResult& r) {
   resetWindow();
   MappingJob job;
   job.kind = MappingJob::Kind::kRelocalize;
@@ -410,7 +437,12 @@ void TrackingStage::relocalizeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent
   mapping_.submit(std::move(job));
   mapping_.waitIdle();
   const InitializationOutcome& outcome = mapping_.lastInitialization();
-  if (!outcome.ok) return;
+  if (!outcome.ok) {
+    // No window now (a re-anchoring reset a tracking one): look for the next frames in the map.
+    status_ = TrackingStatus::Lost;
+    relocalizing_ = relocalizer_ != nullptr;
+    return;
+  }
   store_.addFrame({frame.frame_index, frame.timestamp, outcome.keyframe_id, SE3d()});
   adoptNewestReference();
   tracker_.resetMotion(outcome.T_c_w, outcome.aff, frame.timestamp);

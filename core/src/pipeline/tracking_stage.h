@@ -132,6 +132,12 @@ class TrackingStage {
   void loseTracking(const FrameEvent& frame, const std::string& reason);
   /// While lost: looks for the frame in the map; found, tracking resumes there.
   void relocalizeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent& frame, double exposure);
+  /// The frame looked for in the map (the relocaliser, with the place database's candidates).
+  RelocalizationResult findInMap(const ImagePyramid& pyr, double exposure,
+                                 const MappingSnapshot& snap);
+  /// A new window from map keyframe r.keyframe_id at the pose r found (the current one reset).
+  void startWindowInMap(std::unique_ptr<ImagePyramid> pyr, FrameEvent& frame, double exposure,
+                        const RelocalizationResult& r);
   /// Relocalisation gave up: a new map starts with the next initialisation.
   void startNewMap();
   /// The window goes to the map (kept while relocalising after a short loss).

@@ -198,11 +198,13 @@ bool ReactivationSearch::checkDirect(const ReuseView& view, const MarginalizedKe
     c.reason = "direct alignment failed (" + d.failure + ")";
     return false;
   }
-  if (c.direct_inliers >= config_.direct_min_inliers &&
-      c.correlation >= config_.direct_min_correlation &&
-      (config_.direct_basin_px <= 0.0 || c.basin_miss_px <= config_.direct_basin_px) &&
-      (config_.direct_max_shift_px <= 0.0 || c.shift_px <= config_.direct_max_shift_px))
+  c.T_view_kf_aligned = d.T_target_host;
+  const bool fits = c.direct_inliers >= config_.direct_min_inliers &&
+                    c.correlation >= config_.direct_min_correlation &&
+                    (config_.direct_max_shift_px <= 0.0 || c.shift_px <= config_.direct_max_shift_px);
+  if (fits && (config_.direct_basin_px <= 0.0 || c.basin_miss_px <= config_.direct_basin_px))
     return true;
+  c.outside_basin = fits;
   char detail[200];
   std::snprintf(detail, sizeof(detail),
                 "%d of %d points fit (%.0f %%), pattern correlation %.2f, %.2f px from the "

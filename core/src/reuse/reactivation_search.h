@@ -78,6 +78,12 @@ struct ReuseCheck {
   double basin_miss_px = 0.0;
   /// Passed the feature check, but the direct check was not run (search() without it).
   bool direct_skipped = false;
+  /// The direct check found the candidate where it fits (inliers and correlation passed) but
+  /// beyond the window optimisation's basin: the window has drifted from the map. With
+  /// T_view_kf_aligned, the candidate's pose relative to the view as the alignment found it
+  /// (candidate camera -> view camera, in the view's map units).
+  bool outside_basin = false;
+  SE3d T_view_kf_aligned;
 };
 
 class ReactivationSearch {
