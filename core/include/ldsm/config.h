@@ -627,9 +627,10 @@ struct ReuseConfig {
     v.field("reanchor_max_keyframes_off", reanchor_max_keyframes_off, Range<int>{0, 100000},
             "keyframes since the window last held a map keyframe within which it may be "
             "started again from the map");
-    v.field("reanchor_agreement_px", reanchor_agreement_px, Range<double>{0.0, 1000.0},
-            "how closely (pixels at the median depth) they must agree on the newest keyframe's "
-            "pose");
+    v.field(
+        "reanchor_agreement_px", reanchor_agreement_px, Range<double>{0.0, 1000.0},
+        "how closely (mean shift of the scene, pixels) they must agree on the newest keyframe's "
+        "pose");
     v.field("coverage_radius_px", coverage_radius_px, Range<double>{0.0, 50.0},
             "no new point this close to a map point seen in the keyframe (0: off)");
     v.field("cull_redundant", cull_redundant,

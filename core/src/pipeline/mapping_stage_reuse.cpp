@@ -95,8 +95,9 @@ bool MappingStage::checkDriftOffTheMap(const ReuseView& view, const std::vector<
       unconfirmed += "; keyframe " + std::to_string(id) + ": " + c.reason;
   }
   if (confirmed < cfg.reanchor_min_keyframes) {
-    spdlog::debug("reuse: keyframe {}: {} map keyframes put it {:.1f} px away, {} confirmed there{}",
-                  view.keyframe_id, drift.agreeing.size(), px, confirmed, unconfirmed);
+    spdlog::debug(
+        "reuse: keyframe {}: {} map keyframes put it {:.1f} px away, {} confirmed there{}",
+        view.keyframe_id, drift.agreeing.size(), px, confirmed, unconfirmed);
     return false;
   }
   spdlog::debug(

@@ -19,9 +19,10 @@ double poseDistancePx(const SE3d& a_c_w, const SE3d& b_c_w, const LevelCamera& c
   return n > 0 ? sum / n : std::numeric_limits<double>::infinity();
 }
 
-DriftConsensus findDriftConsensus(const std::vector<DriftCandidate>& candidates, const LevelCamera& camera,
-                          const std::vector<Eigen::Vector3d>& scene_w, double agreement_px,
-                          int min_agreeing) {
+DriftConsensus findDriftConsensus(const std::vector<DriftCandidate>& candidates,
+                                  const LevelCamera& camera,
+                                  const std::vector<Eigen::Vector3d>& scene_w, double agreement_px,
+                                  int min_agreeing) {
   DriftConsensus best;
   if (min_agreeing <= 0) return best;
   int best_in_view = -1, best_id = -1;

@@ -42,8 +42,9 @@ double poseDistancePx(const SE3d& a_c_w, const SE3d& b_c_w, const LevelCamera& c
 /// The largest group of candidates that agree within `agreement_px` of one of them (that one's
 /// pose is the consensus): found when the group has at least `min_agreeing` members. Ties go to the
 /// candidate with more points in view, then the lower id (deterministic).
-DriftConsensus findDriftConsensus(const std::vector<DriftCandidate>& candidates, const LevelCamera& camera,
-                          const std::vector<Eigen::Vector3d>& scene_w, double agreement_px,
-                          int min_agreeing);
+DriftConsensus findDriftConsensus(const std::vector<DriftCandidate>& candidates,
+                                  const LevelCamera& camera,
+                                  const std::vector<Eigen::Vector3d>& scene_w, double agreement_px,
+                                  int min_agreeing);
 
 }  // namespace ldsm

@@ -199,9 +199,10 @@ bool ReactivationSearch::checkDirect(const ReuseView& view, const MarginalizedKe
     return false;
   }
   c.T_view_kf_aligned = d.T_target_host;
-  const bool fits = c.direct_inliers >= config_.direct_min_inliers &&
-                    c.correlation >= config_.direct_min_correlation &&
-                    (config_.direct_max_shift_px <= 0.0 || c.shift_px <= config_.direct_max_shift_px);
+  const bool fits =
+      c.direct_inliers >= config_.direct_min_inliers &&
+      c.correlation >= config_.direct_min_correlation &&
+      (config_.direct_max_shift_px <= 0.0 || c.shift_px <= config_.direct_max_shift_px);
   if (fits && (config_.direct_basin_px <= 0.0 || c.basin_miss_px <= config_.direct_basin_px))
     return true;
   c.outside_basin = fits;
