@@ -526,7 +526,7 @@ struct ReuseConfig {
   /// reanchor_min_keyframes of them (and no map keyframe in the window), the window has drifted
   /// off the map beyond its reach, and tracking starts a new window from the map at the next frame
   /// (docs/map-reuse.md, "Re-anchoring a window that drifted off the map"; 0: never).
-  int reanchor_min_keyframes = 0;  // off until the suite has run with it (2 measured: see docs)
+  int reanchor_min_keyframes = 2;
   double reanchor_agreement_px = 1.0;
   /// ... and put it at least this far from the window's pose (pixels, the mean shift of the scene;
   /// nearer, the window optimisation pulls the window onto them). On vamr_desk_loop map keyframes
