@@ -523,7 +523,8 @@ struct ReuseConfig {
   double direct_max_shift_px = 0.0;
   /// Map keyframes that fit the newest keyframe but lie beyond the basin (the direct check) and
   /// agree within reanchor_agreement_px on where it is in the map: with at least
-  /// reanchor_min_keyframes of them (and no map keyframe in the window), the window has drifted
+  /// reanchor_min_keyframes of them (and no map keyframe in the window that still fits the newest
+  /// keyframe at direct_min_inliers), the window has drifted
   /// off the map beyond its reach, and tracking starts a new window from the map at the next frame
   /// (docs/map-reuse.md, "Re-anchoring a window that drifted off the map"; 0: never).
   int reanchor_min_keyframes = 2;
