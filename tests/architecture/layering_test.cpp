@@ -76,6 +76,7 @@ std::optional<std::string> publicOwner(const std::string& inc) {
       {"ldsm/system.h", "pipeline"},
       {"ldsm/events.h", "pipeline"},
       {"ldsm/config.h", "config"},
+      {"ldsm/config/", "config"},
       {"ldsm/image.h", "image"},
       {"ldsm/camera/", "camera"},
       {"ldsm/eval/", "eval"},
