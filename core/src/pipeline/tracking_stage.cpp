@@ -6,6 +6,8 @@
 #include <cmath>
 #include <limits>
 
+#include "reuse/drift_consensus.h"
+
 namespace ldsm {
 
 TrackingStage::TrackingStage(const TrackingStageSettings& settings, const PyramidCamera& camera,
@@ -241,7 +243,7 @@ void TrackingStage::trackStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent& fra
     RelocalizationResult r;
     r.success = true;
     r.keyframe_id = reanchor.anchor_keyframe;
-    r.T_c_w = outcome.T_c_w * reanchor.T_newest_w_window.inverse() * reanchor.T_newest_w_map;
+    r.T_c_w = carriedIntoMap(outcome.T_c_w, reanchor.T_newest_w_window, reanchor.T_newest_w_map);
     r.aff = outcome.aff;
     spdlog::info("frame {}: the window drifted off the map; a new window from map keyframe {}",
                  frame.frame_index, r.keyframe_id);

@@ -47,4 +47,12 @@ DriftConsensus findDriftConsensus(const std::vector<DriftCandidate>& candidates,
                                   const std::vector<Eigen::Vector3d>& scene_w, double agreement_px,
                                   int min_agreeing);
 
+/// A frame tracked against the window, carried into the map: the pose that keeps its pose
+/// relative to the newest keyframe, given that keyframe's pose in the window's world and in the
+/// map's (world -> camera poses). Where the tracking stage starts the re-anchored window.
+inline SE3d carriedIntoMap(const SE3d& frame_T_c_w, const SE3d& newest_T_c_w_window,
+                           const SE3d& newest_T_c_w_map) {
+  return frame_T_c_w * newest_T_c_w_window.inverse() * newest_T_c_w_map;
+}
+
 }  // namespace ldsm

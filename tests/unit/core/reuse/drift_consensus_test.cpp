@@ -1,5 +1,6 @@
 // Where the newest keyframe is in the map when several map keyframes say so: the distance of two
-// poses measured on the scene they see, and the largest group of map keyframes that agree.
+// poses measured on the scene they see, the largest group of map keyframes that agree, and a frame
+// carried from the window into the map.
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
@@ -118,6 +119,26 @@ TEST(DriftConsensus, TiesGoToMorePointsInViewThenTheLowerId) {
   EXPECT_EQ(d.id, 2);
   std::reverse(c.begin(), c.end());
   EXPECT_EQ(findDriftConsensus(c, cam, scene, 1.0, 2).id, 2);
+}
+
+TEST(CarriedIntoMap, KeepsTheFramesPoseRelativeToTheNewestKeyframe) {
+  const SE3d newest_window = moved(0.3, -0.1, 0.2, 0.05, -0.02, 0.1);
+  const SE3d newest_map = moved(0.32, -0.09, 0.18, 0.06, -0.03, 0.1);
+  const SE3d frame = moved(0.01, 0.02, 0.05, 0.0, 0.01, 0.0) * newest_window;
+  const SE3d carried = carriedIntoMap(frame, newest_window, newest_map);
+  const SE3d rel_window = frame * newest_window.inverse();
+  const SE3d rel_map = carried * newest_map.inverse();
+  EXPECT_LT((rel_window.translation() - rel_map.translation()).norm(), 1e-12);
+  EXPECT_LT((rel_window.so3().matrix() - rel_map.so3().matrix()).norm(), 1e-12);
+  // The newest keyframe itself goes to its map pose; with no drift nothing moves.
+  EXPECT_LT((carriedIntoMap(newest_window, newest_window, newest_map).translation() -
+             newest_map.translation())
+                .norm(),
+            1e-12);
+  EXPECT_LT(
+      (carriedIntoMap(frame, newest_window, newest_window).translation() - frame.translation())
+          .norm(),
+      1e-12);
 }
 
 }  // namespace
