@@ -154,6 +154,10 @@ class Mapper {
     int id = -1;
     int inliers = 0;
     int residuals = 0;
+    /// At least `fraction` of its residuals in the newest keyframe are inliers (and it has some).
+    bool fitsAt(double fraction) const {
+      return residuals > 0 && inliers >= fraction * static_cast<double>(residuals);
+    }
   };
   const std::vector<ReactivatedFit>& reactivatedFit() const { return reactivated_fit_; }
   /// What a window optimisation with the reactivated keyframes would do, tried and undone: the

@@ -55,7 +55,7 @@ bool MappingStage::checkDriftOffTheMap(const ReuseView& view, const std::vector<
   // One fitting worse may be sliding off with the window (a relocalisation's keyframe at 67 %
   // while two others put the window 10 px away).
   for (const Mapper::ReactivatedFit& f : mapper_.reactivatedFit())
-    if (f.residuals > 0 && f.inliers >= cfg.direct_min_inliers * f.residuals) return false;
+    if (f.fitsAt(cfg.direct_min_inliers)) return false;
   // Only a window that was on the map a few keyframes ago: odometry does not drift by pixels in
   // a few keyframes, the window lost the map. The drift of a long way round is loop closure's
   // to spread over the way (a new window would leave it in the trajectory behind).
@@ -124,9 +124,7 @@ void MappingStage::takeBackMisfits() {
   // From a copy: deactivate() edits the list.
   const std::vector<Mapper::ReactivatedFit> fit = mapper_.reactivatedFit();
   for (const Mapper::ReactivatedFit& f : fit) {
-    const bool fits = f.residuals > 0 && f.inliers >= settings_.reuse.min_inlier_fraction *
-                                                          static_cast<double>(f.residuals);
-    if (fits) continue;
+    if (f.fitsAt(settings_.reuse.min_inlier_fraction)) continue;
     spdlog::debug("reuse: keyframe {} no longer fits ({} of {} residuals in the newest keyframe)",
                   f.id, f.inliers, f.residuals);
     takeOut(f.id);
@@ -249,8 +247,7 @@ void MappingStage::confirmByTrial(ReuseEvent& event) {
   for (const Mapper::ReactivatedFit& f : trial.fits) {
     const auto it = std::find(event.reactivated.begin(), event.reactivated.end(), f.id);
     if (it == event.reactivated.end()) continue;  // reactivated earlier
-    if (f.residuals > 0 &&
-        f.inliers >= settings_.reuse.min_inlier_fraction * static_cast<double>(f.residuals)) {
+    if (f.fitsAt(settings_.reuse.min_inlier_fraction)) {
       if (!settings_.localize_only) store_.connect(newest_id, f.id);
       continue;
     }
