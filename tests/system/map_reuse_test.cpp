@@ -11,11 +11,16 @@
 #include <cstdlib>
 #include <vector>
 
+#include "ldsm/drivers/dataset_calibration.h"
+#include "ldsm/drivers/dataset_description.h"
+#include "ldsm/drivers/dataset_source.h"
 #include "ldsm/drivers/sim/sim_scene.h"
 #include "ldsm/drivers/sim/sim_source.h"
+#include "ldsm/drivers/trajectory_io.h"
 #include "ldsm/eval/ate.h"
 #include "ldsm/system.h"
 #include "noise_image.h"
+#include "test_paths.h"
 
 namespace ldsm {
 namespace {
@@ -46,6 +51,7 @@ struct SceneRun {
   std::int64_t frames = 0;   ///< 0: the scene's default length
   double mark_time = 1e300;  ///< stats are also taken when the frames reach this time
   std::int64_t noise_first = -1, noise_last = -1;  ///< frames replaced by noise
+  bool black = false;  ///< ... by black frames instead (rejected as input: a gap in time)
 
   SystemStats stats, at_mark;
   Trajectory trajectory;
@@ -67,8 +73,12 @@ struct SceneRun {
         at_mark = system.stats();
         marked = true;
       }
-      if (frame.index >= noise_first && frame.index <= noise_last)
-        test::fillWithNoise(frame.image, static_cast<std::uint32_t>(frame.index));
+      if (frame.index >= noise_first && frame.index <= noise_last) {
+        if (black)
+          frame.image.fill(0);
+        else
+          test::fillWithNoise(frame.image, static_cast<std::uint32_t>(frame.index));
+      }
       system.submit({frame.image.view(), frame.timestamp, frame.exposure_ms});
     }
     system.finish();
@@ -204,6 +214,80 @@ TEST(MapReuse, AfterNoiseTrackingResumesInTheOldMapFrame) {
   std::printf("clean: ATE %.4f m\n", clean.ate.rmse);
   EXPECT_LT(r.ate.rmse, 2.0 * clean.ate.rmse);
   EXPECT_LT(after, 2.0 * clean.ate.rmse);
+}
+
+// Black frames are refused as input, so the frame after them comes 0.5 s after the last one
+// tracked: farther than the motion model reaches. It is looked for as after a loss (map
+// relocalisation, then the window's wide search from the last pose) and must fit as well as
+// before; tracked as an ordinary frame, it found a pose that fitted well enough for that and the
+// map went wrong from there (vamr_desk_loop, frames 350-389 black: ATE 0.0356 m against 0.0007).
+TEST(MapReuse, AfterAGapOfBlackFramesTrackingResumesInTheOldMapFrame) {
+  SceneRun r;
+  r.frames = 700;
+  r.noise_first = 400;
+  r.noise_last = 414;
+  r.black = true;
+  r.run("loop");
+  const SystemStats& s = r.stats;
+  std::printf("black: %lld rejected, %lld lost, %lld relocalised, %lld new maps, %zu poses\n",
+              static_cast<long long>(s.rejected_frames), static_cast<long long>(s.tracking_losses),
+              static_cast<long long>(s.reuse.relocalizations),
+              static_cast<long long>(s.reuse.new_maps), r.trajectory.size());
+  EXPECT_EQ(s.rejected_frames, 15);
+  EXPECT_EQ(r.listener.lost, 1) << "the gap counts as a loss";
+  EXPECT_EQ(s.reuse.relocalizations, 1);
+  EXPECT_EQ(s.reuse.new_maps, 0);
+  EXPECT_EQ(s.initializations, 1);
+  // One trajectory in one frame: under one Sim(3) alignment the poses after the gap are as good
+  // as the ones before it (measured: 0.0041 m before, 0.0042 m after; the clean run 0.0036 m,
+  // which AfterNoiseTrackingResumesInTheOldMapFrame runs: not again here).
+  const double t_gap = 400 / drivers::sim::SimOptions{}.fps;
+  const double before = r.rmseBetween(0.0, t_gap), after = r.rmseBetween(t_gap, 1e9);
+  std::printf("black: ATE %.4f m (before %.4f, after %.4f)\n", r.ate.rmse, before, after);
+  EXPECT_GT(r.ate.matched, 700u - 2 * 15u);
+  EXPECT_LT(after, 2.0 * before);
+  EXPECT_LT(r.ate.rmse, 2.0 * before);
+}
+
+// The same on the real hand-held desk sequence, whose camera moves unevenly: frames 350-389
+// (1.3 s) black, the first 450 frames. Tracked as an ordinary frame after the gap, frame 390 found
+// a pose 3.6 cm off that passed as tracked, and the map went wrong from there (the whole sequence:
+// ATE 0.0356 m; clean 0.00075 m). Looked for as after a loss, it resumes in the window (the wide
+// search: the camera moved 4.6 cm and turned 6 degrees meanwhile): 0.0007 m. The bar is twice the
+// clean run's on DSO's figure for the sequence (0.0008-0.0009 m), for other CPUs. About 15 s.
+TEST(MapReuse, VamrDeskLoopResumesInItsMapAfterFortyBlackFrames) {
+  const std::string folder = test::sharedData("vamr_desk_loop");
+  if (folder.empty())
+    GTEST_SKIP() << "../shared/data/vamr_desk_loop is absent: real-data test skipped";
+  if (std::getenv("LDSM_DEBUG")) spdlog::set_level(spdlog::level::debug);
+  const auto desc = drivers::describeDataset(folder);
+  const auto calib = drivers::loadDatasetCalibration(desc);
+  const Trajectory gt =
+      drivers::readTrajectory(desc.groundtruth_file, desc.groundtruth_format, &desc.timestamps);
+  auto source = drivers::openDataset(desc);
+  System system(deterministicConfig(true), calib.geometric, calib.photometric);
+  ReuseListener listener;
+  system.setListener(&listener);
+  drivers::Frame frame;
+  while (source->next(frame) && frame.index < 450) {
+    if (frame.index >= 350 && frame.index < 390) frame.image.fill(0);
+    system.submit({frame.image.view(), frame.timestamp, frame.exposure_ms});
+  }
+  system.finish();
+  const SystemStats s = system.stats();
+  const Trajectory trajectory = system.trajectory();
+  const eval::AteResult ate = eval::computeAte(gt, trajectory);
+  std::printf(
+      "vamr, 40 black frames: %lld lost, %lld relocalised, %lld new maps, ATE %.5f m over "
+      "%zu poses\n",
+      static_cast<long long>(s.tracking_losses), static_cast<long long>(s.reuse.relocalizations),
+      static_cast<long long>(s.reuse.new_maps), ate.rmse, ate.matched);
+  EXPECT_EQ(s.rejected_frames, 40);
+  EXPECT_EQ(listener.lost, 1);
+  EXPECT_EQ(s.reuse.relocalizations, 1);
+  EXPECT_EQ(s.reuse.new_maps, 0);
+  EXPECT_GT(ate.matched, 450u - 40u - 20u);
+  EXPECT_LT(ate.rmse, 2.0 * 0.0009);
 }
 
 class MergeListener : public ReuseListener {

@@ -16,6 +16,7 @@ FrameTracker::FrameTracker(const FrameTrackerSettings& settings, const PyramidCa
                                                settings.coarse)) {
   hypotheses_without_rotations_ = hypotheses_;
   hypotheses_without_rotations_.rotation_angle_count = 0;
+  hypotheses_wide_ = wideHypothesisSettings();
 }
 
 void FrameTracker::setReference(const TrackingReference& reference,
@@ -95,7 +96,7 @@ SE3d FrameTracker::continuedVelocity(const SE3d& T_last_prelast, double t, doubl
 }
 
 FrameTrackingOutcome FrameTracker::track(const ImagePyramid& frame, double exposure,
-                                         double timestamp, bool rotations) {
+                                         double timestamp, Search search) {
   FrameTrackingOutcome out;
   if (!has_reference_) {
     out.failure = "no reference keyframe";
@@ -109,8 +110,12 @@ FrameTrackingOutcome FrameTracker::track(const ImagePyramid& frame, double expos
   history.has_velocity = has_velocity_;
   history.last_affine = last_aff_;
   history.last_rmse = last_rmse_ > 0.0 ? last_rmse_ : std::numeric_limits<double>::infinity();
-  const HypothesisTrackingResult r = trackWithHypotheses(
-      *tracker_, frame, exposure, history, rotations ? hypotheses_ : hypotheses_without_rotations_);
+  const HypothesisSettings& hypotheses = search == Search::kNoRotations
+                                             ? hypotheses_without_rotations_
+                                         : search == Search::kWide ? hypotheses_wide_
+                                                                   : hypotheses_;
+  const HypothesisTrackingResult r =
+      trackWithHypotheses(*tracker_, frame, exposure, history, hypotheses);
   out.hypotheses_tried = r.tried;
   if (!r.success || !std::isfinite(r.rmse)) {
     out.failure = std::string("coarse tracking failed: ") + toString(r.tracking.failure);

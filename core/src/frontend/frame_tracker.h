@@ -62,17 +62,34 @@ class FrameTracker {
   int referenceKeyframeId() const { return reference_id_; }
   const SE3d& referencePose() const { return T_ref_w_; }
 
+  /// How far the motion guesses reach around the constant-velocity guess.
+  enum class Search {
+    kNoRotations,  ///< no extra rotated guesses (the start pose is known from elsewhere, e.g. a
+                   ///< relocalisation)
+    kRotations,    ///< rotated by up to 4 degrees (HypothesisSettings: every frame)
+    kWide,         ///< rotated by up to 14 degrees: after a loss, the camera moved meanwhile
+  };
+
   /// Tracks `frame`, taken at `timestamp` (seconds), against the reference from the motion
-  /// guesses; `rotations` false leaves out the extra rotated guesses (the start pose is known from
-  /// elsewhere, e.g. a relocalisation). The motion guesses continue the last motion for the time
-  /// since the last tracked frame (continuedVelocity()).
+  /// guesses of `search`. The motion guesses continue the last motion for the time since the last
+  /// tracked frame (continuedVelocity()).
   FrameTrackingOutcome track(const ImagePyramid& frame, double exposure, double timestamp,
-                             bool rotations = true);
+                             Search search = Search::kRotations);
 
   /// Frames closer to even spacing than this (the time since the last frame over the time the
   /// velocity spans, within 1 +- this) take the last motion as it is: timestamps jitter, and the
   /// frames of a steady camera are evenly spaced.
   static constexpr double kEvenSpacingTolerance = 0.25;
+  /// A frame this long after the last tracked one (`timestamp` - the last frame's time, more than
+  /// kMaxVelocityScale times the time the velocity spans): the motion model has no guess for it
+  /// (frames rejected or dropped in between). False without a velocity.
+  bool beyondMotionModel(double timestamp) const {
+    return has_velocity_ && velocity_dt_ > 0.0 &&
+           timestamp - t_last_ > kMaxVelocityScale * velocity_dt_;
+  }
+  /// The last tracked frame's time (NaN before one).
+  double lastTrackedTime() const { return t_last_; }
+
   /// The motion is continued for at most this many times the time it spans.
   static constexpr double kMaxVelocityScale = 10.0;
   /// How many times the velocity's time span passed from the last frame at `t_last` to a frame
@@ -127,7 +144,8 @@ class FrameTracker {
   PyramidCamera camera_;
   std::unique_ptr<CoarseTracker> tracker_;
   HypothesisSettings hypotheses_;
-  HypothesisSettings hypotheses_without_rotations_;  ///< track(..., rotations = false)
+  HypothesisSettings hypotheses_without_rotations_;  ///< Search::kNoRotations
+  HypothesisSettings hypotheses_wide_;               ///< Search::kWide
   bool has_reference_ = false;
   int reference_id_ = -1;
   SE3d T_ref_w_;

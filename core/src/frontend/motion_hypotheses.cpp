@@ -53,6 +53,13 @@ const char* toString(MotionHypothesisKind kind) {
   return "unknown";
 }
 
+HypothesisSettings wideHypothesisSettings() {
+  HypothesisSettings s;
+  s.rotation_angles = {0.04, 0.08, 0.16, 0.24};
+  s.rotation_angle_count = kMaxHypothesisAngles;
+  return s;
+}
+
 int motionHypothesisCount(const HypothesisSettings& settings) {
   const int angles = std::clamp(settings.rotation_angle_count, 0, kMaxHypothesisAngles);
   return kBasicHypotheses + kRotationDirections * angles;

@@ -58,6 +58,11 @@ struct HypothesisSettings {
   int screened_rotations = 10;
 };
 
+/// The search after a loss or a gap in time (FrameTracker::Search::kWide): the camera moved while
+/// no frame was tracked, so the rotated guesses reach 2.3, 4.6, 9.2 and 13.8 degrees instead of
+/// 1.1, 2.3 and 4 (104 guesses screened at the coarsest level, the best 10 tracked in full).
+HypothesisSettings wideHypothesisSettings();
+
 /// Number of hypotheses generated (5 + 26 * rotation_angle_count).
 int motionHypothesisCount(const HypothesisSettings& settings);
 

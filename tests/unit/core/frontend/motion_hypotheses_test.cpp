@@ -111,6 +111,37 @@ TEST(MotionHypothesesTest, VelocityScaleIsTheTimePassedOverTheTimeTheMotionSpans
   EXPECT_EQ(FrameTracker::velocityScale(0.4, 0.1, 0.0), 1.0);
 }
 
+// A frame farther after the last tracked one than the velocity can be continued to (more than
+// kMaxVelocityScale times the time it spans) is beyond the motion model; without a velocity no
+// frame is.
+TEST(MotionHypothesesTest, BeyondTheMotionModelAfterTenTimesTheVelocitysSpan) {
+  FrameTracker tracker(FrameTrackerSettings(), TrackScene().camera());
+  FrameTracker::MotionState m = tracker.motionState();
+  m.has_last = true;
+  m.t_last = 2.0;
+  m.velocity_dt = 0.1;
+  m.has_velocity = false;
+  tracker.restoreMotion(m);
+  EXPECT_FALSE(tracker.beyondMotionModel(100.0));
+  m.has_velocity = true;
+  tracker.restoreMotion(m);
+  EXPECT_DOUBLE_EQ(tracker.lastTrackedTime(), 2.0);
+  EXPECT_FALSE(tracker.beyondMotionModel(2.1));
+  EXPECT_FALSE(tracker.beyondMotionModel(2.5));  // four frames dropped: the scaled velocity
+  EXPECT_FALSE(tracker.beyondMotionModel(2.0 + 0.1 * FrameTracker::kMaxVelocityScale));
+  EXPECT_TRUE(tracker.beyondMotionModel(3.01));
+  EXPECT_TRUE(tracker.beyondMotionModel(40.0));
+}
+
+TEST(MotionHypothesesTest, TheWideSearchReachesFurtherWithTheSameDirections) {
+  const HypothesisSettings normal, wide = wideHypothesisSettings();
+  EXPECT_EQ(motionHypothesisCount(wide), 5 + 26 * kMaxHypothesisAngles);
+  EXPECT_EQ(wide.screened_rotations, normal.screened_rotations);
+  EXPECT_GT(
+      wide.rotation_angles[static_cast<std::size_t>(wide.rotation_angle_count - 1)],
+      2.0 * normal.rotation_angles[static_cast<std::size_t>(normal.rotation_angle_count - 1)]);
+}
+
 class HypothesisTrackingTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -250,6 +281,27 @@ TEST_F(HypothesisTrackingTest, WithoutRotationAnglesOnlyTheBasicGuessesAreTried)
   EXPECT_EQ(r.screened, 0);
   EXPECT_LE(r.tried, 2);  // the identity guess and the reference pose (the same here)
   EXPECT_FALSE(r.success && close(r.T_frame_ref, truth));
+}
+
+// The wide search (after a loss or a gap) screens its 104 rotated guesses and ends at the turned
+// frame. (This rendered scene's basin is wide enough that the ordinary search finds these turns
+// too; on vamr_desk_loop after 40 noise frames it does not, and the wide one does:
+// MapReuse.VamrDeskLoopResumesInItsMapAfterFortyBlackFrames.)
+TEST_F(HypothesisTrackingTest, TheWideSearchFindsALargeTurn) {
+  for (const Eigen::Vector3d& w : {Eigen::Vector3d(0, 0.3, 0), Eigen::Vector3d(0.17, -0.17, 0)}) {
+    MotionHistory h;
+    h.last_rmse = 1.0;
+    SE3d::Tangent x = SE3d::Tangent::Zero();
+    x.tail<3>() = w;
+    const SE3d truth = SE3d::exp(x);
+    const HypothesisTrackingResult wide =
+        trackWithHypotheses(*tracker_, renderFrame(truth), 1.0, h, wideHypothesisSettings());
+    ASSERT_TRUE(wide.success) << w.transpose();
+    EXPECT_EQ(wide.kind, MotionHypothesisKind::kRotated);
+    EXPECT_EQ(wide.screened, 26 * kMaxHypothesisAngles);
+    EXPECT_LE(wide.tried, 1 + wideHypothesisSettings().screened_rotations);
+    EXPECT_TRUE(close(wide.T_frame_ref, truth)) << w.transpose();
+  }
 }
 
 TEST_F(HypothesisTrackingTest, UnscreenedSearchTriesTheRotationsInOrder) {
