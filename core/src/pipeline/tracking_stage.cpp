@@ -276,6 +276,8 @@ void TrackingStage::acceptTrackedFrame(std::unique_ptr<ImagePyramid> pyr, FrameE
   store_.addFrame({frame.frame_index, frame.timestamp, tracker_.referenceKeyframeId(),
                    T_ref_w * outcome.T_c_w.inverse()});
   last_tracked_index_ = frame.frame_index;
+  recent_rmse_[recent_rmse_next_] = outcome.rmse;
+  recent_rmse_next_ = (recent_rmse_next_ + 1) % recent_rmse_.size();
   frame.has_pose = true;
   frame.pose = outcome.T_c_w.inverse().toPose();
   frame.residual_rmse = outcome.rmse;
@@ -343,6 +345,8 @@ void TrackingStage::loseTracking(const FrameEvent& frame, const std::string& rea
   status_ = TrackingStatus::Lost;
   lost_since_ = frame.timestamp;
   last_good_ = tracker_.motionState();
+  rmse_before_loss_ = last_good_.last_rmse;
+  for (const double r : recent_rmse_) rmse_before_loss_ = std::max(rmse_before_loss_, r);
   // The window and the tracking reference stay while the frame is looked for (relocalizeStep):
   // after a short loss tracking resumes in them.
   relocalizing_ = relocalizer_ != nullptr;
@@ -405,13 +409,13 @@ void TrackingStage::relocalizeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent
           (found.T_w_c.translation() - snap->newest_T_c_w.inverse().translation()).norm();
       return distance < resume_radius_ * snap->median_depth;
     }();
-    const bool good_fit = outcome.inlier_fraction >= kResumeMinInliers &&
-                          (!(last_good_.last_rmse > 0.0) ||
-                           outcome.rmse <= kResumeMaxRmseGrowth * last_good_.last_rmse);
+    const bool good_fit =
+        outcome.inlier_fraction >= kResumeMinInliers &&
+        (!(rmse_before_loss_ > 0.0) || outcome.rmse <= kResumeMaxRmseGrowth * rmse_before_loss_);
     if (outcome.success && !(good_fit && near_window))
       spdlog::debug(
           "frame {}: not resumed in the window (rmse {:.2f}, last good {:.2f}, {:.0f} % inliers{})",
-          frame.frame_index, outcome.rmse, last_good_.last_rmse, 100.0 * outcome.inlier_fraction,
+          frame.frame_index, outcome.rmse, rmse_before_loss_, 100.0 * outcome.inlier_fraction,
           near_window ? "" : "; the map found it away from the window");
     if (outcome.success && good_fit && near_window) {
       resumeTracking(frame, r.success ? r.keyframe_id : -1, "the window");

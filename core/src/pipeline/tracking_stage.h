@@ -11,6 +11,7 @@
 // the camera was last seen.
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <memory>
@@ -177,6 +178,12 @@ class TrackingStage {
   double lost_since_ = 0.0;
   bool window_kept_ = false;             ///< lost, but the window and its reference are still there
   FrameTracker::MotionState last_good_;  ///< the motion before the loss
+  /// The tracking residuals of the last frames tracked (a ring), and at a loss their largest: a
+  /// frame resumes only within kResumeMaxRmseGrowth of it. One frame's residual is a noisy
+  /// standard (it falls after each keyframe: 4.6-6.2 before the same loss in live runs).
+  std::array<double, 8> recent_rmse_{};
+  std::size_t recent_rmse_next_ = 0;
+  double rmse_before_loss_ = 0.0;
   // Counted on the tracking thread, read by stats() on any thread.
   concurrency::LatestValue<TrackedImage>* image_out_ = nullptr;
   TrackedImage image_scratch_;  ///< reused: publishing allocates nothing after the first frame
