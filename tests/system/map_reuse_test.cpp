@@ -249,6 +249,45 @@ TEST(MapReuse, AfterAGapOfBlackFramesTrackingResumesInTheOldMapFrame) {
   EXPECT_LT(r.ate.rmse, 2.0 * before);
 }
 
+// Two seconds without images while the camera drives on (frames 400-459 black: 1.9 m down the
+// rendered corridor, 5.7 degrees of turn): no rotated guess around the last pose reaches that
+// far, and the map has no keyframe there yet. The frame after the gap is tracked against the
+// kept window from the last motion's translation continued over the gap (with the wide search's
+// rotations), and resumes with more of its residual than after a short gap (the view changed:
+// 2.3-2.8 times the residual before the loss, 93-96 % inliers). Without that, relocalisation
+// failed for 5 s, a new map started that never met the old one, and the trajectory was in two
+// frames (ATE 1.30 m). About 40 s.
+TEST(MapReuse, AfterTwoSecondsWithoutImagesADrivingCameraResumesWhereItDroveTo) {
+  SceneRun r;
+  r.frames = 700;
+  r.noise_first = 400;
+  r.noise_last = 459;
+  r.black = true;
+  r.run("loop");
+  const SystemStats& s = r.stats;
+  std::printf("2 s black: %lld rejected, %lld lost, %lld relocalised, %lld new maps, %zu poses\n",
+              static_cast<long long>(s.rejected_frames), static_cast<long long>(s.tracking_losses),
+              static_cast<long long>(s.reuse.relocalizations),
+              static_cast<long long>(s.reuse.new_maps), r.trajectory.size());
+  EXPECT_EQ(s.rejected_frames, 60);
+  EXPECT_EQ(r.listener.lost, 1);
+  EXPECT_EQ(s.reuse.relocalizations, 1);
+  EXPECT_EQ(s.reuse.new_maps, 0);
+  EXPECT_EQ(s.initializations, 1);
+  const double t_gap = 400 / drivers::sim::SimOptions{}.fps;
+  const double before = r.rmseBetween(0.0, t_gap), after = r.rmseBetween(t_gap, 1e9);
+  std::printf("2 s black: ATE %.4f m (before %.4f, after %.4f)\n", r.ate.rmse, before, after);
+  EXPECT_GT(r.ate.matched, 700u - 60u - 10u);
+  // The bar: twice the ATE of the same 700 frames without the gap, run here (measured
+  // 0.0036 m; with the gap 0.0040 m, 0.0028 before it and 0.0055 after it under one alignment).
+  SceneRun clean;
+  clean.frames = 700;
+  clean.run("loop");
+  std::printf("clean: ATE %.4f m\n", clean.ate.rmse);
+  EXPECT_LT(r.ate.rmse, 2.0 * clean.ate.rmse);
+  EXPECT_LT(after, 2.0 * clean.ate.rmse);
+}
+
 // The same on the real hand-held desk sequence, whose camera moves unevenly: frames 350-389
 // (1.3 s) black, the first 450 frames. Tracked as an ordinary frame after the gap, frame 390 found
 // a pose 3.6 cm off that passed as tracked, and the map went wrong from there (the whole sequence:

@@ -95,6 +95,15 @@ SE3d FrameTracker::continuedVelocity(const SE3d& T_last_prelast, double t, doubl
   return s == 1.0 ? T_last_prelast : interpolateGeodesic(SE3d(), T_last_prelast, s);
 }
 
+FrameTracker::MotionState FrameTracker::continuedOverGap(const MotionState& m, double t) {
+  const double gap = t - m.t_last;
+  if (!m.has_velocity || !(m.velocity_dt > 0.0) || !std::isfinite(gap) || !(gap > 0.0)) return m;
+  MotionState out = m;
+  out.T_last_prelast = SE3d(SO3d(), m.T_last_prelast.translation() * (gap / m.velocity_dt));
+  out.velocity_dt = gap;
+  return out;
+}
+
 FrameTrackingOutcome FrameTracker::track(const ImagePyramid& frame, double exposure,
                                          double timestamp, Search search) {
   FrameTrackingOutcome out;

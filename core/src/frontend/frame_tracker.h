@@ -123,6 +123,14 @@ class FrameTracker {
     return {T_last_w_,  T_last_prelast_, has_velocity_, has_last_,   last_aff_,
             last_rmse_, first_rmse_,     t_last_,       velocity_dt_};
   }
+  /// `m` with the translation of its last motion continued over the whole time from its last
+  /// frame to `t` (no kMaxVelocityScale cap) and no rotation: the guess for a frame after a gap
+  /// in which the camera kept moving (a robot driving on while its images were dark). The
+  /// rotation is not continued: from one frame to the next it is mostly shake (the rendered
+  /// corridor's 0.27 degrees per frame continued over 45 frames make 12 degrees where the camera
+  /// turned 4.4); the wide search's rotated guesses around this one cover turns. `m` as it is
+  /// without a velocity or a later `t`.
+  static MotionState continuedOverGap(const MotionState& m, double t);
   void restoreMotion(const MotionState& m) {
     T_last_w_ = m.T_last_w;
     T_last_prelast_ = m.T_last_prelast;

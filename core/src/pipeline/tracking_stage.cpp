@@ -396,7 +396,7 @@ void TrackingStage::relocalizeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent
     // on the tracking thread, and the map's pose needs none); not found: the wide search from
     // where the camera was last seen (it moved while the frames were lost: vamr_desk_loop with
     // frames 350-389 noise, 4.6 cm and 6 degrees, beyond the 4 degrees of every frame's search).
-    const FrameTrackingOutcome outcome = tracker_.track(
+    FrameTrackingOutcome outcome = tracker_.track(
         *pyr, exposure, frame.timestamp,
         r.success ? FrameTracker::Search::kNoRotations : FrameTracker::Search::kWide);
     // After a loss the frame may show somewhere else entirely (the camera was carried, or the
@@ -409,12 +409,20 @@ void TrackingStage::relocalizeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent
           (found.T_w_c.translation() - snap->newest_T_c_w.inverse().translation()).norm();
       return distance < resume_radius_ * snap->median_depth;
     }();
-    const bool good_fit =
-        outcome.inlier_fraction >= kResumeMinInliers &&
-        (!(rmse_before_loss_ > 0.0) || outcome.rmse <= kResumeMaxRmseGrowth * rmse_before_loss_);
+    if (!r.success && !resumesAfterLoss(outcome, rmse_before_loss_) && last_good_.has_velocity) {
+      // Not near the last pose either: the camera may have kept moving as it did, farther than
+      // any rotated guess reaches (a robot driving on while its images were dark: the rendered
+      // corridor 1.5-2 s on, 1.5-1.9 m). The last motion's translation continued over the gap.
+      tracker_.restoreMotion(FrameTracker::continuedOverGap(last_good_, frame.timestamp));
+      const FrameTrackingOutcome carried =
+          tracker_.track(*pyr, exposure, frame.timestamp, FrameTracker::Search::kWide);
+      if (resumesAfterLoss(carried, rmse_before_loss_) || !outcome.success) outcome = carried;
+    }
+    const bool good_fit = resumesAfterLoss(outcome, rmse_before_loss_);
     if (outcome.success && !(good_fit && near_window))
       spdlog::debug(
-          "frame {}: not resumed in the window (rmse {:.2f}, last good {:.2f}, {:.0f} % inliers{})",
+          "frame {}: not resumed in the window (rmse {:.2f}, before the loss {:.2f}, {:.0f} % "
+          "inliers{})",
           frame.frame_index, outcome.rmse, rmse_before_loss_, 100.0 * outcome.inlier_fraction,
           near_window ? "" : "; the map found it away from the window");
     if (outcome.success && good_fit && near_window) {
@@ -430,6 +438,15 @@ void TrackingStage::relocalizeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent
   }
   // Found in the map but away from the window: a new window from the map keyframe.
   startWindowInMap(std::move(pyr), frame, exposure, r);
+}
+
+bool TrackingStage::resumesAfterLoss(const FrameTrackingOutcome& o, double rmse_before_loss) {
+  if (!o.success) return false;
+  if (!(rmse_before_loss > 0.0)) return o.inlier_fraction >= kResumeMinInliers;
+  return (o.inlier_fraction >= kResumeMinInliers &&
+          o.rmse <= kResumeMaxRmseGrowth * rmse_before_loss) ||
+         (o.inlier_fraction >= kResumeFarMinInliers &&
+          o.rmse <= kResumeFarMaxRmseGrowth * rmse_before_loss);
 }
 
 RelocalizationResult TrackingStage::findInMap(const ImagePyramid& pyr, double exposure,

@@ -103,6 +103,12 @@ class TrackingStage {
   std::int64_t relocalizations() const { return relocalizations_.load(std::memory_order_relaxed); }
   std::vector<StageTiming> timings() const { return timer_.summary(); }
 
+  /// Whether a frame tracked against the kept window after a loss fits as well as before it:
+  /// at least kResumeMinInliers of its points inliers and its residual within
+  /// kResumeMaxRmseGrowth of `rmse_before_loss`, or kResumeFarMinInliers within
+  /// kResumeFarMaxRmseGrowth (no residual before: the inliers alone).
+  static bool resumesAfterLoss(const FrameTrackingOutcome& o, double rmse_before_loss);
+
  private:
   /// A frame for the initializer, and the initialisation it finished (the map made).
   struct InitializationFrame {
@@ -170,9 +176,13 @@ class TrackingStage {
   /// A relocalised frame resumes in the kept window only when the map keyframe it was found in
   /// is within this many median depths of the last pose (reuse.relocalization_search_radius)...
   double resume_radius_ = 0.0;
-  /// ...and its tracking against the window fits as well as before the loss.
+  /// ...and its tracking against the window fits as well as before the loss (resumesAfterLoss).
   static constexpr double kResumeMinInliers = 0.7;
   static constexpr double kResumeMaxRmseGrowth = 2.0;
+  /// A frame far from where the reference was taken (moved on during a gap) has larger residuals
+  /// from the change of view alone: it also resumes with this many inliers within this growth.
+  static constexpr double kResumeFarMinInliers = 0.9;
+  static constexpr double kResumeFarMaxRmseGrowth = 3.0;
   bool wait_for_keyframes_ = false;  ///< TrackingStageSettings::wait_for_keyframes
   bool relocalizing_ = false;
   double lost_since_ = 0.0;

@@ -133,6 +133,30 @@ TEST(MotionHypothesesTest, BeyondTheMotionModelAfterTenTimesTheVelocitysSpan) {
   EXPECT_TRUE(tracker.beyondMotionModel(40.0));
 }
 
+TEST(MotionHypothesesTest, OverAGapTheTranslationIsContinuedAndTheRotationIsNot) {
+  FrameTracker::MotionState m;
+  m.has_last = true;
+  m.has_velocity = true;
+  m.t_last = 2.0;
+  m.velocity_dt = 0.1;
+  m.T_last_prelast =
+      SE3d(SO3d::exp(Eigen::Vector3d(0.0, 0.003, 0.001)), Eigen::Vector3d(0.01, 0.0, 0.03));
+  const FrameTracker::MotionState c = FrameTracker::continuedOverGap(m, 4.0);
+  // 2 s of 0.1 s motions: 20 of them, as one motion spanning the whole gap (so that the tracker
+  // takes it as it is for a frame at 4 s).
+  EXPECT_TRUE(c.T_last_prelast.translation().isApprox(Eigen::Vector3d(0.2, 0.0, 0.6), 1e-12));
+  EXPECT_LT(c.T_last_prelast.so3().log().norm(), 1e-15);
+  EXPECT_DOUBLE_EQ(c.velocity_dt, 2.0);
+  EXPECT_DOUBLE_EQ(FrameTracker::velocityScale(4.0, c.t_last, c.velocity_dt), 1.0);
+  EXPECT_TRUE(near(c.T_last_w, m.T_last_w));
+  // Without a velocity, or no later time: unchanged.
+  FrameTracker::MotionState still = m;
+  still.has_velocity = false;
+  EXPECT_TRUE(near(FrameTracker::continuedOverGap(still, 4.0).T_last_prelast, m.T_last_prelast));
+  EXPECT_TRUE(near(FrameTracker::continuedOverGap(m, 1.0).T_last_prelast, m.T_last_prelast));
+  EXPECT_DOUBLE_EQ(FrameTracker::continuedOverGap(m, 1.0).velocity_dt, 0.1);
+}
+
 TEST(MotionHypothesesTest, TheWideSearchReachesFurtherWithTheSameDirections) {
   const HypothesisSettings normal, wide = wideHypothesisSettings();
   EXPECT_EQ(motionHypothesisCount(wide), 5 + 26 * kMaxHypothesisAngles);
