@@ -462,27 +462,44 @@ void WindowOptimizer::marginalizePoints(const std::vector<WindowKeyframe*>& wind
   Eigen::MatrixXd H = Eigen::MatrixXd::Zero(dim, dim);
   Eigen::VectorXd b = Eigen::VectorXd::Zero(dim);
   Eigen::VectorXd c(dim);
+  // A point's coupling c is non-zero only in its host's and its inlier targets' blocks, so its
+  // term c c^T / H_dd touches only those blocks' products, and only the lower ones are formed
+  // (c_i c_j = c_j c_i exactly: the upper triangle is mirrored once at the end). Each element
+  // gets the same operations, in the same order, as the dense outer product of every column.
+  std::vector<char> touched(static_cast<size_t>(n));
   for (const ActivePoint* point : points) {
     if (point->fixed) continue;  // the map's points never enter the prior
     const int h = point->host->window_index;
     c.setZero();
+    std::fill(touched.begin(), touched.end(), 0);
+    touched[static_cast<size_t>(h)] = 1;
     double H_dd = 0.0, b_d = 0.0;
-    ActivePoint copy = *point;  // residual states are updated by the evaluation
-    for (auto& res : copy.residuals) {
+    // The evaluation updates residual states: copies, the point's own stay as they are.
+    residual_scratch_.assign(point->residuals.begin(), point->residuals.end());
+    for (PointResidual& res : residual_scratch_) {
       const int t = res.target->window_index;
       const size_t pi = static_cast<size_t>(h) * n + t;
       ResidualAccumulator acc;
       acc.pair = &pair_acc_[pi];
-      evaluateResidual(copy, res, pairs_[pi], settings_.residual, &acc);
+      evaluateResidual(*point, res, pairs_[pi], settings_.residual, &acc);
       if (res.state != ResidualState::Inlier) continue;
       addCoupling(adjoints_[pi], acc.coupling, h, t, c);
+      touched[static_cast<size_t>(t)] = 1;
       H_dd += acc.H_dd;
       b_d += acc.b_d;
     }
     if (H_dd < 1e-10) continue;
-    H.noalias() -= c * c.transpose() / H_dd;
+    constexpr int k = kFrameParams;
+    for (int j = 0; j < n; ++j) {
+      if (!touched[static_cast<size_t>(j)]) continue;
+      for (int i = j; i < n; ++i)
+        if (touched[static_cast<size_t>(i)])
+          H.block<k, k>(k * i, k * j).noalias() -=
+              c.segment<k>(k * i) * c.segment<k>(k * j).transpose() / H_dd;
+    }
     b -= c * (b_d / H_dd);
   }
+  H.triangularView<Eigen::StrictlyUpper>() = H.transpose();
   addPairAccumulators(n, pair_acc_, pairs_, adjoints_, H, b);
   prior.add(windowIds(window), H, b, stackedDeltas(window));
 }

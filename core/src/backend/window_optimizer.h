@@ -160,6 +160,7 @@ class WindowOptimizer {
   LevelCamera camera_;
   std::vector<SavedPoint> saved_points_;
   std::vector<PointResidual> saved_residuals_;
+  std::vector<PointResidual> residual_scratch_;  ///< marginalizePoints: one point's residuals
   double radial_k_ = 0.0;
   using RelCalibMatrix = Eigen::Matrix<double, kRelParams, kCalibParams>;
   /// Per (host, target) pair: sum over its residuals of w J_rel^T J_c.
