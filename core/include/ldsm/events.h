@@ -20,6 +20,10 @@ const char* toString(TrackingStatus status);
 
 /// Every submitted frame, once processed.
 struct FrameEvent {
+  /// The frame's number among the frames processed (rejected ones included). In live mode the
+  /// frames dropped before processing are not counted, so it falls behind the number of frames
+  /// submitted (and behind a replayed sequence's file numbers); the timestamp names the frame.
+  /// The other events' frame_index counts the same way.
   std::int64_t frame_index = 0;
   double timestamp = 0.0;
   TrackingStatus status = TrackingStatus::Initializing;
