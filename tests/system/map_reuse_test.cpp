@@ -216,37 +216,55 @@ TEST(MapReuse, AfterNoiseTrackingResumesInTheOldMapFrame) {
   EXPECT_LT(after, 2.0 * clean.ate.rmse);
 }
 
+// sim:loop's 700 frames with frames first..last black (refused as input: a gap in time).
+SceneRun runWithBlackGap(std::int64_t first, std::int64_t last) {
+  SceneRun r;
+  r.frames = 700;
+  r.noise_first = first;
+  r.noise_last = last;
+  r.black = true;
+  r.run("loop");
+  return r;
+}
+
+struct GapErrors {
+  double before = 0.0, after = 0.0;  ///< ATE of the poses before and after the gap, one alignment
+};
+
+// The gap from frame `first` was one loss, found again in the same map: no new map, no second
+// initialisation. Returns the errors before and after it.
+GapErrors expectOneLossFoundInTheSameMap(const SceneRun& r, std::int64_t first,
+                                         std::int64_t gap_frames, const char* label) {
+  const SystemStats& s = r.stats;
+  std::printf("%s: %lld rejected, %lld lost, %lld relocalised, %lld new maps, %zu poses\n", label,
+              static_cast<long long>(s.rejected_frames), static_cast<long long>(s.tracking_losses),
+              static_cast<long long>(s.reuse.relocalizations),
+              static_cast<long long>(s.reuse.new_maps), r.trajectory.size());
+  EXPECT_EQ(s.rejected_frames, gap_frames);
+  EXPECT_EQ(r.listener.lost, 1) << "the gap counts as a loss";
+  EXPECT_EQ(s.reuse.relocalizations, 1);
+  EXPECT_EQ(s.reuse.new_maps, 0);
+  EXPECT_EQ(s.initializations, 1);
+  const double t_gap = static_cast<double>(first) / drivers::sim::SimOptions{}.fps;
+  const GapErrors e{r.rmseBetween(0.0, t_gap), r.rmseBetween(t_gap, 1e9)};
+  std::printf("%s: ATE %.4f m (before %.4f, after %.4f)\n", label, r.ate.rmse, e.before, e.after);
+  return e;
+}
+
 // Black frames are refused as input, so the frame after them comes 0.5 s after the last one
 // tracked: farther than the motion model reaches. It is looked for as after a loss (map
 // relocalisation, then the window's wide search from the last pose) and must fit as well as
 // before; tracked as an ordinary frame, it found a pose that fitted well enough for that and the
 // map went wrong from there (vamr_desk_loop, frames 350-389 black: ATE 0.0356 m against 0.0007).
 TEST(MapReuse, AfterAGapOfBlackFramesTrackingResumesInTheOldMapFrame) {
-  SceneRun r;
-  r.frames = 700;
-  r.noise_first = 400;
-  r.noise_last = 414;
-  r.black = true;
-  r.run("loop");
-  const SystemStats& s = r.stats;
-  std::printf("black: %lld rejected, %lld lost, %lld relocalised, %lld new maps, %zu poses\n",
-              static_cast<long long>(s.rejected_frames), static_cast<long long>(s.tracking_losses),
-              static_cast<long long>(s.reuse.relocalizations),
-              static_cast<long long>(s.reuse.new_maps), r.trajectory.size());
-  EXPECT_EQ(s.rejected_frames, 15);
-  EXPECT_EQ(r.listener.lost, 1) << "the gap counts as a loss";
-  EXPECT_EQ(s.reuse.relocalizations, 1);
-  EXPECT_EQ(s.reuse.new_maps, 0);
-  EXPECT_EQ(s.initializations, 1);
+  const SceneRun r = runWithBlackGap(400, 414);
   // One trajectory in one frame: under one Sim(3) alignment the poses after the gap are as good
   // as the ones before it (measured: 0.0041 m before, 0.0042 m after; the clean run 0.0036 m,
   // which AfterNoiseTrackingResumesInTheOldMapFrame runs: not again here).
-  const double t_gap = 400 / drivers::sim::SimOptions{}.fps;
-  const double before = r.rmseBetween(0.0, t_gap), after = r.rmseBetween(t_gap, 1e9);
-  std::printf("black: ATE %.4f m (before %.4f, after %.4f)\n", r.ate.rmse, before, after);
+  const GapErrors e = expectOneLossFoundInTheSameMap(r, 400, 15, "black");
   EXPECT_GT(r.ate.matched, 700u - 2 * 15u);
-  EXPECT_LT(after, 2.0 * before);
-  EXPECT_LT(r.ate.rmse, 2.0 * before);
+  EXPECT_LT(e.after, 2.0 * e.before);
+  EXPECT_LT(r.ate.rmse, 2.0 * e.before);
 }
 
 // Two seconds without images while the camera drives on (frames 400-459 black: 1.9 m down the
@@ -258,25 +276,8 @@ TEST(MapReuse, AfterAGapOfBlackFramesTrackingResumesInTheOldMapFrame) {
 // failed for 5 s, a new map started that never met the old one, and the trajectory was in two
 // frames (ATE 1.30 m). About 40 s.
 TEST(MapReuse, AfterTwoSecondsWithoutImagesADrivingCameraResumesWhereItDroveTo) {
-  SceneRun r;
-  r.frames = 700;
-  r.noise_first = 400;
-  r.noise_last = 459;
-  r.black = true;
-  r.run("loop");
-  const SystemStats& s = r.stats;
-  std::printf("2 s black: %lld rejected, %lld lost, %lld relocalised, %lld new maps, %zu poses\n",
-              static_cast<long long>(s.rejected_frames), static_cast<long long>(s.tracking_losses),
-              static_cast<long long>(s.reuse.relocalizations),
-              static_cast<long long>(s.reuse.new_maps), r.trajectory.size());
-  EXPECT_EQ(s.rejected_frames, 60);
-  EXPECT_EQ(r.listener.lost, 1);
-  EXPECT_EQ(s.reuse.relocalizations, 1);
-  EXPECT_EQ(s.reuse.new_maps, 0);
-  EXPECT_EQ(s.initializations, 1);
-  const double t_gap = 400 / drivers::sim::SimOptions{}.fps;
-  const double before = r.rmseBetween(0.0, t_gap), after = r.rmseBetween(t_gap, 1e9);
-  std::printf("2 s black: ATE %.4f m (before %.4f, after %.4f)\n", r.ate.rmse, before, after);
+  const SceneRun r = runWithBlackGap(400, 459);
+  const GapErrors e = expectOneLossFoundInTheSameMap(r, 400, 60, "2 s black");
   EXPECT_GT(r.ate.matched, 700u - 60u - 10u);
   // The bar: twice the ATE of the same 700 frames without the gap, run here (measured
   // 0.0036 m; with the gap 0.0040 m, 0.0028 before it and 0.0055 after it under one alignment).
@@ -285,7 +286,7 @@ TEST(MapReuse, AfterTwoSecondsWithoutImagesADrivingCameraResumesWhereItDroveTo) 
   clean.run("loop");
   std::printf("clean: ATE %.4f m\n", clean.ate.rmse);
   EXPECT_LT(r.ate.rmse, 2.0 * clean.ate.rmse);
-  EXPECT_LT(after, 2.0 * clean.ate.rmse);
+  EXPECT_LT(e.after, 2.0 * clean.ate.rmse);
 }
 
 // The same on the real hand-held desk sequence, whose camera moves unevenly: frames 350-389
