@@ -418,13 +418,26 @@ void TrackingStage::relocalizeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent
           tracker_.track(*pyr, exposure, frame.timestamp, FrameTracker::Search::kWide);
       if (resumesAfterLoss(carried, rmse_before_loss_) || !outcome.success) outcome = carried;
     }
-    const bool good_fit = resumesAfterLoss(outcome, rmse_before_loss_);
-    if (outcome.success && !(good_fit && near_window))
+    // The map found it near the window: it is not somewhere else entirely, and the window (its
+    // keyframes, their depths) goes on rather than a new one built on one map keyframe's pose
+    // when it fits reasonably (resumesWhereTheMapFoundIt).
+    const bool good_fit =
+        resumesAfterLoss(outcome, rmse_before_loss_) ||
+        (r.success && near_window && resumesWhereTheMapFoundIt(outcome, rmse_before_loss_));
+    if (outcome.success) {
+      double moved_depths = 0.0, turned_deg = 0.0;
+      if (r.success) {
+        const SE3d d = outcome.T_c_w * r.T_c_w.inverse();
+        moved_depths = d.translation().norm() / std::max(1e-9, snap->median_depth);
+        turned_deg = d.so3().log().norm() * 180.0 / 3.14159265358979323846;
+      }
       spdlog::debug(
-          "frame {}: not resumed in the window (rmse {:.2f}, before the loss {:.2f}, {:.0f} % "
-          "inliers{})",
-          frame.frame_index, outcome.rmse, rmse_before_loss_, 100.0 * outcome.inlier_fraction,
-          near_window ? "" : "; the map found it away from the window");
+          "frame {}: {}resumed in the window (rmse {:.2f}, before the loss {:.2f}, {:.0f} % "
+          "inliers{}; {:.3f} median depths and {:.2f} degrees from the map's pose)",
+          frame.frame_index, good_fit && near_window ? "" : "not ", outcome.rmse, rmse_before_loss_,
+          100.0 * outcome.inlier_fraction,
+          near_window ? "" : "; the map found it away from the window", moved_depths, turned_deg);
+    }
     if (outcome.success && good_fit && near_window) {
       resumeTracking(frame, r.success ? r.keyframe_id : -1, "the window");
       acceptTrackedFrame(std::move(pyr), frame, exposure, outcome);
@@ -447,6 +460,12 @@ bool TrackingStage::resumesAfterLoss(const FrameTrackingOutcome& o, double rmse_
           o.rmse <= kResumeMaxRmseGrowth * rmse_before_loss) ||
          (o.inlier_fraction >= kResumeFarMinInliers &&
           o.rmse <= kResumeFarMaxRmseGrowth * rmse_before_loss);
+}
+
+bool TrackingStage::resumesWhereTheMapFoundIt(const FrameTrackingOutcome& o,
+                                              double rmse_before_loss) {
+  if (!o.success || !(o.inlier_fraction >= kResumeConfirmedMinInliers)) return false;
+  return !(rmse_before_loss > 0.0) || o.rmse <= kResumeMaxRmseGrowth * rmse_before_loss;
 }
 
 RelocalizationResult TrackingStage::findInMap(const ImagePyramid& pyr, double exposure,
