@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "backend/window_keyframe.h"
+#include "image/compact_plane.h"
 #include "image/interpolation.h"
 
 namespace ldsm {
@@ -37,8 +38,9 @@ void fromPatchPoint(const PatchPoint& patch, WindowKeyframe& host, ActivePoint& 
 
 bool initActivePoint(ActivePoint& point, WindowKeyframe& host, float u, float v, float idepth,
                      float gradient_weight_c) {
-  const ImageView<const GradientPixel> img = host.pyramid().gradients(0);
-  if (!isInsideForBilinear(img, u, v, static_cast<float>(kPatternPadding) + 1.f)) return false;
+  const Level0View img = host.pyramid().level0();
+  if (!isInsideForBilinear(u, v, img.width, img.height, static_cast<float>(kPatternPadding) + 1.f))
+    return false;
   point.host = &host;
   point.u = u;
   point.v = v;

@@ -59,7 +59,7 @@ WindowKeyframe& Mapper::insertKeyframe(std::unique_ptr<ImagePyramid> pyramid,
   kf->setInitialState(info.T_c_w, info.aff);
   // The keyframes before it are from now on only targets of residuals (level 0): the tracking
   // reference, the point selection and the reuse view are the newest keyframe's.
-  for (auto& older : window_) older->compactPyramid();
+  for (auto& older : window_) older->compactPyramid(settings_.window.keyframe_images_16bit);
   if (!window_.empty()) {
     const WindowKeyframe& prev = *window_.back();
     kf->path_length =

@@ -99,7 +99,7 @@ class Mapper {
   /// Frees all but the newest keyframe's level-0 gradient plane, once the tracking reference
   /// was made from it (a newer keyframe frees it anyway).
   void compactNewestImage() {
-    if (!window_.empty()) window_.back()->compactPyramid();
+    if (!window_.empty()) window_.back()->compactPyramid(settings_.window.keyframe_images_16bit);
   }
   /// The newest keyframe as the tracker's reference (its pyramid stays owned by the window).
   TrackingReference newestReference() const;

@@ -25,13 +25,14 @@ void FramePairPrecalc::set(const WindowKeyframe& host, const WindowKeyframe& tar
   offset = static_cast<float>(st[1]);
   host_b = static_cast<float>(host.aff.b);
   outlier_energy = std::max(host.outlier_energy, target.outlier_energy);
-  target_image = target.pyramid().gradients(0);
+  target_image = target.pyramid().level0();
 
   std::copy(KRKi.data(), KRKi.data() + 9, sampling.KRKi);
   std::copy(Kt.data(), Kt.data() + 3, sampling.Kt);
   sampling.scale = scale;
   sampling.offset = offset;
-  sampling.image = target_image;
+  sampling.image = target_image.full;
+  sampling.compact = target_image.compact;
 }
 
 void PairAccumulator::reduce(const FramePairPrecalc& pair, RelMatrix& H, RelVector& b) const {

@@ -19,6 +19,7 @@
 #include "backend/calibration_refinement.h"
 #include "backend/window_keyframe.h"
 #include "camera/pyramid_camera.h"
+#include "image/compact_plane.h"
 #include "image/gradient_pixel.h"
 #include "kernels/pattern_accumulate.h"
 
@@ -44,7 +45,7 @@ struct FramePairPrecalc {
   Eigen::Vector3f t0;    ///< t_th at the linearisation point
   float scale = 1.f, offset = 0.f, host_b = 0.f;
   LevelCamera cam;
-  ImageView<const GradientPixel> target_image;
+  Level0View target_image;               ///< float, or 16-bit once the target is compacted
   simd::PatternSamplingParams sampling;  ///< the above as the sampling kernel takes them
   /// The larger of the two keyframes' adapted outlier thresholds (0: none adapted yet).
   float outlier_energy = 0.f;

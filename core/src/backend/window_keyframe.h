@@ -45,9 +45,10 @@ class WindowKeyframe {
   bool hasImage() const { return pyramid_ != nullptr; }
   std::unique_ptr<ImagePyramid> releasePyramid() { return std::move(pyramid_); }
   /// Frees what the keyframe no longer needs once a newer keyframe exists (ImagePyramid::compact:
-  /// all but the level-0 gradient plane, its residuals' target image).
-  void compactPyramid() {
-    if (pyramid_) pyramid_->compact();
+  /// all but the level-0 gradient plane, its residuals' target image; in 16 bits with
+  /// `level0_16bit`).
+  void compactPyramid(bool level0_16bit) {
+    if (pyramid_) pyramid_->compact(level0_16bit);
   }
 
   /// Sets the current estimate and makes it the linearisation point (first estimate).

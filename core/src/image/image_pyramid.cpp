@@ -82,18 +82,21 @@ void ImagePyramid::allocatePlanes() {
   }
 }
 
-void ImagePyramid::compact() {
+void ImagePyramid::compact(bool level0_16bit) {
   if (compacted_) return;
   // Assigning an empty image frees the plane (Image's move assignment swaps).
   clipped_ = Image<std::uint8_t>();
   for (std::size_t l = 1; l < gradients_.size(); ++l) gradients_[l] = Image<GradientPixel>();
   for (ImageF& plane : grad_mag_sq_) plane = ImageF();
+  if (level0_16bit && compact0_.encode(gradients_[0].view()))
+    gradients_[0] = Image<GradientPixel>();
   compacted_ = true;
 }
 
 void ImagePyramid::expand() {
   if (!compacted_) return;
   allocatePlanes();
+  compact0_.clear();
   compacted_ = false;
 }
 
@@ -102,10 +105,14 @@ std::size_t ImagePyramid::bytes() const {
   for (const Image<GradientPixel>& plane : gradients_)
     n += plane.capacity() * sizeof(GradientPixel);
   for (const ImageF& plane : grad_mag_sq_) n += plane.capacity() * sizeof(float);
-  return n;
+  return n + compact0_.bytes();
 }
 
 void ImagePyramid::copyIntensity(int level, ImageF& out) const {
+  if (level == 0 && !compact0_.empty()) {
+    compact0_.copyIntensity(out);
+    return;
+  }
   const ImageView<const GradientPixel> g = gradients(level);
   out.resize(g.width, g.height);
   for (int y = 0; y < g.height; ++y) {

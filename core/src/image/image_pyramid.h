@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "image/compact_plane.h"
 #include "image/gradient_pixel.h"
 #include "ldsm/image.h"
 
@@ -48,14 +49,25 @@ class ImagePyramid {
   int height(int level) const { return sizes_[level].second; }
   bool hasGradMagSq() const { return !grad_mag_sq_.empty(); }
 
-  /// Packed (intensity, dx, dy) plane of a level. Level 0 stays after compact(); the others
-  /// throw std::logic_error then.
+  /// Packed (intensity, dx, dy) plane of a level. Throws std::logic_error after compact() (for
+  /// level 0 when it went into the 16-bit plane: level0() reads either).
   ImageView<const GradientPixel> gradients(int level) const {
-    if (level != 0) requireFull("gradients", level);
+    if (level != 0 || !compact0_.empty()) requireFull("gradients", level);
     return gradients_[level].view();
   }
+  /// Level 0 as the target of residuals: the float plane, or after compact() the 16-bit one.
+  Level0View level0() const {
+    Level0View v;
+    v.width = width(0);
+    v.height = height(0);
+    if (compact0_.empty())
+      v.full = gradients_[0].view();
+    else
+      v.compact = compact0_.view();
+    return v;
+  }
   /// Copies a level's intensities (the packed plane's first channel) into `out`; level 0 also
-  /// after compact().
+  /// after compact() (then rounded to the 16-bit plane's step).
   void copyIntensity(int level, ImageF& out) const;
   /// Marks the level-0 pixels where `raw` (the camera's raw values, in the pyramid's geometry) is
   /// >= `level` as clipped. Allocates nothing. Throws InputError when the size differs.
@@ -76,9 +88,11 @@ class ImagePyramid {
   /// Frees every plane but the level-0 (intensity, dx, dy) one: all a keyframe needs once it is
   /// no longer the newest (it is then only the target image of the window's residuals, and
   /// copyIntensity() gives the image it is described by when it leaves): with 5 levels and
-  /// without |gradient|^2, 12 of 17 bytes per level-0 pixel are kept. expand() allocates the
-  /// planes again (contents undefined until the next build()).
-  void compact();
+  /// without |gradient|^2, 12 of 17 bytes per level-0 pixel are kept. With `level0_16bit`,
+  /// level 0 goes into 16-bit fixed point (CompactPlane: steps of 1/128 grey level for values up
+  /// to 255; 6 bytes per pixel; level0() reads it); a level 0 with a non-finite value stays in
+  /// float. expand() allocates the planes again (contents undefined until the next build()).
+  void compact(bool level0_16bit = false);
   void expand();
   bool compacted() const { return compacted_; }
   /// Bytes the planes hold now.
@@ -102,6 +116,8 @@ class ImagePyramid {
   std::vector<Image<GradientPixel>> gradients_;
   std::vector<ImageF> grad_mag_sq_;
   Image<std::uint8_t> clipped_;
+  /// Level 0 once compacted (empty before, or when it held a non-finite value).
+  CompactPlane compact0_;
 };
 
 }  // namespace ldsm

@@ -7,13 +7,17 @@
 //   energy = gw^2 * (|r| < th ? r^2 : 2 th |r| - th^2),
 // as a struct of arrays over the pattern. samplePattern<V> is the SIMD kernel (V from vec4f.h:
 // two 4-lane halves, one bilinear lookup per pixel as two 4-float loads per image row);
-// reference::samplePattern is the plain per-pixel formulation it must agree with.
+// reference::samplePattern is the plain per-pixel formulation it must agree with. The target is a
+// float plane or a compacted keyframe's 16-bit one (image/compact_plane.h), which the kernel
+// interpolates in units of the plane's step and scales once per pattern half.
 #pragma once
 
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 
+#include "image/compact_plane.h"
 #include "image/gradient_pixel.h"
 #include "image/interpolation.h"
 #include "ldsm/image.h"
@@ -46,7 +50,8 @@ struct PatternSamplingParams {
   float Kt[3] = {};    ///< K t_th
   float scale = 1.f;   ///< affine transfer host -> target: I_t ~ scale * I_h + offset
   float offset = 0.f;
-  ImageView<const GradientPixel> image;  ///< target level 0
+  ImageView<const GradientPixel> image;  ///< target level 0 (unless `compact` is set)
+  CompactPlaneView compact;              ///< the target's compacted level 0, when set
 };
 
 /// The residual settings the sampling needs.
@@ -89,6 +94,47 @@ inline V bilinearPixel(const ImageView<const GradientPixel>& img, std::int32_t x
   return left + shiftDown1(right);
 }
 
+/// The same on a compact plane, in units of its step: one 4-lane load per pixel (its three
+/// values and the next pixel's intensity), summed in the float version's order.
+template <class V, int K>
+inline V bilinearPixel(const CompactPlaneView& img, std::int32_t x, std::int32_t y, V w00, V w10,
+                       V w01, V w11) {
+  const std::int16_t* p =
+      &img.pixels.data[static_cast<std::ptrdiff_t>(y) * img.pixels.stride + x].intensity;
+  const std::int16_t* q = p + 3 * img.pixels.stride;
+  const V left = V::loadInt16(p) * broadcast<K>(w00) + V::loadInt16(q) * broadcast<K>(w01);
+  const V right = V::loadInt16(p + 3) * broadcast<K>(w10) + V::loadInt16(q + 3) * broadcast<K>(w11);
+  return left + right;
+}
+
+/// The factor bilinearPixel's results on `img` are in: 1 for float planes, the step of compact
+/// ones.
+inline float planeUnit(const ImageView<const GradientPixel>&) {
+  return 1.f;
+}
+inline float planeUnit(const CompactPlaneView& img) {
+  return img.step;
+}
+
+inline int planeWidth(const ImageView<const GradientPixel>& img) {
+  return img.width;
+}
+inline int planeHeight(const ImageView<const GradientPixel>& img) {
+  return img.height;
+}
+inline int planeWidth(const CompactPlaneView& img) {
+  return img.width();
+}
+inline int planeHeight(const CompactPlaneView& img) {
+  return img.height();
+}
+
+template <class V, class Plane>
+[[gnu::always_inline]] inline bool samplePatternIn(const Plane& image,
+                                                   const PatternSamplingParams& p,
+                                                   const PatternWeighting& pw,
+                                                   const PatternPoint& pt, PatternSamples& out);
+
 }  // namespace detail
 
 /// Projects and samples the pattern of `pt` in the pair's target. Returns false (leaving `out`
@@ -98,14 +144,24 @@ template <class V>
 [[gnu::always_inline]] inline bool samplePattern(const PatternSamplingParams& p,
                                                  const PatternWeighting& pw, const PatternPoint& pt,
                                                  PatternSamples& out) {
+  return p.compact.pixels.data != nullptr ? detail::samplePatternIn<V>(p.compact, p, pw, pt, out)
+                                          : detail::samplePatternIn<V>(p.image, p, pw, pt, out);
+}
+
+template <class V, class Plane>
+[[gnu::always_inline]] inline bool detail::samplePatternIn(const Plane& image,
+                                                           const PatternSamplingParams& p,
+                                                           const PatternWeighting& pw,
+                                                           const PatternPoint& pt,
+                                                           PatternSamples& out) {
   const float* K = p.KRKi;
   const float d = pt.idepth;
   const V bx = V::set1(K[0] * pt.u + K[3] * pt.v + K[6] + p.Kt[0] * d);
   const V by = V::set1(K[1] * pt.u + K[4] * pt.v + K[7] + p.Kt[1] * d);
   const V bz = V::set1(K[2] * pt.u + K[5] * pt.v + K[8] + p.Kt[2] * d);
   const V lo = V::set1(pw.margin);
-  const V x_hi = V::set1(static_cast<float>(p.image.width - 1) - pw.margin);
-  const V y_hi = V::set1(static_cast<float>(p.image.height - 1) - pw.margin);
+  const V x_hi = V::set1(static_cast<float>(planeWidth(image) - 1) - pw.margin);
+  const V y_hi = V::set1(static_cast<float>(planeHeight(image) - 1) - pw.margin);
   const V one = V::set1(1.f);
   alignas(16) std::int32_t ix[kPatternSize];
   alignas(16) std::int32_t iy[kPatternSize];
@@ -136,11 +192,17 @@ template <class V>
     const V w11 = fx[h] * fy[h];
     const int o = 4 * h;
     // One (intensity, dx, dy, -) vector per pixel, transposed into intensity, dx, dy rows.
-    V I = detail::bilinearPixel<V, 0>(p.image, ix[o], iy[o], w00, w10, w01, w11);
-    V gx = detail::bilinearPixel<V, 1>(p.image, ix[o + 1], iy[o + 1], w00, w10, w01, w11);
-    V gy = detail::bilinearPixel<V, 2>(p.image, ix[o + 2], iy[o + 2], w00, w10, w01, w11);
-    V unused = detail::bilinearPixel<V, 3>(p.image, ix[o + 3], iy[o + 3], w00, w10, w01, w11);
+    V I = bilinearPixel<V, 0>(image, ix[o], iy[o], w00, w10, w01, w11);
+    V gx = bilinearPixel<V, 1>(image, ix[o + 1], iy[o + 1], w00, w10, w01, w11);
+    V gy = bilinearPixel<V, 2>(image, ix[o + 2], iy[o + 2], w00, w10, w01, w11);
+    V unused = bilinearPixel<V, 3>(image, ix[o + 3], iy[o + 3], w00, w10, w01, w11);
     transpose4(I, gx, gy, unused);
+    if constexpr (!std::is_same_v<Plane, ImageView<const GradientPixel>>) {
+      const V unit = V::set1(planeUnit(image));
+      I = I * unit;
+      gx = gx * unit;
+      gy = gy * unit;
+    }
 
     const V r = I - V::set1(p.scale) * V::loadu(pt.colors + o) - V::set1(p.offset);
     const V gw_target = squareRoot(c2 / (c2 + gx * gx + gy * gy));
@@ -181,8 +243,12 @@ inline bool samplePattern(const PatternSamplingParams& p, const PatternWeighting
     const float qz = bz + ox * K[2] + oy * K[5];
     const float x = qx / qz + pt.shift_x;
     const float y = qy / qz + pt.shift_y;
-    if (!(qz > 0.f) || !isInsideForBilinear(p.image, x, y, pw.margin)) return false;
-    const GradientPixel g = interpolateBilinear(p.image, x, y);
+    const bool compact = p.compact.pixels.data != nullptr;
+    const int w = compact ? p.compact.width() : p.image.width;
+    const int h = compact ? p.compact.height() : p.image.height;
+    if (!(qz > 0.f) || !isInsideForBilinear(x, y, w, h, pw.margin)) return false;
+    const GradientPixel g =
+        compact ? interpolateBilinear(p.compact, x, y) : interpolateBilinear(p.image, x, y);
     const float r = g.intensity - p.scale * pt.colors[k] - p.offset;
     const float gw_target =
         std::sqrt(pw.gradient_c2 / (pw.gradient_c2 + g.dx * g.dx + g.dy * g.dy));

@@ -3,7 +3,8 @@
 //   Vec4 = Vec4Sse (SSE2) | Vec4Neon (AArch64 / ARMv7 NEON) | Vec4Scalar (plain C++).
 // Kernels are templates over the vector type, so tests can run the plain-C++ version next to
 // the selected one. Every type V provides:
-//   V::load(p) (16-byte aligned), V::loadu(p), V::set1(x), V::zero(), v.store(p), v.storeu(p);
+//   V::load(p) (16-byte aligned), V::loadu(p), V::loadInt16(p) (four int16 as floats), V::set1(x),
+//   V::zero(), v.store(p), v.storeu(p);
 //   + - * / ; comparisons < > >= giving V::Mask, Mask & Mask, allOf(mask), laneBits(mask) (bit i
 //   set when lane i is true), select(mask, a, b); squareRoot, absolute, truncate(v, ints) (towards
 //   zero, also stored as int32), shiftDown1 (a1 a2 a3 0), broadcast<K>, transpose4(a, b, c, d),

@@ -21,6 +21,10 @@ struct Vec4Neon {
 
   static Vec4Neon load(const float* p) { return {vld1q_f32(p)}; }
   static Vec4Neon loadu(const float* p) { return {vld1q_f32(p)}; }
+  /// Four int16 (8 bytes, 2-byte aligned) converted to float.
+  static Vec4Neon loadInt16(const std::int16_t* p) {
+    return {vcvtq_f32_s32(vmovl_s16(vld1_s16(p)))};
+  }
   static Vec4Neon set1(float x) { return {vdupq_n_f32(x)}; }
   static Vec4Neon zero() { return {vdupq_n_f32(0.f)}; }
   void store(float* p) const { vst1q_f32(p, n); }

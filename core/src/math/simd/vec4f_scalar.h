@@ -18,6 +18,11 @@ struct alignas(16) Vec4Scalar {
 
   static Vec4Scalar load(const float* p) { return {{p[0], p[1], p[2], p[3]}}; }
   static Vec4Scalar loadu(const float* p) { return {{p[0], p[1], p[2], p[3]}}; }
+  /// Four int16 converted to float.
+  static Vec4Scalar loadInt16(const std::int16_t* p) {
+    return {{static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2]),
+             static_cast<float>(p[3])}};
+  }
   static Vec4Scalar set1(float x) { return {{x, x, x, x}}; }
   static Vec4Scalar zero() { return {{0.f, 0.f, 0.f, 0.f}}; }
   void store(float* p) const {

@@ -19,6 +19,11 @@ struct Vec4Sse {
 
   static Vec4Sse load(const float* p) { return {_mm_load_ps(p)}; }
   static Vec4Sse loadu(const float* p) { return {_mm_loadu_ps(p)}; }
+  /// Four int16 (8 bytes, unaligned) converted to float.
+  static Vec4Sse loadInt16(const std::int16_t* p) {
+    const __m128i x = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(p));
+    return {_mm_cvtepi32_ps(_mm_srai_epi32(_mm_unpacklo_epi16(x, x), 16))};
+  }
   static Vec4Sse set1(float x) { return {_mm_set1_ps(x)}; }
   static Vec4Sse zero() { return {_mm_setzero_ps()}; }
   void store(float* p) const { _mm_store_ps(p, n); }

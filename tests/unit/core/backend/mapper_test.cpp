@@ -35,9 +35,10 @@ SE3d perturbed(const SE3d& T) {
   return SE3d::exp(d) * T;
 }
 
-TEST(Mapper, KeyframesConvergeToTheTruthAndTheWindowStaysBounded) {
+void expectConvergesToTheTruthAndStaysBounded(bool keyframe_images_16bit) {
   SyntheticWindow w(30);
-  const Config config = mapperConfig();
+  Config config = mapperConfig();
+  config.window.keyframe_images_16bit = keyframe_images_16bit;
   Mapper mapper(mapperSettings(config, false), w.camera(), w.pool());
   KeyframeInsertion init;
   ASSERT_TRUE(mapper.initialize(w.initialization(2), frameInfo(w, 0, w.T_c_w(0)), w.pyramid(0),
@@ -77,7 +78,11 @@ TEST(Mapper, KeyframesConvergeToTheTruthAndTheWindowStaysBounded) {
   // Only the newest keyframe keeps its whole pyramid; the older ones keep the level-0 gradient
   // plane their residuals sample (ImagePyramid::compact).
   const std::size_t full = w.pyramid(0)->bytes();
-  const std::size_t level0 = sizeof(GradientPixel) * SyntheticWindow::kW * SyntheticWindow::kH;
+  // In 16 bits: 6 bytes per pixel and one of padding (window.keyframe_images_16bit).
+  const std::size_t level0 =
+      keyframe_images_16bit
+          ? sizeof(CompactGradientPixel) * (SyntheticWindow::kW * SyntheticWindow::kH + 1)
+          : sizeof(GradientPixel) * SyntheticWindow::kW * SyntheticWindow::kH;
   const std::size_t n = mapper.windowPoses().size();
   EXPECT_EQ(mapper.windowImageBytes(), full + (n - 1) * level0);
   // Once the tracking reference is made from the newest, it needs no more either.
@@ -96,6 +101,15 @@ TEST(Mapper, KeyframesConvergeToTheTruthAndTheWindowStaysBounded) {
     EXPECT_GE(p.u, 0.f);
     EXPECT_LE(p.u, SyntheticWindow::kW - 1.f);
   }
+}
+
+TEST(Mapper, KeyframesConvergeToTheTruthAndTheWindowStaysBounded) {
+  expectConvergesToTheTruthAndStaysBounded(false);
+}
+
+// The same bounds when the older keyframes keep their level 0 in 16 bits.
+TEST(Mapper, KeyframesWithSixteenBitImagesConvergeToTheTruthAndTheWindowStaysBounded) {
+  expectConvergesToTheTruthAndStaysBounded(true);
 }
 
 TEST(Mapper, ParallelTracingAndLinearisationGiveTheSameWindowBitForBit) {

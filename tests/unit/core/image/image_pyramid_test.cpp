@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -295,6 +296,88 @@ TEST(ImagePyramid, CompactKeepsTheLevel0GradientsAndFreesTheRest) {
         EXPECT_EQ(pyr.gradMagSq(l)(x, y), fresh.gradMagSq(l)(x, y));
       }
   EXPECT_EQ(pyr.clipped()(5, 5), 0);
+}
+
+TEST(ImagePyramid, CompactIn16BitsKeepsLevel0WithinHalfAStep) {
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> grey(0.f, 255.f);
+  ImageF img(40, 30);
+  for (int y = 0; y < 30; ++y)
+    for (int x = 0; x < 40; ++x) img(x, y) = grey(rng);
+  ImagePyramid pyr(40, 30, 3);
+  pyr.build(img.view());
+  Image<GradientPixel> before;
+  before.copyFrom(pyr.gradients(0));
+  EXPECT_FALSE(pyr.level0().isCompact());
+  pyr.compact(true);
+  EXPECT_TRUE(pyr.compacted());
+  // Grey levels up to 255: steps of 1/128, every value within half a step; 6 bytes per pixel and
+  // one pixel of padding; the float plane is gone.
+  EXPECT_EQ(pyr.bytes(), sizeof(CompactGradientPixel) * (40 * 30 + 1));
+  const Level0View g = pyr.level0();
+  ASSERT_TRUE(g.isCompact());
+  EXPECT_EQ(g.width, 40);
+  EXPECT_EQ(g.height, 30);
+  const float step = g.compact.step;
+  EXPECT_EQ(step, 1.f / 128.f);
+  for (int y = 0; y < 30; ++y)
+    for (int x = 0; x < 40; ++x) {
+      EXPECT_NEAR(g.compact.at(x, y).intensity, before(x, y).intensity, 0.5f * step);
+      EXPECT_NEAR(g.compact.at(x, y).dx, before(x, y).dx, 0.5f * step);
+      EXPECT_NEAR(g.compact.at(x, y).dy, before(x, y).dy, 0.5f * step);
+    }
+  ImageF level0;
+  pyr.copyIntensity(0, level0);
+  ASSERT_EQ(level0.width(), 40);
+  for (int y = 0; y < 30; ++y)
+    for (int x = 0; x < 40; ++x) EXPECT_EQ(level0(x, y), g.compact.at(x, y).intensity);
+  EXPECT_THROW(pyr.gradients(0), std::logic_error);
+  EXPECT_THROW(pyr.gradients(1), std::logic_error);
+  // A new build gives the float planes back.
+  pyr.build(img.view());
+  EXPECT_FALSE(pyr.level0().isCompact());
+  EXPECT_EQ(pyr.gradients(0)(7, 9).dx, before(7, 9).dx);
+}
+
+TEST(ImagePyramid, ALevel0WithANonFiniteValueStaysInFloatWhenCompactedIn16Bits) {
+  ImageF img(16, 12, 100.f);
+  img(5, 5) = std::numeric_limits<float>::infinity();
+  ImagePyramid pyr(16, 12, 2);
+  pyr.build(img.view());
+  pyr.compact(true);
+  EXPECT_TRUE(pyr.compacted());
+  ASSERT_FALSE(pyr.level0().isCompact());
+  EXPECT_EQ(pyr.gradients(0)(5, 5).intensity, std::numeric_limits<float>::infinity());
+  EXPECT_EQ(pyr.bytes(), sizeof(GradientPixel) * 16 * 12);
+  EXPECT_THROW(pyr.gradients(1), std::logic_error);
+}
+
+TEST(CompactPlane, TheStepIsTheFinestPowerOfTwoAtWhichTheLargestValueFits) {
+  EXPECT_EQ(CompactPlane::stepFor(255.f), 1.f / 128.f);
+  EXPECT_EQ(CompactPlane::stepFor(255.9f), 1.f / 128.f);
+  EXPECT_EQ(CompactPlane::stepFor(256.f), 1.f / 64.f);
+  EXPECT_EQ(CompactPlane::stepFor(32767.f), 1.f);
+  EXPECT_EQ(CompactPlane::stepFor(32768.f), 2.f);
+  EXPECT_EQ(CompactPlane::stepFor(1e6f), 32.f);
+  EXPECT_EQ(CompactPlane::stepFor(0.f), 1.f / 16384.f);
+  // Encoded values round to the nearest step (ties to even) and stay inside int16.
+  Image<GradientPixel> plane(3, 2);
+  for (int y = 0; y < 2; ++y)
+    for (int x = 0; x < 3; ++x) plane(x, y) = {1000.f, -1000.f, 0.3f};
+  plane(2, 1) = {-2047.9f, 2047.9f, 3.f / 32.f};  // x16: -32766.4, 32766.4, 1.5
+  CompactPlane c;
+  ASSERT_TRUE(c.encode(plane.view()));
+  const CompactPlaneView v = c.view();
+  EXPECT_EQ(v.step, 1.f / 16.f);
+  EXPECT_EQ(v.at(0, 0).intensity, 1000.f);
+  EXPECT_EQ(v.at(0, 0).dx, -1000.f);
+  EXPECT_EQ(v.at(0, 0).dy, 0.3125f);
+  EXPECT_EQ(v.at(2, 1).intensity, -2047.875f);
+  EXPECT_EQ(v.at(2, 1).dx, 2047.875f);
+  EXPECT_EQ(v.at(2, 1).dy, 0.125f);
+  plane(1, 0).dx = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_FALSE(c.encode(plane.view()));
+  EXPECT_TRUE(c.empty());
 }
 
 TEST(PyramidPool, ACompactedPyramidComesBackWhole) {

@@ -176,10 +176,13 @@ Scene makeScene() {
   return s;
 }
 
-TEST(EvaluateResidual, MatchesScalarPath) {
+void expectMatchesScalarPath(bool compacted_target) {
   Scene s = makeScene();
+  // A keyframe that is no longer the newest is sampled from its 16-bit level 0.
+  if (compacted_target) s.frames[1]->compactPyramid(true);
   FramePairPrecalc pair;
   pair.set(*s.frames[0], *s.frames[1], s.cam);
+  ASSERT_EQ(pair.target_image.isCompact(), compacted_target);
   ResidualSettings settings;
   PairAccumulator pair_acc;
   pair_acc.reset();
@@ -218,6 +221,14 @@ TEST(EvaluateResidual, MatchesScalarPath) {
       ASSERT_NEAR(H(i, j), total.H(i, j), kTol * total.H_mag(i, j)) << i << "," << j;
     ASSERT_NEAR(b[i], total.b[i], kTol * total.b_mag[i]) << i;
   }
+}
+
+TEST(EvaluateResidual, MatchesScalarPath) {
+  expectMatchesScalarPath(false);
+}
+
+TEST(EvaluateResidual, MatchesScalarPathOnACompactedTarget) {
+  expectMatchesScalarPath(true);
 }
 
 TEST(EvaluateResidual, EitherKeyframesAdaptedThresholdDecides) {

@@ -123,6 +123,56 @@ TYPED_TEST(PatternKernelTest, SamplingMatchesReference) {
   EXPECT_GT(outside, 100);
 }
 
+// A compacted target (16-bit plane): the kernel agrees with the reference on it and with itself on
+// the float plane of the decoded values (to rounding), and stays within the rounding step's reach
+// of the float plane it was made from.
+TYPED_TEST(PatternKernelTest, SamplingACompactPlaneMatchesReferenceAndTheDecodedFloatPlane) {
+  std::mt19937 rng(11);
+  const Image<GradientPixel> img = randomTexture(97, 61, rng);
+  CompactPlane compact;
+  ASSERT_TRUE(compact.encode(img.view()));
+  const CompactPlaneView cv = compact.view();
+  EXPECT_EQ(cv.step, 1.f / 128.f);  // values within [-255, 255]
+  Image<GradientPixel> decoded(img.width(), img.height());
+  for (int y = 0; y < img.height(); ++y)
+    for (int x = 0; x < img.width(); ++x) decoded(x, y) = cv.at(x, y);
+  int inside = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    RandomPair rp = randomPair(img, rng);
+    const RandomPoint pt = randomPoint(img.width(), img.height(), rng);
+    PatternSamples from_float, on_decoded, ref, got;
+    const bool ok_float = samplePattern<TypeParam>(rp.params, rp.weighting, pt.point, from_float);
+    rp.params.image = decoded.view();
+    const bool ok_decoded = samplePattern<TypeParam>(rp.params, rp.weighting, pt.point, on_decoded);
+    rp.params.image = ImageView<const GradientPixel>();
+    rp.params.compact = cv;
+    const bool ok_ref = reference::samplePattern(rp.params, rp.weighting, pt.point, ref);
+    const bool ok = samplePattern<TypeParam>(rp.params, rp.weighting, pt.point, got);
+    ASSERT_EQ(ok, ok_ref) << "trial " << trial;
+    ASSERT_EQ(ok, ok_decoded) << "trial " << trial;
+    ASSERT_EQ(ok, ok_float) << "trial " << trial;
+    if (!ok) continue;
+    ++inside;
+    for (int k = 0; k < kPatternSize; ++k) {
+      ASSERT_NEAR(got.gx[k], on_decoded.gx[k], kTol * 128.0) << trial << " " << k;
+      ASSERT_NEAR(got.gy[k], on_decoded.gy[k], kTol * 128.0) << trial << " " << k;
+      ASSERT_NEAR(got.r[k], on_decoded.r[k], kTol * 255.0) << trial << " " << k;
+      ASSERT_NEAR(got.w[k], on_decoded.w[k], kTol) << trial << " " << k;
+      ASSERT_NEAR(got.gx[k], ref.gx[k], kTol * 128.0) << trial << " " << k;
+      ASSERT_NEAR(got.r[k], ref.r[k], kTol * 255.0) << trial << " " << k;
+      ASSERT_NEAR(got.w[k], ref.w[k], kTol) << trial << " " << k;
+      // Every decoded value is within half a step of the float one; interpolation keeps that.
+      ASSERT_NEAR(got.gx[k], from_float.gx[k], 0.5 * cv.step + kTol * 128.0) << trial;
+      ASSERT_NEAR(got.gy[k], from_float.gy[k], 0.5 * cv.step + kTol * 128.0) << trial;
+      ASSERT_NEAR(got.r[k], from_float.r[k], 0.5 * cv.step + kTol * 255.0) << trial;
+    }
+    ASSERT_NEAR(got.energy, on_decoded.energy,
+                kTol * std::max(1.0, static_cast<double>(on_decoded.energy)))
+        << trial;
+  }
+  EXPECT_GT(inside, 1000);
+}
+
 TYPED_TEST(PatternKernelTest, SamplingRejectsBehindCameraAndNonFinite) {
   std::mt19937 rng(3);
   const Image<GradientPixel> img = randomTexture(64, 48, rng);

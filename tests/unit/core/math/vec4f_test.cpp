@@ -42,6 +42,15 @@ TYPED_TEST(Vec4fTest, ArithmeticMatchesScalar) {
   for (int i = 0; i < 4; ++i) EXPECT_EQ(r[i], 0.f);
 }
 
+TYPED_TEST(Vec4fTest, LoadInt16ConvertsEveryLaneExactlyFromAnUnalignedAddress) {
+  using V = TypeParam;
+  // One element in: an address 2 bytes past an 8-byte boundary, and the extremes of int16.
+  alignas(16) const std::int16_t in[6] = {0, -32768, 32767, -1, 1234, -999};
+  float r[4];
+  toArray(V::loadInt16(in + 1), r);
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(r[i], static_cast<float>(in[i + 1]));
+}
+
 TYPED_TEST(Vec4fTest, ComparisonsAndSelect) {
   using V = TypeParam;
   const float nan = std::numeric_limits<float>::quiet_NaN();

@@ -1,0 +1,108 @@
+// The level-0 (intensity, dx, dy) plane of a keyframe that is only the target of residuals, in
+// 16-bit fixed point: 6 instead of 12 bytes per pixel. Stored values are round(value * scale) with
+// scale a power of two, the finest at which the plane's largest magnitude fits into int16 (128 for
+// grey levels up to 255: steps of 1/128 grey level), so decoding (stored * 2^-k) is exact and the
+// bilinear interpolation of decoded values is that of the float plane on values rounded to the
+// step.
+#pragma once
+
+#include <cassert>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "image/gradient_pixel.h"
+#include "image/interpolation.h"
+#include "ldsm/image.h"
+
+namespace ldsm {
+
+/// Intensity and gradient of one pixel as int16 multiples of the plane's step.
+struct CompactGradientPixel {
+  std::int16_t intensity;
+  std::int16_t dx;
+  std::int16_t dy;
+};
+static_assert(sizeof(CompactGradientPixel) == 3 * sizeof(std::int16_t),
+              "CompactGradientPixel must be packed");
+
+/// A compact plane as readers take it: value = stored * step.
+struct CompactPlaneView {
+  /// The pixels; one more element is readable past the last pixel (4-lane loads of a pixel read
+  /// the next pixel's intensity).
+  ImageView<const CompactGradientPixel> pixels;
+  float step = 0.f;  ///< a power of two
+
+  int width() const { return pixels.width; }
+  int height() const { return pixels.height; }
+  GradientPixel at(int x, int y) const {
+    const CompactGradientPixel& c = pixels(x, y);
+    return {step * static_cast<float>(c.intensity), step * static_cast<float>(c.dx),
+            step * static_cast<float>(c.dy)};
+  }
+};
+
+/// A level 0 as residuals sample it: the float plane, or (full empty) the compact one.
+struct Level0View {
+  ImageView<const GradientPixel> full;
+  CompactPlaneView compact;
+  int width = 0;
+  int height = 0;
+
+  bool isCompact() const { return full.data == nullptr; }
+};
+
+/// Owns a compact plane.
+class CompactPlane {
+ public:
+  /// The step a plane whose largest finite magnitude is `max_abs` is stored with: 2^-k with
+  /// max_abs * 2^k <= 32767, k at most 14 (0 and tiny planes).
+  static float stepFor(float max_abs);
+
+  /// Encodes `plane`. Returns false (and holds nothing) when the plane holds a non-finite value,
+  /// which int16 cannot keep.
+  bool encode(ImageView<const GradientPixel> plane);
+  void clear();
+  bool empty() const { return pixels_.empty(); }
+
+  CompactPlaneView view() const {
+    return {ImageView<const CompactGradientPixel>(pixels_.data(), width_, height_, width_), step_};
+  }
+  /// The decoded intensities.
+  void copyIntensity(ImageF& out) const;
+  std::size_t bytes() const { return pixels_.capacity() * sizeof(CompactGradientPixel); }
+
+ private:
+  std::vector<CompactGradientPixel> pixels_;
+  int width_ = 0;
+  int height_ = 0;
+  float step_ = 0.f;
+};
+
+/// Bilinear interpolation of the decoded intensity, dx and dy at (x, y), with the arithmetic of
+/// interpolateBilinear() on a float plane. Requires isInsideForBilinear(x, y, width, height).
+inline GradientPixel interpolateBilinear(const CompactPlaneView& image, float x, float y) {
+  assert(isInsideForBilinear(x, y, image.width(), image.height()));
+  const int ix = static_cast<int>(x);
+  const int iy = static_cast<int>(y);
+  const float fx = x - static_cast<float>(ix);
+  const float fy = y - static_cast<float>(iy);
+  const float w00 = (1.f - fx) * (1.f - fy);
+  const float w10 = fx * (1.f - fy);
+  const float w01 = (1.f - fx) * fy;
+  const float w11 = fx * fy;
+  const GradientPixel p0 = image.at(ix, iy), p1 = image.at(ix + 1, iy);
+  const GradientPixel q0 = image.at(ix, iy + 1), q1 = image.at(ix + 1, iy + 1);
+  return {w00 * p0.intensity + w10 * p1.intensity + w01 * q0.intensity + w11 * q1.intensity,
+          w00 * p0.dx + w10 * p1.dx + w01 * q0.dx + w11 * q1.dx,
+          w00 * p0.dy + w10 * p1.dy + w01 * q0.dy + w11 * q1.dy};
+}
+
+/// Bilinear (intensity, dx, dy) of whichever plane `image` holds. Requires
+/// isInsideForBilinear(x, y, image.width, image.height).
+inline GradientPixel interpolateBilinear(const Level0View& image, float x, float y) {
+  return image.isCompact() ? interpolateBilinear(image.compact, x, y)
+                           : interpolateBilinear(image.full, x, y);
+}
+
+}  // namespace ldsm
