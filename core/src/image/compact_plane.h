@@ -83,19 +83,7 @@ class CompactPlane {
 /// interpolateBilinear() on a float plane. Requires isInsideForBilinear(x, y, width, height).
 inline GradientPixel interpolateBilinear(const CompactPlaneView& image, float x, float y) {
   assert(isInsideForBilinear(x, y, image.width(), image.height()));
-  const int ix = static_cast<int>(x);
-  const int iy = static_cast<int>(y);
-  const float fx = x - static_cast<float>(ix);
-  const float fy = y - static_cast<float>(iy);
-  const float w00 = (1.f - fx) * (1.f - fy);
-  const float w10 = fx * (1.f - fy);
-  const float w01 = (1.f - fx) * fy;
-  const float w11 = fx * fy;
-  const GradientPixel p0 = image.at(ix, iy), p1 = image.at(ix + 1, iy);
-  const GradientPixel q0 = image.at(ix, iy + 1), q1 = image.at(ix + 1, iy + 1);
-  return {w00 * p0.intensity + w10 * p1.intensity + w01 * q0.intensity + w11 * q1.intensity,
-          w00 * p0.dx + w10 * p1.dx + w01 * q0.dx + w11 * q1.dx,
-          w00 * p0.dy + w10 * p1.dy + w01 * q0.dy + w11 * q1.dy};
+  return detail::bilinearPacked(x, y, [&image](int u, int v) { return image.at(u, v); });
 }
 
 /// Bilinear (intensity, dx, dy) of whichever plane `image` holds. Requires

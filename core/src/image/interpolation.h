@@ -55,10 +55,12 @@ inline float interpolateIntensity(ImageView<const GradientPixel> image, float x,
   return detail::bilinearOf(image, x, y, [](const GradientPixel& g) { return g.intensity; });
 }
 
-/// Bilinear interpolation of intensity, dx and dy of a packed level at (x, y). Requires
-/// isInsideForBilinear(image, x, y).
-inline GradientPixel interpolateBilinear(ImageView<const GradientPixel> image, float x, float y) {
-  assert(isInsideForBilinear(image, x, y));
+namespace detail {
+
+/// Bilinear intensity, dx and dy at (x, y) of the packed pixels at(ix, iy) gives (by value or
+/// reference), weights first: the one formulation of every packed plane's interpolation.
+template <typename At>
+inline GradientPixel bilinearPacked(float x, float y, At at) {
   const int ix = static_cast<int>(x);
   const int iy = static_cast<int>(y);
   const float fx = x - static_cast<float>(ix);
@@ -67,11 +69,20 @@ inline GradientPixel interpolateBilinear(ImageView<const GradientPixel> image, f
   const float w10 = fx * (1.f - fy);
   const float w01 = (1.f - fx) * fy;
   const float w11 = fx * fy;
-  const GradientPixel* p = image.data + iy * image.stride + ix;
-  const GradientPixel* q = p + image.stride;
-  return {w00 * p[0].intensity + w10 * p[1].intensity + w01 * q[0].intensity + w11 * q[1].intensity,
-          w00 * p[0].dx + w10 * p[1].dx + w01 * q[0].dx + w11 * q[1].dx,
-          w00 * p[0].dy + w10 * p[1].dy + w01 * q[0].dy + w11 * q[1].dy};
+  const GradientPixel p0 = at(ix, iy), p1 = at(ix + 1, iy);
+  const GradientPixel q0 = at(ix, iy + 1), q1 = at(ix + 1, iy + 1);
+  return {w00 * p0.intensity + w10 * p1.intensity + w01 * q0.intensity + w11 * q1.intensity,
+          w00 * p0.dx + w10 * p1.dx + w01 * q0.dx + w11 * q1.dx,
+          w00 * p0.dy + w10 * p1.dy + w01 * q0.dy + w11 * q1.dy};
+}
+
+}  // namespace detail
+
+/// Bilinear interpolation of intensity, dx and dy of a packed level at (x, y). Requires
+/// isInsideForBilinear(image, x, y).
+inline GradientPixel interpolateBilinear(ImageView<const GradientPixel> image, float x, float y) {
+  assert(isInsideForBilinear(image, x, y));
+  return detail::bilinearPacked(x, y, [&image](int u, int v) { return image(u, v); });
 }
 
 }  // namespace ldsm

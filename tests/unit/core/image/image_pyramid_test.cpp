@@ -246,12 +246,18 @@ TEST(ImagePyramid, MarksClippedPixelsAndBuildClearsThem) {
   EXPECT_THROW(pyr.markClipped(ImageF(7, 6, 0.f).view(), 250.f), InputError);
 }
 
-TEST(ImagePyramid, CompactKeepsTheLevel0GradientsAndFreesTheRest) {
-  std::mt19937 rng(7);
+/// A 40 x 30 image of uniformly random grey levels.
+ImageF randomGreyImage(unsigned seed) {
+  std::mt19937 rng(seed);
   std::uniform_real_distribution<float> grey(0.f, 255.f);
   ImageF img(40, 30);
   for (int y = 0; y < 30; ++y)
     for (int x = 0; x < 40; ++x) img(x, y) = grey(rng);
+  return img;
+}
+
+TEST(ImagePyramid, CompactKeepsTheLevel0GradientsAndFreesTheRest) {
+  const ImageF img = randomGreyImage(7);
   ImagePyramid pyr(40, 30, 3);
   pyr.build(img.view());
   const Image<GradientPixel> before = [&] {
@@ -299,11 +305,7 @@ TEST(ImagePyramid, CompactKeepsTheLevel0GradientsAndFreesTheRest) {
 }
 
 TEST(ImagePyramid, CompactIn16BitsKeepsLevel0WithinHalfAStep) {
-  std::mt19937 rng(9);
-  std::uniform_real_distribution<float> grey(0.f, 255.f);
-  ImageF img(40, 30);
-  for (int y = 0; y < 30; ++y)
-    for (int x = 0; x < 40; ++x) img(x, y) = grey(rng);
+  const ImageF img = randomGreyImage(9);
   ImagePyramid pyr(40, 30, 3);
   pyr.build(img.view());
   Image<GradientPixel> before;
