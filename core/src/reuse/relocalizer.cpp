@@ -22,10 +22,7 @@ constexpr double kMinPatternCorrelation = 0.3;
 }  // namespace
 
 Relocalizer::Relocalizer(const ReuseConfig& config, const PyramidCamera& camera)
-    : config_(config),
-      camera_(camera),
-      corners_(camera[0].width, camera[0].height),
-      orb_(camera[0].width, camera[0].height) {
+    : config_(config), camera_(camera), orb_(camera[0].width, camera[0].height) {
   pnp_.min_inliers = config.relocalization_min_inliers;
   pnp_.inlier_threshold_px = 4.0;
   direct_.min_inlier_fraction = config.relocalization_min_direct_inliers;
@@ -35,7 +32,8 @@ bool Relocalizer::describeFrame(const ImagePyramid& frame, std::string& failure)
   CornerParams params;
   params.max_corners = kMaxCorners;
   params.min_score = kCornerMinScore;
-  corners_.detect(frame.gradients(0), params, corner_scratch_);
+  if (!corners_) corners_.emplace(camera_[0].width, camera_[0].height);
+  corners_->detect(frame.gradients(0), params, corner_scratch_);
   pixels_.clear();
   for (const Corner& c : corner_scratch_) pixels_.emplace_back(c.u, c.v);
   orb_.compute(frame.gradients(0), pixels_, descriptors_, kept_);

@@ -13,6 +13,7 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -83,7 +84,8 @@ class Relocalizer {
 
   ReuseConfig config_;
   PyramidCamera camera_;
-  CornerDetector corners_;
+  /// Made at the first frame looked for (3.2 MB at 1232x368 that a run without a loss never needs).
+  std::optional<CornerDetector> corners_;
   OrbExtractor orb_;
   std::vector<Corner> corner_scratch_;
   std::vector<Eigen::Vector2f> pixels_;
