@@ -1,6 +1,8 @@
 #include "ldsm/camera/rectifier.h"
 
+#include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "camera/remap_bilinear.h"
 #include "camera_common.h"
@@ -37,6 +39,45 @@ Rectifier::Rectifier(const GeometricCalibration& calibration)
     throw InputError("rectification: no pixel of the " + std::to_string(output_.width) + "x" +
                      std::to_string(output_.height) +
                      " output image sees a valid input pixel (check the output intrinsics)");
+  keepSeparableTable();
+}
+
+void Rectifier::keepSeparableTable() {
+  const int w = output_.width, h = output_.height;
+  // Each column's input x and each row's input y, from the first valid pixel that has them.
+  std::vector<float> column_x(static_cast<std::size_t>(w), -1.0f);
+  std::vector<float> row_y(static_cast<std::size_t>(h), -1.0f);
+  for (int v = 0; v < h; ++v)
+    for (int u = 0; u < w; ++u) {
+      if (map_x_(u, v) < 0.0f) continue;
+      if (column_x[u] < 0.0f) column_x[u] = map_x_(u, v);
+      if (row_y[v] < 0.0f) row_y[v] = map_y_(u, v);
+    }
+  // Separable when every pixel is exactly what its column and row say, and a pixel sees no input
+  // exactly when its column or its row sees none.
+  for (int v = 0; v < h; ++v)
+    for (int u = 0; u < w; ++u) {
+      const bool valid = column_x[u] >= 0.0f && row_y[v] >= 0.0f;
+      if (valid ? (map_x_(u, v) != column_x[u] || map_y_(u, v) != row_y[v])
+                : !(map_x_(u, v) < 0.0f))
+        return;
+    }
+  separable_ = true;
+  column_x_ = std::move(column_x);
+  row_y_ = std::move(row_y);
+  map_x_ = ImageF();
+  map_y_ = ImageF();
+}
+
+Eigen::Vector2f Rectifier::inputPixel(int x, int y) const {
+  if (!separable_) return {map_x_(x, y), map_y_(x, y)};
+  if (column_x_[x] < 0.0f || row_y_[y] < 0.0f) return {-1.0f, -1.0f};
+  return {column_x_[x], row_y_[y]};
+}
+
+std::size_t Rectifier::tableBytes() const {
+  return (map_x_.capacity() + map_y_.capacity() + column_x_.capacity() + row_y_.capacity()) *
+         sizeof(float);
 }
 
 template <typename T>
@@ -56,8 +97,19 @@ void Rectifier::remap(ImageView<const T> in, ImageF& out, float invalid_value) c
     return;
   }
   const simd::RemapInput<T> input{in.data, in.stride, in.width, in.height};
+  if (separable_) {
+    for (int v = 0; v < output_.height; ++v) {
+      float* dst = out.row(v);
+      if (row_y_[v] < 0.0f)
+        std::fill(dst, dst + output_.width, invalid_value);
+      else
+        simd::remapRow<simd::Vec4>(input, column_x_.data(), &row_y_[v], 0, output_.width,
+                                   invalid_value, dst);
+    }
+    return;
+  }
   for (int v = 0; v < output_.height; ++v)
-    simd::remapRow<simd::Vec4>(input, map_x_.row(v), map_y_.row(v), output_.width, invalid_value,
+    simd::remapRow<simd::Vec4>(input, map_x_.row(v), map_y_.row(v), 1, output_.width, invalid_value,
                                out.row(v));
 }
 

@@ -1,6 +1,7 @@
 // The rectifier's remap of one output row: output pixel u samples the input bilinearly at
-// (map_x[u], map_y[u]) (clamped so that the 2x2 block stays in the image; map_x < 0 marks a pixel
-// that sees no input, which gets `invalid`):
+// (map_x[u], map_y[u * map_y_step]) (clamped so that the 2x2 block stays in the image; map_x < 0
+// marks a pixel that sees no input, which gets `invalid`; map_y_step 0: one input row for the whole
+// output row, as in a separable table):
 //   top = p00 + ax (p10 - p00), bottom = p01 + ax (p11 - p01), out = top + ay (bottom - top).
 // remapRow<V> does four output pixels per vector (positions and weights in SIMD, the 2x2 blocks
 // loaded per pixel; V from math/simd/vec4f.h); reference::remapRow is the per-pixel formulation,
@@ -29,13 +30,13 @@ struct RemapInput {
 namespace reference {
 
 template <typename T>
-inline void remapRow(const RemapInput<T>& in, const float* map_x, const float* map_y, int width,
-                     float invalid, float* out) {
+inline void remapRow(const RemapInput<T>& in, const float* map_x, const float* map_y,
+                     std::ptrdiff_t map_y_step, int width, float invalid, float* out) {
   const int max_x0 = std::max(in.width - 2, 0), max_y0 = std::max(in.height - 2, 0);
   const std::ptrdiff_t dx1 = in.width > 1 ? 1 : 0;
   const std::ptrdiff_t dy1 = in.height > 1 ? in.stride : 0;
   for (int u = 0; u < width; ++u) {
-    const float x = map_x[u], y = map_y[u];
+    const float x = map_x[u], y = map_y[u * map_y_step];
     if (x < 0.0f) {
       out[u] = invalid;
       continue;
@@ -55,8 +56,8 @@ inline void remapRow(const RemapInput<T>& in, const float* map_x, const float* m
 
 /// remap of `width` output pixels (see above); map values are >= 0 or exactly -1 (no input).
 template <class V, typename T>
-inline void remapRow(const RemapInput<T>& in, const float* map_x, const float* map_y, int width,
-                     float invalid, float* out) {
+inline void remapRow(const RemapInput<T>& in, const float* map_x, const float* map_y,
+                     std::ptrdiff_t map_y_step, int width, float invalid, float* out) {
   const int max_x0 = std::max(in.width - 2, 0), max_y0 = std::max(in.height - 2, 0);
   const std::ptrdiff_t dx1 = in.width > 1 ? 1 : 0;
   const std::ptrdiff_t dy1 = in.height > 1 ? in.stride : 0;
@@ -66,7 +67,8 @@ inline void remapRow(const RemapInput<T>& in, const float* map_x, const float* m
   const V bad = V::set1(invalid);
   int u = 0;
   for (; u + 4 <= width; u += 4) {
-    const V x = V::loadu(map_x + u), y = V::loadu(map_y + u);
+    const V x = V::loadu(map_x + u);
+    const V y = map_y_step != 0 ? V::loadu(map_y + u) : V::set1(*map_y);
     const typename V::Mask valid = x >= zero;
     // Pixels without input read the block at (0, 0) and are replaced afterwards.
     const V xv = select(valid, x, zero), yv = select(valid, y, zero);
@@ -92,7 +94,8 @@ inline void remapRow(const RemapInput<T>& in, const float* map_x, const float* m
     const V bottom = c + ax * (d - c);
     select(valid, top + ay * (bottom - top), bad).storeu(out + u);
   }
-  reference::remapRow(in, map_x + u, map_y + u, width - u, invalid, out + u);
+  reference::remapRow(in, map_x + u, map_y + u * map_y_step, map_y_step, width - u, invalid,
+                      out + u);
 }
 
 }  // namespace simd

@@ -105,7 +105,7 @@ double worstError(const GeometricCalibration& given, const CalibrationStats& s,
   while (checked < 500) {
     const int ox = static_cast<int>(ux(rng)), oy = static_cast<int>(uy(rng));
     if (!rect.isValid(ox, oy)) continue;
-    const Eigen::Vector2d u(rect.mapX()(ox, oy), rect.mapY()(ox, oy));
+    const Eigen::Vector2d u = rect.inputPixel(ox, oy).cast<double>();
     Eigen::Vector3d ray;
     Eigen::Vector2d px;
     if (!refinedRay(given, s, u, &ray)) continue;

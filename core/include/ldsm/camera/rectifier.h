@@ -3,8 +3,12 @@
 // computeOutputIntrinsics below). Pixel convention: pixel centers at integer coordinates.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <vector>
+
+#include <Eigen/Core>
 
 #include "ldsm/camera/calibration.h"
 #include "ldsm/camera/camera_model.h"
@@ -30,6 +34,9 @@ PinholeIntrinsics computeOutputIntrinsics(const CameraModel& input, const Rectif
 
 /// Maps input images to the output pinhole through a remap table computed once at construction
 /// (bilinear interpolation). Immutable and thread-compatible; copies share the camera model.
+/// When the table is separable (input column a function of the output column only, input row of
+/// the output row only: an undistorted pinhole input, as KITTI's), only one row and one column of
+/// it are kept (8 bytes per output pixel otherwise: 3.6 MB at 1232x368), with identical results.
 class Rectifier {
  public:
   /// Builds the input model (makeCameraModel), the output pinhole (computeOutputIntrinsics) and
@@ -46,10 +53,13 @@ class Rectifier {
   void rectify(ImageView<const std::uint8_t> in, ImageF& out, float invalid_value = 0.0f) const;
   void rectify(ImageView<const float> in, ImageF& out, float invalid_value = 0.0f) const;
 
-  /// Input pixel coordinates sampled by each output pixel, -1 in both maps for invalid pixels.
-  const ImageF& mapX() const { return map_x_; }
-  const ImageF& mapY() const { return map_y_; }
-  bool isValid(int x, int y) const { return map_x_(x, y) >= 0.0f; }
+  /// The input pixel output pixel (x, y) samples; (-1, -1) when it sees no input.
+  Eigen::Vector2f inputPixel(int x, int y) const;
+  bool isValid(int x, int y) const { return inputPixel(x, y).x() >= 0.0f; }
+  /// True when the table is kept as one row and one column (see above).
+  bool isSeparable() const { return separable_; }
+  /// Bytes held by the remap table.
+  std::size_t tableBytes() const;
   int numValidPixels() const { return num_valid_; }
   /// True when rectify() is a plain copy (mode None with the input size).
   bool isIdentity() const { return identity_; }
@@ -60,10 +70,16 @@ class Rectifier {
 
   std::shared_ptr<const CameraModel> input_;
   PinholeIntrinsics output_;
-  ImageF map_x_;
+  /// Keeps only column_x_ and row_y_ when the full maps are separable.
+  void keepSeparableTable();
+
+  ImageF map_x_;  ///< empty when separable_
   ImageF map_y_;
+  std::vector<float> column_x_;  ///< separable: the input x of each output column (-1: none)
+  std::vector<float> row_y_;     ///< separable: the input y of each output row (-1: none)
   int num_valid_ = 0;
   bool identity_ = false;
+  bool separable_ = false;
 };
 
 }  // namespace ldsm

@@ -1,8 +1,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <limits>
+#include <random>
+#include <vector>
 
+#include "camera/remap_bilinear.h"
 #include "ldsm/camera/camera_model.h"
 #include "ldsm/camera/rectifier.h"
 #include "ldsm/error.h"
@@ -215,7 +219,82 @@ TEST(Rectifier, RemapInterpolatesBilinearly) {
   EXPECT_NEAR(out(100, 50), 3 * 100.25 - 2 * 49.25, 1e-3);
   EXPECT_EQ(out(100, 0), -1000.0f);  // samples above the first input row: invalid
   EXPECT_FALSE(rect.isValid(100, 0));
-  EXPECT_NEAR(rect.mapX()(100, 50), 100.25, 1e-4);
+  EXPECT_NEAR(rect.inputPixel(100, 50).x(), 100.25, 1e-4);
+}
+
+/// Rectifies `img` with the full table rebuilt from rect.inputPixel() and the per-pixel reference.
+ImageF rectifyWithTheFullTable(const Rectifier& rect, const ImageU8& img) {
+  const int w = rect.output().width, h = rect.output().height;
+  std::vector<float> mx(static_cast<std::size_t>(w)), my(static_cast<std::size_t>(w));
+  ImageF out(w, h);
+  const simd::RemapInput<std::uint8_t> in{img.data(), img.width(), img.width(), img.height()};
+  for (int v = 0; v < h; ++v) {
+    for (int u = 0; u < w; ++u) {
+      mx[u] = rect.inputPixel(u, v).x();
+      my[u] = rect.inputPixel(u, v).y();
+    }
+    simd::reference::remapRow(in, mx.data(), my.data(), 1, w, -5.f, out.row(v));
+  }
+  return out;
+}
+
+ImageU8 randomBytes(int w, int h) {
+  ImageU8 img(w, h);
+  std::mt19937 rng(3);
+  std::uniform_int_distribution<int> b(0, 255);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) img(x, y) = static_cast<std::uint8_t>(b(rng));
+  return img;
+}
+
+// KITTI's calibration: an undistorted pinhole cropped to a smaller output. Its table is one row of
+// input columns and one column of input rows (8 bytes per output pixel otherwise), and the
+// rectified image is bit for bit the one of the full table.
+TEST(Rectifier, AnUndistortedPinholeKeepsASeparableTable) {
+  CameraIntrinsics kitti;
+  kitti.model = CameraModelType::Pinhole;
+  kitti.width = 1241;
+  kitti.height = 376;
+  kitti.fx = kitti.fy = 718.856;
+  kitti.cx = 607.1928;
+  kitti.cy = 185.2157;
+  const Rectifier rect(calibration(kitti, OutputMode::Crop, 1232, 368));
+  ASSERT_TRUE(rect.isSeparable());
+  EXPECT_EQ(rect.tableBytes(), (1232u + 368u) * sizeof(float));
+  EXPECT_EQ(rect.numValidPixels(), 1232 * 368);
+  const ImageU8 img = randomBytes(1241, 376);
+  ImageF out;
+  rect.rectify(img.view(), out, -5.f);
+  const ImageF expected = rectifyWithTheFullTable(rect, img);
+  for (int y = 0; y < 368; ++y)
+    for (int x = 0; x < 1232; ++x) ASSERT_EQ(out(x, y), expected(x, y)) << x << "," << y;
+}
+
+// Rows and columns that see no input stay invalid in the separable table (the output shifted by
+// a quarter pixel and three quarters of a row: its first row samples above the input).
+TEST(Rectifier, ASeparableTableKeepsItsInvalidRowsAndColumns) {
+  const auto in = test::pinholeIntrinsics();
+  const Rectifier rect(explicitCalibration(in, in.fx, in.fy, in.cx + 0.25, in.cy + 0.75, false,
+                                           in.width, in.height));
+  ASSERT_TRUE(rect.isSeparable());
+  EXPECT_FALSE(rect.isValid(100, 0));
+  EXPECT_FALSE(rect.isValid(0, 50));
+  EXPECT_TRUE(rect.isValid(1, 50));
+  EXPECT_EQ(rect.numValidPixels(), (in.width - 1) * (in.height - 1));
+  ImageU8 img = randomBytes(in.width, in.height);
+  ImageF out;
+  rect.rectify(img.view(), out, -5.f);
+  const ImageF expected = rectifyWithTheFullTable(rect, img);
+  for (int y = 0; y < in.height; ++y)
+    for (int x = 0; x < in.width; ++x) ASSERT_EQ(out(x, y), expected(x, y)) << x << "," << y;
+  EXPECT_EQ(out(100, 0), -5.f);
+  EXPECT_EQ(out(0, 50), -5.f);
+}
+
+TEST(Rectifier, ADistortedCameraKeepsTheFullTable) {
+  const Rectifier rect(calibration(test::radTanIntrinsics(), OutputMode::Crop, 640, 480));
+  EXPECT_FALSE(rect.isSeparable());
+  EXPECT_EQ(rect.tableBytes(), 2u * 640u * 480u * sizeof(float));
 }
 
 TEST(Rectifier, RectifyDoesNotReallocateASizedOutput) {

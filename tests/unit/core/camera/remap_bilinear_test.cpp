@@ -1,6 +1,7 @@
 // The rectifier's row remap: the SIMD kernel (selected instruction set and plain C++) against the
 // per-pixel reference, bit for bit, for 8-bit and float images, with pixels without input, at the
-// last column and row (the clamped 2x2 block) and every tail length.
+// last column and row (the clamped 2x2 block), every tail length, and one input row for the whole
+// output row (a separable table).
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -38,14 +39,23 @@ void expectRowsAgree(const Image<T>& img, std::mt19937& rng) {
       if (coin(rng) == 1) mx[u] = static_cast<float>(img.width() - 1);  // last column
       if (coin(rng) == 2) my[u] = static_cast<float>(img.height() - 1);
     }
-    reference::remapRow(input(img), mx.data(), my.data(), width, -3.f, a.data());
-    remapRow<V>(input(img), mx.data(), my.data(), width, -3.f, b.data());
+    reference::remapRow(input(img), mx.data(), my.data(), 1, width, -3.f, a.data());
+    remapRow<V>(input(img), mx.data(), my.data(), 1, width, -3.f, b.data());
     for (int u = 0; u < width; ++u) {
       ASSERT_EQ(a[u], b[u]) << "width " << width << " pixel " << u;
       if (mx[u] < 0.f) {
         EXPECT_EQ(b[u], -3.f);
       }
     }
+    // One input row for the whole output row (a separable table: map_y_step 0) is the remap of
+    // that row repeated.
+    const float row_y = my.empty() || my[0] < 0.f ? 0.5f : my[0];
+    const std::vector<float> repeated(width, row_y);
+    reference::remapRow(input(img), mx.data(), repeated.data(), 1, width, -3.f, a.data());
+    remapRow<V>(input(img), mx.data(), &row_y, 0, width, -3.f, b.data());
+    for (int u = 0; u < width; ++u) ASSERT_EQ(a[u], b[u]) << "width " << width << " pixel " << u;
+    reference::remapRow(input(img), mx.data(), &row_y, 0, width, -3.f, b.data());
+    for (int u = 0; u < width; ++u) ASSERT_EQ(a[u], b[u]) << "width " << width << " pixel " << u;
   }
 }
 
@@ -71,7 +81,7 @@ TEST(RemapBilinear, ReferenceInterpolatesAndClampsAtTheLastPixel) {
   // A linear image is reproduced exactly, also on the last column and row (clamped block).
   const float mx[4] = {1.25f, 3.f, 0.5f, -1.f}, my[4] = {0.5f, 2.f, 2.f, -1.f};
   float out[4];
-  reference::remapRow(input(img), mx, my, 4, -1.f, out);
+  reference::remapRow(input(img), mx, my, 1, 4, -1.f, out);
   EXPECT_FLOAT_EQ(out[0], 6.25f);
   EXPECT_FLOAT_EQ(out[1], 23.f);
   EXPECT_FLOAT_EQ(out[2], 20.5f);
