@@ -160,6 +160,7 @@ class LastPoseListener : public SystemListener {
 struct SimRun {
   SystemStats stats;
   std::optional<StampedPose> latest;
+  std::vector<MapPoint> points;
   LastPoseListener listener;
 };
 
@@ -182,6 +183,24 @@ void runSim(const Config& config, SimRun& r, int frames = 60) {
   system.finish();
   r.latest = system.latestPose();
   r.stats = system.stats();
+  r.points = system.mapPoints();
+}
+
+// The point cloud `ldsm run` writes: the map's points and the window's, in world coordinates,
+// made in one allocation of the final size (appending the window's to a copy of the map's sized
+// for the map alone doubled the buffer at the end of a run, where its memory peaked).
+TEST(SystemPipeline, MapPointsAreTheMapsAndTheWindowsInOneBuffer) {
+  Config c;
+  c.system.deterministic = true;
+  SimRun r;
+  runSim(c, r);
+  ASSERT_GT(r.stats.keyframes, c.window.max_keyframes) << "some keyframes left the window";
+  ASSERT_GT(r.points.size(), 1000u);
+  EXPECT_EQ(r.points.capacity(), r.points.size());
+  for (const MapPoint& p : r.points) {
+    ASSERT_TRUE(p.position.allFinite());
+    EXPECT_EQ(p.map, 0);
+  }
 }
 
 TEST(SystemPipeline, LatestPoseIsTheLastTrackedPoseInBothModes) {

@@ -460,10 +460,10 @@ Trajectory MapStore::keyframeTrajectory() const {
   return out;
 }
 
-std::vector<MapPoint> MapStore::points() const {
+std::vector<MapPoint> MapStore::points(std::size_t extra) const {
   const std::shared_ptr<const MapSnapshot> s = snapshot();
   std::vector<MapPoint> out;
-  out.reserve(s->point_count);
+  out.reserve(s->point_count + extra);
   const KeyframeTable& keyframes = *s->keyframes;
   for (const auto& block : s->points)
     for (const HostedPoint& p : *block) {

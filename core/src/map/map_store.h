@@ -120,7 +120,9 @@ class MapStore {
   /// World pose of every recorded frame not retired, composed with the current keyframe poses.
   Trajectory frameTrajectory() const;
   Trajectory keyframeTrajectory() const;
-  std::vector<MapPoint> points() const;
+  /// `extra` more elements of capacity are reserved, for a caller that appends (one allocation
+  /// of the final size instead of a copy into a doubled one).
+  std::vector<MapPoint> points(std::size_t extra = 0) const;
   std::size_t keyframeCount() const;
   bool hasKeyframe(int id) const;
   /// The keyframe's current pose record (id -1 when unknown).

@@ -74,8 +74,8 @@ void SlamPipeline::loadMap(const MapData& map, const std::string& where) {
 SlamPipeline::~SlamPipeline() = default;
 
 std::vector<MapPoint> SlamPipeline::mapPoints() const {
-  std::vector<MapPoint> pts = store_.points();
   const std::shared_ptr<const MappingSnapshot> s = mapping_.snapshot();
+  std::vector<MapPoint> pts = store_.points(s->active_points.size());
   pts.insert(pts.end(), s->active_points.begin(), s->active_points.end());
   return pts;
 }
