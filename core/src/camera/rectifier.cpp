@@ -63,6 +63,9 @@ void Rectifier::keepSeparableTable() {
         return;
     }
   separable_ = true;
+  const simd::SeparableColumns columns = simd::separableColumns(column_x, input_->width());
+  column_x0_ = columns.x0;
+  column_ax_ = columns.ax;
   column_x_ = std::move(column_x);
   row_y_ = std::move(row_y);
   map_x_ = ImageF();
@@ -76,8 +79,10 @@ Eigen::Vector2f Rectifier::inputPixel(int x, int y) const {
 }
 
 std::size_t Rectifier::tableBytes() const {
-  return (map_x_.capacity() + map_y_.capacity() + column_x_.capacity() + row_y_.capacity()) *
-         sizeof(float);
+  return (map_x_.capacity() + map_y_.capacity() + column_x_.capacity() + row_y_.capacity() +
+          column_ax_.capacity()) *
+             sizeof(float) +
+         column_x0_.capacity() * sizeof(std::int32_t);
 }
 
 template <typename T>
@@ -100,16 +105,20 @@ void Rectifier::remap(ImageView<const T> in, ImageF& out, float invalid_value) c
   if (separable_) {
     for (int v = 0; v < output_.height; ++v) {
       float* dst = out.row(v);
-      if (row_y_[v] < 0.0f)
+      if (row_y_[v] < 0.0f) {
         std::fill(dst, dst + output_.width, invalid_value);
-      else
-        simd::remapRow<simd::Vec4>(input, column_x_.data(), &row_y_[v], 0, output_.width,
-                                   invalid_value, dst);
+        continue;
+      }
+      std::int32_t y0;
+      float ay;
+      simd::clampedCell(row_y_[v], h, y0, ay);
+      simd::remapSeparableRow<simd::Vec4>(input, column_x0_.data(), column_ax_.data(), y0, ay,
+                                          output_.width, invalid_value, dst);
     }
     return;
   }
   for (int v = 0; v < output_.height; ++v)
-    simd::remapRow<simd::Vec4>(input, map_x_.row(v), map_y_.row(v), 1, output_.width, invalid_value,
+    simd::remapRow<simd::Vec4>(input, map_x_.row(v), map_y_.row(v), output_.width, invalid_value,
                                out.row(v));
 }
 

@@ -1,17 +1,18 @@
 // The rectifier's remap of one output row: output pixel u samples the input bilinearly at
-// (map_x[u], map_y[u * map_y_step]) (clamped so that the 2x2 block stays in the image; map_x < 0
-// marks a pixel that sees no input, which gets `invalid`; map_y_step 0: one input row for the whole
-// output row, as in a separable table):
+// (map_x[u], map_y[u]) (clamped so that the 2x2 block stays in the image; map_x < 0 marks a pixel
+// that sees no input, which gets `invalid`):
 //   top = p00 + ax (p10 - p00), bottom = p01 + ax (p11 - p01), out = top + ay (bottom - top).
 // remapRow<V> does four output pixels per vector (positions and weights in SIMD, the 2x2 blocks
 // loaded per pixel; V from math/simd/vec4f.h); reference::remapRow is the per-pixel formulation,
 // with the same operations in the same order, so the two are bit-identical (tested for every vector
-// type).
+// type). A separable table (one input row per output row, one input column per output column)
+// has remapSeparableRow, with the cells and weights precomputed per column and per row.
 #pragma once
 
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include "math/simd/vec4f.h"
 
@@ -30,13 +31,13 @@ struct RemapInput {
 namespace reference {
 
 template <typename T>
-inline void remapRow(const RemapInput<T>& in, const float* map_x, const float* map_y,
-                     std::ptrdiff_t map_y_step, int width, float invalid, float* out) {
+inline void remapRow(const RemapInput<T>& in, const float* map_x, const float* map_y, int width,
+                     float invalid, float* out) {
   const int max_x0 = std::max(in.width - 2, 0), max_y0 = std::max(in.height - 2, 0);
   const std::ptrdiff_t dx1 = in.width > 1 ? 1 : 0;
   const std::ptrdiff_t dy1 = in.height > 1 ? in.stride : 0;
   for (int u = 0; u < width; ++u) {
-    const float x = map_x[u], y = map_y[u * map_y_step];
+    const float x = map_x[u], y = map_y[u];
     if (x < 0.0f) {
       out[u] = invalid;
       continue;
@@ -56,8 +57,8 @@ inline void remapRow(const RemapInput<T>& in, const float* map_x, const float* m
 
 /// remap of `width` output pixels (see above); map values are >= 0 or exactly -1 (no input).
 template <class V, typename T>
-inline void remapRow(const RemapInput<T>& in, const float* map_x, const float* map_y,
-                     std::ptrdiff_t map_y_step, int width, float invalid, float* out) {
+inline void remapRow(const RemapInput<T>& in, const float* map_x, const float* map_y, int width,
+                     float invalid, float* out) {
   const int max_x0 = std::max(in.width - 2, 0), max_y0 = std::max(in.height - 2, 0);
   const std::ptrdiff_t dx1 = in.width > 1 ? 1 : 0;
   const std::ptrdiff_t dy1 = in.height > 1 ? in.stride : 0;
@@ -67,8 +68,7 @@ inline void remapRow(const RemapInput<T>& in, const float* map_x, const float* m
   const V bad = V::set1(invalid);
   int u = 0;
   for (; u + 4 <= width; u += 4) {
-    const V x = V::loadu(map_x + u);
-    const V y = map_y_step != 0 ? V::loadu(map_y + u) : V::set1(*map_y);
+    const V x = V::loadu(map_x + u), y = V::loadu(map_y + u);
     const typename V::Mask valid = x >= zero;
     // Pixels without input read the block at (0, 0) and are replaced afterwards.
     const V xv = select(valid, x, zero), yv = select(valid, y, zero);
@@ -94,8 +94,88 @@ inline void remapRow(const RemapInput<T>& in, const float* map_x, const float* m
     const V bottom = c + ax * (d - c);
     select(valid, top + ay * (bottom - top), bad).storeu(out + u);
   }
-  reference::remapRow(in, map_x + u, map_y + u * map_y_step, map_y_step, width - u, invalid,
-                      out + u);
+  reference::remapRow(in, map_x + u, map_y + u, width - u, invalid, out + u);
+}
+
+/// A separable table in the form the separable row remap takes: per output column the clamped
+/// left input column x0 and the weight ax = x - x0 (-1: the column sees no input; x0 is then 0),
+/// exactly as remapRow computes them from the column's x.
+struct SeparableColumns {
+  std::vector<std::int32_t> x0;
+  std::vector<float> ax;
+};
+
+/// The clamped top-left input pixel index and weight of input coordinate `c` in a dimension of
+/// `size` pixels, as remapRow computes them.
+inline void clampedCell(float c, int size, std::int32_t& c0, float& a) {
+  c0 = std::min(static_cast<int>(c), std::max(size - 2, 0));
+  a = c - static_cast<float>(c0);
+}
+
+/// SeparableColumns of the input x of each output column (-1: none) for an input `width` wide.
+inline SeparableColumns separableColumns(const std::vector<float>& column_x, int width) {
+  SeparableColumns out;
+  out.x0.assign(column_x.size(), 0);
+  out.ax.assign(column_x.size(), -1.f);
+  for (std::size_t u = 0; u < column_x.size(); ++u)
+    if (column_x[u] >= 0.f) clampedCell(column_x[u], width, out.x0[u], out.ax[u]);
+  return out;
+}
+
+namespace reference {
+
+/// remapRow of an output row whose pixels all sample input row y (cell y0, weight ay from
+/// clampedCell) at the columns of `cols`: the same arithmetic per pixel.
+template <typename T>
+inline void remapSeparableRow(const RemapInput<T>& in, const std::int32_t* x0, const float* ax,
+                              std::int32_t y0, float ay, int width, float invalid, float* out) {
+  const std::ptrdiff_t dx1 = in.width > 1 ? 1 : 0;
+  const std::ptrdiff_t dy1 = in.height > 1 ? in.stride : 0;
+  const T* row = in.row(y0);
+  for (int u = 0; u < width; ++u) {
+    if (ax[u] < 0.0f) {
+      out[u] = invalid;
+      continue;
+    }
+    const T* p = row + x0[u];
+    const float top = static_cast<float>(p[0]) + ax[u] * (static_cast<float>(p[dx1]) - p[0]);
+    const float bottom =
+        static_cast<float>(p[dy1]) + ax[u] * (static_cast<float>(p[dy1 + dx1]) - p[dy1]);
+    out[u] = top + ay * (bottom - top);
+  }
+}
+
+}  // namespace reference
+
+/// The same four output pixels per vector: the weights and the invalid columns from the
+/// precomputed columns, the 2x2 blocks loaded per pixel. Bit-identical to the reference (and so
+/// to remapRow with the row's y repeated).
+template <class V, typename T>
+inline void remapSeparableRow(const RemapInput<T>& in, const std::int32_t* x0, const float* ax,
+                              std::int32_t y0, float ay, int width, float invalid, float* out) {
+  const std::ptrdiff_t dx1 = in.width > 1 ? 1 : 0;
+  const std::ptrdiff_t dy1 = in.height > 1 ? in.stride : 0;
+  const T* row = in.row(y0);
+  const V zero = V::zero();
+  const V bad = V::set1(invalid);
+  const V vay = V::set1(ay);
+  int u = 0;
+  for (; u + 4 <= width; u += 4) {
+    const V a = V::loadu(ax + u);
+    alignas(16) float p00[4], p10[4], p01[4], p11[4];
+    for (int k = 0; k < 4; ++k) {
+      const T* p = row + x0[u + k];
+      p00[k] = static_cast<float>(p[0]);
+      p10[k] = static_cast<float>(p[dx1]);
+      p01[k] = static_cast<float>(p[dy1]);
+      p11[k] = static_cast<float>(p[dy1 + dx1]);
+    }
+    const V q00 = V::load(p00), q10 = V::load(p10), q01 = V::load(p01), q11 = V::load(p11);
+    const V top = q00 + a * (q10 - q00);
+    const V bottom = q01 + a * (q11 - q01);
+    select(a >= zero, top + vay * (bottom - top), bad).storeu(out + u);
+  }
+  reference::remapSeparableRow(in, x0 + u, ax + u, y0, ay, width - u, invalid, out + u);
 }
 
 }  // namespace simd

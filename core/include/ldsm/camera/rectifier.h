@@ -77,6 +77,10 @@ class Rectifier {
   ImageF map_y_;
   std::vector<float> column_x_;  ///< separable: the input x of each output column (-1: none)
   std::vector<float> row_y_;     ///< separable: the input y of each output row (-1: none)
+  /// separable: each output column's clamped input column and weight (-1: none), as
+  /// camera/remap_bilinear.h's separable row remap takes them
+  std::vector<std::int32_t> column_x0_;
+  std::vector<float> column_ax_;
   int num_valid_ = 0;
   bool identity_ = false;
   bool separable_ = false;

@@ -233,7 +233,7 @@ ImageF rectifyWithTheFullTable(const Rectifier& rect, const ImageU8& img) {
       mx[u] = rect.inputPixel(u, v).x();
       my[u] = rect.inputPixel(u, v).y();
     }
-    simd::reference::remapRow(in, mx.data(), my.data(), 1, w, -5.f, out.row(v));
+    simd::reference::remapRow(in, mx.data(), my.data(), w, -5.f, out.row(v));
   }
   return out;
 }
@@ -260,7 +260,8 @@ TEST(Rectifier, AnUndistortedPinholeKeepsASeparableTable) {
   kitti.cy = 185.2157;
   const Rectifier rect(calibration(kitti, OutputMode::Crop, 1232, 368));
   ASSERT_TRUE(rect.isSeparable());
-  EXPECT_EQ(rect.tableBytes(), (1232u + 368u) * sizeof(float));
+  // The columns' input x, clamped cell and weight, and the rows' input y.
+  EXPECT_EQ(rect.tableBytes(), (3u * 1232u + 368u) * sizeof(float));
   EXPECT_EQ(rect.numValidPixels(), 1232 * 368);
   const ImageU8 img = randomBytes(1241, 376);
   ImageF out;

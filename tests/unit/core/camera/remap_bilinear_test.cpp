@@ -1,7 +1,7 @@
 // The rectifier's row remap: the SIMD kernel (selected instruction set and plain C++) against the
 // per-pixel reference, bit for bit, for 8-bit and float images, with pixels without input, at the
-// last column and row (the clamped 2x2 block), every tail length, and one input row for the whole
-// output row (a separable table).
+// last column and row (the clamped 2x2 block) and every tail length; and the separable row remap
+// against the general one.
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -39,24 +39,68 @@ void expectRowsAgree(const Image<T>& img, std::mt19937& rng) {
       if (coin(rng) == 1) mx[u] = static_cast<float>(img.width() - 1);  // last column
       if (coin(rng) == 2) my[u] = static_cast<float>(img.height() - 1);
     }
-    reference::remapRow(input(img), mx.data(), my.data(), 1, width, -3.f, a.data());
-    remapRow<V>(input(img), mx.data(), my.data(), 1, width, -3.f, b.data());
+    reference::remapRow(input(img), mx.data(), my.data(), width, -3.f, a.data());
+    remapRow<V>(input(img), mx.data(), my.data(), width, -3.f, b.data());
     for (int u = 0; u < width; ++u) {
       ASSERT_EQ(a[u], b[u]) << "width " << width << " pixel " << u;
       if (mx[u] < 0.f) {
         EXPECT_EQ(b[u], -3.f);
       }
     }
-    // One input row for the whole output row (a separable table: map_y_step 0) is the remap of
-    // that row repeated.
-    const float row_y = my.empty() || my[0] < 0.f ? 0.5f : my[0];
-    const std::vector<float> repeated(width, row_y);
-    reference::remapRow(input(img), mx.data(), repeated.data(), 1, width, -3.f, a.data());
-    remapRow<V>(input(img), mx.data(), &row_y, 0, width, -3.f, b.data());
-    for (int u = 0; u < width; ++u) ASSERT_EQ(a[u], b[u]) << "width " << width << " pixel " << u;
-    reference::remapRow(input(img), mx.data(), &row_y, 0, width, -3.f, b.data());
-    for (int u = 0; u < width; ++u) ASSERT_EQ(a[u], b[u]) << "width " << width << " pixel " << u;
   }
+}
+
+// A separable table's row (one input row for the output row, the columns' cells and weights
+// precomputed): bit for bit the general remap of that row with the row's y repeated, in the
+// reference and the SIMD kernel, with columns without input and the last row and column.
+template <class V, typename T>
+void expectSeparableRowsAgree(const Image<T>& img, std::mt19937& rng) {
+  std::uniform_real_distribution<float> X(0.f, static_cast<float>(img.width() - 1));
+  std::uniform_real_distribution<float> Y(0.f, static_cast<float>(img.height() - 1));
+  std::uniform_int_distribution<int> coin(0, 9);
+  for (int width = 0; width <= 41; ++width) {
+    std::vector<float> mx(width), a(width, 7.f), b(width, 7.f), c(width, 7.f);
+    for (int u = 0; u < width; ++u) {
+      mx[u] = X(rng);
+      if (coin(rng) == 0) mx[u] = -1.f;                                 // sees no input
+      if (coin(rng) == 1) mx[u] = static_cast<float>(img.width() - 1);  // last column
+    }
+    const float y = coin(rng) == 2 ? static_cast<float>(img.height() - 1) : Y(rng);
+    const std::vector<float> my(width, y);
+    const SeparableColumns cols = separableColumns(mx, img.width());
+    std::int32_t y0;
+    float ay;
+    clampedCell(y, img.height(), y0, ay);
+    reference::remapRow(input(img), mx.data(), my.data(), width, -3.f, a.data());
+    reference::remapSeparableRow(input(img), cols.x0.data(), cols.ax.data(), y0, ay, width, -3.f,
+                                 b.data());
+    remapSeparableRow<V>(input(img), cols.x0.data(), cols.ax.data(), y0, ay, width, -3.f, c.data());
+    for (int u = 0; u < width; ++u) {
+      ASSERT_EQ(a[u], b[u]) << "width " << width << " pixel " << u;
+      ASSERT_EQ(a[u], c[u]) << "width " << width << " pixel " << u;
+    }
+  }
+}
+
+TYPED_TEST(RemapBilinearTest, ASeparableRowEqualsTheGeneralRemapOfThatRow) {
+  using V = TypeParam;
+  std::mt19937 rng(9);
+  Image<std::uint8_t> bytes(53, 37);
+  Image<float> floats(53, 37);
+  std::uniform_int_distribution<int> B(0, 255);
+  for (int y = 0; y < 37; ++y)
+    for (int x = 0; x < 53; ++x) {
+      bytes(x, y) = static_cast<std::uint8_t>(B(rng));
+      floats(x, y) = 0.37f * static_cast<float>(B(rng)) - 11.f;
+    }
+  expectSeparableRowsAgree<V>(bytes, rng);
+  expectSeparableRowsAgree<V>(floats, rng);
+  // One-pixel-wide and one-pixel-high inputs (the 2x2 block degenerates).
+  Image<std::uint8_t> column(1, 5), row(6, 1);
+  for (int y = 0; y < 5; ++y) column(0, y) = static_cast<std::uint8_t>(10 * y);
+  for (int x = 0; x < 6; ++x) row(x, 0) = static_cast<std::uint8_t>(7 * x);
+  expectSeparableRowsAgree<V>(column, rng);
+  expectSeparableRowsAgree<V>(row, rng);
 }
 
 TYPED_TEST(RemapBilinearTest, FourPixelsAtOnceEqualThePixelByPixelRemap) {
@@ -81,7 +125,7 @@ TEST(RemapBilinear, ReferenceInterpolatesAndClampsAtTheLastPixel) {
   // A linear image is reproduced exactly, also on the last column and row (clamped block).
   const float mx[4] = {1.25f, 3.f, 0.5f, -1.f}, my[4] = {0.5f, 2.f, 2.f, -1.f};
   float out[4];
-  reference::remapRow(input(img), mx, my, 1, 4, -1.f, out);
+  reference::remapRow(input(img), mx, my, 4, -1.f, out);
   EXPECT_FLOAT_EQ(out[0], 6.25f);
   EXPECT_FLOAT_EQ(out[1], 23.f);
   EXPECT_FLOAT_EQ(out[2], 20.5f);
