@@ -5,6 +5,7 @@
 #include <cstring>
 #include <string>
 
+#include "features/local_maxima_row.h"
 #include "ldsm/error.h"
 #include "math/simd/vec4f.h"
 
@@ -172,15 +173,12 @@ void CornerDetector::collectLocalMaxima(const CornerParams& params) {
     const float* above = score_.row(y - 1);
     const float* s = score_.row(y);
     const float* below = score_.row(y + 1);
-    for (int x = b; x <= width_ - 1 - b; ++x) {
-      const float v = s[x];
-      if (v <= 0.f || v < min_score) continue;
-      // Strictly above the neighbours that come earlier in raster order, at least equal to the
-      // later ones: exactly one pixel of a plateau survives.
-      if (!(v > above[x - 1] && v > above[x] && v > above[x + 1] && v > s[x - 1])) continue;
-      if (!(v >= s[x + 1] && v >= below[x - 1] && v >= below[x] && v >= below[x + 1])) continue;
-      candidates_.push_back({v, x, y});
-    }
+    // Strictly above the neighbours that come earlier in raster order, at least equal to the
+    // later ones: exactly one pixel of a plateau survives.
+    simd::localMaximaRow<simd::Vec4>(above, s, below, b, width_ - b, min_score,
+                                     [&](int x, float v) {
+                                       candidates_.push_back({v, x, y});
+                                     });
   }
   std::sort(candidates_.begin(), candidates_.end(), [](const Candidate& l, const Candidate& r) {
     if (l.score != r.score) return l.score > r.score;
