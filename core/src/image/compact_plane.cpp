@@ -3,21 +3,14 @@
 #include <algorithm>
 #include <cmath>
 
+#include "image/compact_plane_encode.h"
+
 namespace ldsm {
 
 namespace {
 
 constexpr int kMaxExponent = 14;
 constexpr float kMaxStored = 32767.f;
-/// 1.5 * 2^23: adding and subtracting it rounds a float of magnitude below 2^22 to the nearest
-/// integer (ties to even), without a branch.
-constexpr float kRoundingBias = 12582912.f;
-
-/// round(v / step) for |v / step| <= 32767 (v / step is exact: a power of two apart).
-std::int16_t quantize(float v, float inv_step) {
-  const float s = v * inv_step;
-  return static_cast<std::int16_t>(static_cast<int>((s + kRoundingBias) - kRoundingBias));
-}
 
 }  // namespace
 
@@ -28,22 +21,15 @@ float CompactPlane::stepFor(float max_abs) {
 }
 
 bool CompactPlane::encode(ImageView<const GradientPixel> plane) {
-  // The largest magnitude; `zero` stays 0 unless a value is NaN or infinite (v * 0 is NaN then).
-  float max_abs = 0.f;
-  float zero = 0.f;
-  for (int y = 0; y < plane.height; ++y) {
-    const float* v = &plane.row(y)->intensity;
-    for (int i = 0; i < 3 * plane.width; ++i) {
-      const float a = std::fabs(v[i]);
-      max_abs = a > max_abs ? a : max_abs;
-      zero += v[i] * 0.f;
-    }
-  }
-  if (!(zero == 0.f)) {
+  // The largest magnitude, and whether every value is finite.
+  simd::PlaneRange range;
+  for (int y = 0; y < plane.height; ++y)
+    simd::addToRange<simd::Vec4>(&plane.row(y)->intensity, 3 * plane.width, range);
+  if (!range.finite()) {
     clear();
     return false;
   }
-  step_ = stepFor(max_abs);
+  step_ = stepFor(range.max_abs);
   const float inv_step = 1.f / step_;
   width_ = plane.width;
   height_ = plane.height;
@@ -53,7 +39,7 @@ bool CompactPlane::encode(ImageView<const GradientPixel> plane) {
   for (int y = 0; y < height_; ++y) {
     const float* in = &plane.row(y)->intensity;
     std::int16_t* out = &pixels_[static_cast<std::size_t>(y) * width_].intensity;
-    for (int i = 0; i < 3 * width_; ++i) out[i] = quantize(in[i], inv_step);
+    simd::quantizeRow<simd::Vec4>(in, 3 * width_, inv_step, out);
   }
   return true;
 }

@@ -4,11 +4,12 @@
 // Kernels are templates over the vector type, so tests can run the plain-C++ version next to
 // the selected one. Every type V provides:
 //   V::load(p) (16-byte aligned), V::loadu(p), V::loadInt16(p) (four int16 as floats), V::set1(x),
-//   V::zero(), v.store(p), v.storeu(p);
+//   V::zero(), v.store(p), v.storeu(p), v.storeInt16(p) (lanes holding integers within the int16
+//   range, stored as four int16);
 //   + - * / ; comparisons < > >= giving V::Mask, Mask & Mask, allOf(mask), laneBits(mask) (bit i
-//   set when lane i is true), select(mask, a, b); squareRoot, absolute, truncate(v, ints) (towards
-//   zero, also stored as int32), shiftDown1 (a1 a2 a3 0), broadcast<K>, transpose4(a, b, c, d),
-//   sum4(a, b, c, d) = (sum a, .., sum d), horizontalSum.
+//   set when lane i is true), select(mask, a, b); squareRoot, absolute, maximum (of lanes that are
+//   not NaN), truncate(v, ints) (towards zero, also stored as int32), shiftDown1 (a1 a2 a3 0),
+//   broadcast<K>, transpose4(a, b, c, d), sum4(a, b, c, d) = (sum a, .., sum d), horizontalSum.
 #pragma once
 
 #include "math/simd/vec4f_scalar.h"

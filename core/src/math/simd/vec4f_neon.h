@@ -29,6 +29,8 @@ struct Vec4Neon {
   static Vec4Neon zero() { return {vdupq_n_f32(0.f)}; }
   void store(float* p) const { vst1q_f32(p, n); }
   void storeu(float* p) const { vst1q_f32(p, n); }
+  /// Stores the four lanes, integers within the int16 range, as int16 (8 bytes, unaligned).
+  void storeInt16(std::int16_t* p) const { vst1_s16(p, vmovn_s32(vcvtq_s32_f32(n))); }
 };
 
 inline Vec4Neon operator+(Vec4Neon a, Vec4Neon b) {
@@ -88,6 +90,9 @@ inline Vec4Neon squareRoot(Vec4Neon a) {
   const uint32x4_t positive = vcgtq_f32(a.n, vdupq_n_f32(0.f));
   return {vbslq_f32(positive, vmulq_f32(a.n, r), vdupq_n_f32(0.f))};
 #endif
+}
+inline Vec4Neon maximum(Vec4Neon a, Vec4Neon b) {
+  return {vmaxq_f32(a.n, b.n)};
 }
 inline Vec4Neon absolute(Vec4Neon a) {
   return {vabsq_f32(a.n)};

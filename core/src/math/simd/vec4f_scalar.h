@@ -29,6 +29,10 @@ struct alignas(16) Vec4Scalar {
     for (int i = 0; i < 4; ++i) p[i] = v[i];
   }
   void storeu(float* p) const { store(p); }
+  /// Stores the four lanes, integers within the int16 range, as int16.
+  void storeInt16(std::int16_t* p) const {
+    for (int i = 0; i < 4; ++i) p[i] = static_cast<std::int16_t>(static_cast<int>(v[i]));
+  }
 };
 
 #define LDSM_VEC4_SCALAR_BINARY(op)                                                    \
@@ -65,6 +69,11 @@ inline Vec4Scalar select(const Mask4Scalar& m, const Vec4Scalar& a, const Vec4Sc
 }
 inline Vec4Scalar squareRoot(const Vec4Scalar& a) {
   return {{std::sqrt(a.v[0]), std::sqrt(a.v[1]), std::sqrt(a.v[2]), std::sqrt(a.v[3])}};
+}
+/// The larger of each pair of lanes (for lanes that are not NaN).
+inline Vec4Scalar maximum(const Vec4Scalar& a, const Vec4Scalar& b) {
+  return {{a.v[0] > b.v[0] ? a.v[0] : b.v[0], a.v[1] > b.v[1] ? a.v[1] : b.v[1],
+           a.v[2] > b.v[2] ? a.v[2] : b.v[2], a.v[3] > b.v[3] ? a.v[3] : b.v[3]}};
 }
 inline Vec4Scalar absolute(const Vec4Scalar& a) {
   return {{std::fabs(a.v[0]), std::fabs(a.v[1]), std::fabs(a.v[2]), std::fabs(a.v[3])}};

@@ -28,6 +28,11 @@ struct Vec4Sse {
   static Vec4Sse zero() { return {_mm_setzero_ps()}; }
   void store(float* p) const { _mm_store_ps(p, n); }
   void storeu(float* p) const { _mm_storeu_ps(p, n); }
+  /// Stores the four lanes, integers within the int16 range, as int16 (8 bytes, unaligned).
+  void storeInt16(std::int16_t* p) const {
+    const __m128i i = _mm_cvttps_epi32(n);
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(p), _mm_packs_epi32(i, i));
+  }
 };
 
 inline Vec4Sse operator+(Vec4Sse a, Vec4Sse b) {
@@ -65,6 +70,9 @@ inline Vec4Sse select(Mask4Sse m, Vec4Sse a, Vec4Sse b) {
 }
 inline Vec4Sse squareRoot(Vec4Sse a) {
   return {_mm_sqrt_ps(a.n)};
+}
+inline Vec4Sse maximum(Vec4Sse a, Vec4Sse b) {
+  return {_mm_max_ps(a.n, b.n)};
 }
 inline Vec4Sse absolute(Vec4Sse a) {
   return {_mm_andnot_ps(_mm_set1_ps(-0.f), a.n)};

@@ -2,6 +2,7 @@
 // against per-lane scalar arithmetic.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -49,6 +50,25 @@ TYPED_TEST(Vec4fTest, LoadInt16ConvertsEveryLaneExactlyFromAnUnalignedAddress) {
   float r[4];
   toArray(V::loadInt16(in + 1), r);
   for (int i = 0; i < 4; ++i) EXPECT_EQ(r[i], static_cast<float>(in[i + 1]));
+}
+
+TYPED_TEST(Vec4fTest, StoreInt16WritesEveryLaneExactlyToAnUnalignedAddress) {
+  using V = TypeParam;
+  const float in[4] = {-32768.f, 32767.f, -1.f, 1234.f};
+  alignas(16) std::int16_t out[6] = {7, 7, 7, 7, 7, 7};
+  V::loadu(in).storeInt16(out + 1);
+  EXPECT_EQ(out[0], 7);
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(out[i + 1], static_cast<std::int16_t>(in[i])) << i;
+  EXPECT_EQ(out[5], 7);  // eight bytes written, no more
+}
+
+TYPED_TEST(Vec4fTest, MaximumOfEachPairOfLanes) {
+  using V = TypeParam;
+  const float a[4] = {1.f, -2.f, 0.f, 5.5f};
+  const float b[4] = {0.5f, 3.f, -0.f, 5.5f};
+  float r[4];
+  toArray(maximum(V::loadu(a), V::loadu(b)), r);
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(r[i], std::max(a[i], b[i])) << i;
 }
 
 TYPED_TEST(Vec4fTest, ComparisonsAndSelect) {
