@@ -3,6 +3,7 @@
 #include <cstring>
 #include <string>
 
+#include "image/gradient_row.h"
 #include "ldsm/error.h"
 
 namespace ldsm {
@@ -11,20 +12,6 @@ namespace {
 
 std::string sizeString(int width, int height) {
   return std::to_string(width) + "x" + std::to_string(height);
-}
-
-// One row of a level's packed plane from its intensity row and the rows above and below (null
-// on the image border): central differences, zero on the one-pixel border.
-void gradientRow(const float* up, const float* row, const float* down, int w, GradientPixel* out) {
-  if (up == nullptr || down == nullptr) {
-    for (int x = 0; x < w; ++x) out[x] = {row[x], 0.f, 0.f};
-    return;
-  }
-  out[0] = {row[0], 0.f, 0.f};
-  for (int x = 1; x < w - 1; ++x) {
-    out[x] = {row[x], 0.5f * (row[x + 1] - row[x - 1]), 0.5f * (down[x] - up[x])};
-  }
-  if (w > 1) out[w - 1] = {row[w - 1], 0.f, 0.f};
 }
 
 // Row y of level l+1: the mean of the 2x2 blocks of the intensities of level l (packed).
@@ -133,8 +120,9 @@ void ImagePyramid::build(ImageView<const float> image) {
   const int h0 = image.height;
   for (int y = 0; y < h0; ++y) {
     const bool inner = y > 0 && y < h0 - 1;
-    gradientRow(inner ? image.row(y - 1) : nullptr, image.row(y),
-                inner ? image.row(y + 1) : nullptr, image.width, gradients_[0].row(y));
+    simd::gradientRow<simd::Vec4>(inner ? image.row(y - 1) : nullptr, image.row(y),
+                                  inner ? image.row(y + 1) : nullptr, image.width,
+                                  gradients_[0].row(y));
   }
   computeGradMagSq(0);
   for (int y = 0; y < h0; ++y)
@@ -150,8 +138,8 @@ void ImagePyramid::build(ImageView<const float> image) {
     for (int y = 0; y < h; ++y) {
       if (y + 1 < h && y >= 1) downsampleRow(gradients_[l - 1], y + 1, w, ring[(y + 1) % 3]);
       const bool inner = y > 0 && y < h - 1;
-      gradientRow(inner ? ring[(y + 2) % 3] : nullptr, ring[y % 3],
-                  inner ? ring[(y + 1) % 3] : nullptr, w, gradients_[l].row(y));
+      simd::gradientRow<simd::Vec4>(inner ? ring[(y + 2) % 3] : nullptr, ring[y % 3],
+                                    inner ? ring[(y + 1) % 3] : nullptr, w, gradients_[l].row(y));
     }
     computeGradMagSq(l);
   }
