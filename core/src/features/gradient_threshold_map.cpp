@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "image/gradient_magnitude.h"
 #include "ldsm/error.h"
 
 namespace ldsm {
@@ -29,6 +30,7 @@ GradientThresholdMap::GradientThresholdMap(int width, int height, int block_size
   smoothed_.assign(blocks, 0.f);
   smoothed_sq_.assign(blocks, 0.f);
   histogram_.assign(static_cast<std::size_t>(blocks_x_) * kHistogramBins, 0);
+  bins_.assign(static_cast<std::size_t>(width), 0);
 }
 
 void GradientThresholdMap::compute(ImageView<const GradientPixel> gradients, float min_gradient) {
@@ -44,12 +46,12 @@ void GradientThresholdMap::compute(ImageView<const GradientPixel> gradients, flo
     const int y_begin = std::max(by * block_size_, 1);
     const int y_end = std::min((by + 1) * block_size_, height_ - 1);
     for (int y = y_begin; y < y_end; ++y) {
-      const GradientPixel* row = gradients.row(y);
+      simd::gradientMagnitudeBinRow<simd::Vec4>(gradients.row(y) + 1, width_ - 2,
+                                                kHistogramBins - 1, bins_.data() + 1);
       for (int x = 1; x < width_ - 1; ++x) {
-        const float mag = std::sqrt(row[x].dx * row[x].dx + row[x].dy * row[x].dy);
-        const int bin = std::min(static_cast<int>(mag), kHistogramBins - 1);
-        ++histogram_[static_cast<std::size_t>(
-            col_block_[static_cast<std::size_t>(x)] * kHistogramBins + bin)];
+        ++histogram_[static_cast<std::size_t>(col_block_[static_cast<std::size_t>(x)] *
+                                                  kHistogramBins +
+                                              bins_[static_cast<std::size_t>(x)])];
       }
     }
     for (int bx = 0; bx < blocks_x_; ++bx) {

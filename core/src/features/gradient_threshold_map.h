@@ -3,6 +3,7 @@
 // values are smoothed over 3x3 neighbouring blocks so that the threshold varies gently.
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "image/gradient_pixel.h"
@@ -52,7 +53,8 @@ class GradientThresholdMap {
   std::vector<float> raw_;      ///< median + min_gradient per block
   std::vector<float> smoothed_;
   std::vector<float> smoothed_sq_;
-  std::vector<int> histogram_;  ///< kHistogramBins per block column of the current block row
+  std::vector<int> histogram_;      ///< kHistogramBins per block column of the current block row
+  std::vector<std::int32_t> bins_;  ///< scratch: the histogram bin of each pixel of a row
 };
 
 }  // namespace ldsm

@@ -1,10 +1,11 @@
 #include "features/pixel_selector.h"
 
 #include <algorithm>
-#include <cstring>
 #include <cmath>
+#include <cstring>
 #include <string>
 
+#include "image/gradient_magnitude.h"
 #include "ldsm/error.h"
 
 namespace ldsm {
@@ -54,6 +55,7 @@ PixelSelector::PixelSelector(int width, int height, const PointSelectionConfig& 
       thresholds_(width, height, config.grid_block_size),
       corner_detector_(width, height) {
   blocked_.resize(width, height);
+  magnitude_sq_.assign(static_cast<std::size_t>(std::max(width, 0)), 0.f);
   near_clipped_row_.resize(width, height);
   near_clipped_.resize(width, height);
   last_clipped_.resize(static_cast<std::size_t>(std::max(height, 0)));
@@ -242,14 +244,13 @@ void PixelSelector::markBelowThreshold(ImageView<const GradientPixel> grad0) {
   const int x_end = width_ - kBorder, y_end = height_ - kBorder;
   const int* column_block = thresholds_.blockColumns();
   for (int y = kBorder; y < y_end; ++y) {
-    const GradientPixel* row = grad0.row(y);
+    float* mag_sq = magnitude_sq_.data();
+    simd::gradientMagnitudeSqRow<simd::Vec4>(grad0.row(y) + kBorder, x_end - kBorder,
+                                             mag_sq + kBorder);
     const float* thresholds_sq = thresholds_.rowThresholdsSq(y);
     std::uint8_t* blocked = blocked_.row(y);
     for (int x = kBorder; x < x_end; ++x) {
-      const float gx = row[x].dx;
-      const float gy = row[x].dy;
-      const float mag_sq = gx * gx + gy * gy;
-      const bool weak = mag_sq <= thresholds_sq[column_block[x]];
+      const bool weak = mag_sq[x] <= thresholds_sq[column_block[x]];
       blocked[x] = static_cast<std::uint8_t>(blocked[x] | (weak ? kBelowThreshold : 0));
     }
   }

@@ -117,6 +117,7 @@ class PixelSelector {
   /// Per level-0 pixel: kNearCorner where no gradient point may be taken, kBelowThreshold where
   /// the gradient is too weak for a level-0 pick (coarse levels test only kNearCorner).
   Image<std::uint8_t> blocked_;
+  std::vector<float> magnitude_sq_;  ///< scratch of markBelowThreshold: one row's |grad I|^2
   static constexpr std::uint8_t kNearCorner = 1;
   static constexpr std::uint8_t kBelowThreshold = 2;
   /// 1 near a clipped pixel: a grid cell whose best pixel lies there gives no point, since its
