@@ -55,6 +55,29 @@ inline void remapRow(const RemapInput<T>& in, const float* map_x, const float* m
 
 }  // namespace reference
 
+namespace detail {
+
+/// Bilinear blend of the 2x2 blocks at blocks[0..3] (dx1, dy1 the offsets of the right and the
+/// lower neighbour) with weights ax (per pixel) and ay: top = p00 + ax (p10 - p00), bottom the
+/// same one row down, top + ay (bottom - top).
+template <class V, typename T>
+inline V blendBlocks(const T* const* blocks, std::ptrdiff_t dx1, std::ptrdiff_t dy1, V ax, V ay) {
+  alignas(16) float p00[4], p10[4], p01[4], p11[4];
+  for (int k = 0; k < 4; ++k) {
+    const T* p = blocks[k];
+    p00[k] = static_cast<float>(p[0]);
+    p10[k] = static_cast<float>(p[dx1]);
+    p01[k] = static_cast<float>(p[dy1]);
+    p11[k] = static_cast<float>(p[dy1 + dx1]);
+  }
+  const V a = V::load(p00), b = V::load(p10), c = V::load(p01), d = V::load(p11);
+  const V top = a + ax * (b - a);
+  const V bottom = c + ax * (d - c);
+  return top + ay * (bottom - top);
+}
+
+}  // namespace detail
+
 /// remap of `width` output pixels (see above); map values are >= 0 or exactly -1 (no input).
 template <class V, typename T>
 inline void remapRow(const RemapInput<T>& in, const float* map_x, const float* map_y, int width,
@@ -80,19 +103,9 @@ inline void remapRow(const RemapInput<T>& in, const float* map_x, const float* m
     y0 = select(y0 > y_max, y_max, y0);
     truncate(x0, ix);
     truncate(y0, iy);
-    const V ax = x - x0, ay = y - y0;
-    alignas(16) float p00[4], p10[4], p01[4], p11[4];
-    for (int k = 0; k < 4; ++k) {
-      const T* p = in.row(iy[k]) + ix[k];
-      p00[k] = static_cast<float>(p[0]);
-      p10[k] = static_cast<float>(p[dx1]);
-      p01[k] = static_cast<float>(p[dy1]);
-      p11[k] = static_cast<float>(p[dy1 + dx1]);
-    }
-    const V a = V::load(p00), b = V::load(p10), c = V::load(p01), d = V::load(p11);
-    const V top = a + ax * (b - a);
-    const V bottom = c + ax * (d - c);
-    select(valid, top + ay * (bottom - top), bad).storeu(out + u);
+    const T* blocks[4];
+    for (int k = 0; k < 4; ++k) blocks[k] = in.row(iy[k]) + ix[k];
+    select(valid, detail::blendBlocks<V>(blocks, dx1, dy1, x - x0, y - y0), bad).storeu(out + u);
   }
   reference::remapRow(in, map_x + u, map_y + u, width - u, invalid, out + u);
 }
@@ -162,18 +175,9 @@ inline void remapSeparableRow(const RemapInput<T>& in, const std::int32_t* x0, c
   int u = 0;
   for (; u + 4 <= width; u += 4) {
     const V a = V::loadu(ax + u);
-    alignas(16) float p00[4], p10[4], p01[4], p11[4];
-    for (int k = 0; k < 4; ++k) {
-      const T* p = row + x0[u + k];
-      p00[k] = static_cast<float>(p[0]);
-      p10[k] = static_cast<float>(p[dx1]);
-      p01[k] = static_cast<float>(p[dy1]);
-      p11[k] = static_cast<float>(p[dy1 + dx1]);
-    }
-    const V q00 = V::load(p00), q10 = V::load(p10), q01 = V::load(p01), q11 = V::load(p11);
-    const V top = q00 + a * (q10 - q00);
-    const V bottom = q01 + a * (q11 - q01);
-    select(a >= zero, top + vay * (bottom - top), bad).storeu(out + u);
+    const T* blocks[4];
+    for (int k = 0; k < 4; ++k) blocks[k] = row + x0[u + k];
+    select(a >= zero, detail::blendBlocks<V>(blocks, dx1, dy1, a, vay), bad).storeu(out + u);
   }
   reference::remapSeparableRow(in, x0 + u, ax + u, y0, ay, width - u, invalid, out + u);
 }

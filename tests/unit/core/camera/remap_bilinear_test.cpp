@@ -25,6 +25,22 @@ RemapInput<T> input(const Image<T>& img) {
   return {img.view().data, img.view().stride, img.width(), img.height()};
 }
 
+/// A 53x37 8-bit and a float input of random content.
+struct RandomImages {
+  Image<std::uint8_t> bytes{53, 37};
+  Image<float> floats{53, 37};
+};
+RandomImages randomImages(std::mt19937& rng) {
+  RandomImages out;
+  std::uniform_int_distribution<int> B(0, 255);
+  for (int y = 0; y < 37; ++y)
+    for (int x = 0; x < 53; ++x) {
+      out.bytes(x, y) = static_cast<std::uint8_t>(B(rng));
+      out.floats(x, y) = 0.37f * static_cast<float>(B(rng)) - 11.f;
+    }
+  return out;
+}
+
 template <class V, typename T>
 void expectRowsAgree(const Image<T>& img, std::mt19937& rng) {
   std::uniform_real_distribution<float> X(0.f, static_cast<float>(img.width() - 1));
@@ -85,16 +101,9 @@ void expectSeparableRowsAgree(const Image<T>& img, std::mt19937& rng) {
 TYPED_TEST(RemapBilinearTest, ASeparableRowEqualsTheGeneralRemapOfThatRow) {
   using V = TypeParam;
   std::mt19937 rng(9);
-  Image<std::uint8_t> bytes(53, 37);
-  Image<float> floats(53, 37);
-  std::uniform_int_distribution<int> B(0, 255);
-  for (int y = 0; y < 37; ++y)
-    for (int x = 0; x < 53; ++x) {
-      bytes(x, y) = static_cast<std::uint8_t>(B(rng));
-      floats(x, y) = 0.37f * static_cast<float>(B(rng)) - 11.f;
-    }
-  expectSeparableRowsAgree<V>(bytes, rng);
-  expectSeparableRowsAgree<V>(floats, rng);
+  const RandomImages img = randomImages(rng);
+  expectSeparableRowsAgree<V>(img.bytes, rng);
+  expectSeparableRowsAgree<V>(img.floats, rng);
   // One-pixel-wide and one-pixel-high inputs (the 2x2 block degenerates).
   Image<std::uint8_t> column(1, 5), row(6, 1);
   for (int y = 0; y < 5; ++y) column(0, y) = static_cast<std::uint8_t>(10 * y);
@@ -106,16 +115,9 @@ TYPED_TEST(RemapBilinearTest, ASeparableRowEqualsTheGeneralRemapOfThatRow) {
 TYPED_TEST(RemapBilinearTest, FourPixelsAtOnceEqualThePixelByPixelRemap) {
   using V = TypeParam;
   std::mt19937 rng(5);
-  Image<std::uint8_t> bytes(53, 37);
-  Image<float> floats(53, 37);
-  std::uniform_int_distribution<int> B(0, 255);
-  for (int y = 0; y < 37; ++y)
-    for (int x = 0; x < 53; ++x) {
-      bytes(x, y) = static_cast<std::uint8_t>(B(rng));
-      floats(x, y) = 0.37f * static_cast<float>(B(rng)) - 11.f;
-    }
-  expectRowsAgree<V>(bytes, rng);
-  expectRowsAgree<V>(floats, rng);
+  const RandomImages img = randomImages(rng);
+  expectRowsAgree<V>(img.bytes, rng);
+  expectRowsAgree<V>(img.floats, rng);
 }
 
 TEST(RemapBilinear, ReferenceInterpolatesAndClampsAtTheLastPixel) {
