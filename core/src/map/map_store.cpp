@@ -169,8 +169,8 @@ void MapStore::cullKeyframe(int id) {
     }
     auto rest = std::make_shared<MapSnapshot::PointBlock>();
     // Exactly as large as what stays: a long run culls and rebuilds blocks again and again.
-    rest->reserve(block->size() - static_cast<std::size_t>(
-                                      std::count_if(block->begin(), block->end(), hosted)));
+    rest->reserve(block->size() -
+                  static_cast<std::size_t>(std::count_if(block->begin(), block->end(), hosted)));
     std::remove_copy_if(block->begin(), block->end(), std::back_inserter(*rest), hosted);
     point_count_ -= block->size() - rest->size();
     if (!rest->empty()) kept.push_back(std::move(rest));
