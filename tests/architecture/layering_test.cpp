@@ -46,7 +46,7 @@ const std::map<std::string, std::set<std::string>>& allowedModules() {
       {"concurrency", {}},
       {"config", {}},
       {"camera", {"math"}},
-      {"image", {}},
+      {"image", {"math"}},  // the four-float vector of its SIMD row kernels
       {"eval", {}},
       {"model", {"math", "image"}},
       {"kernels", {"math", "image", "model"}},
