@@ -63,9 +63,9 @@ void Rectifier::keepSeparableTable() {
         return;
     }
   separable_ = true;
-  const simd::SeparableColumns columns = simd::separableColumns(column_x, input_->width());
-  column_x0_ = columns.x0;
-  column_ax_ = columns.ax;
+  simd::SeparableColumns columns = simd::separableColumns(column_x, input_->width());
+  column_x0_ = std::move(columns.x0);
+  column_ax_ = std::move(columns.ax);
   column_x_ = std::move(column_x);
   row_y_ = std::move(row_y);
   map_x_ = ImageF();

@@ -243,8 +243,8 @@ void PixelSelector::markBelowThreshold(ImageView<const GradientPixel> grad0) {
   // bounds and table pointers as locals: the byte stores may alias members (char aliasing).
   const int x_end = width_ - kBorder, y_end = height_ - kBorder;
   const int* column_block = thresholds_.blockColumns();
+  float* mag_sq = magnitude_sq_.data();
   for (int y = kBorder; y < y_end; ++y) {
-    float* mag_sq = magnitude_sq_.data();
     simd::gradientMagnitudeSqRow<simd::Vec4>(grad0.row(y) + kBorder, x_end - kBorder,
                                              mag_sq + kBorder);
     const float* thresholds_sq = thresholds_.rowThresholdsSq(y);
