@@ -5,6 +5,7 @@
 #include <cmath>
 #include <string>
 
+#include "camera/radial_distortion.h"
 #include "image/interpolation.h"
 #include "kernels/coarse_warp.h"
 #include "ldsm/error.h"
@@ -20,7 +21,7 @@ using simd::CoarseWarpParams;
 CoarseWarpParams makeLevelWarp(const LevelCamera& cam, const SE3d& T,
                                const Eigen::Vector2d& transfer, double b_ref,
                                const AffineLight& affine, ImageView<const GradientPixel> image,
-                               float margin) {
+                               float margin, float radial_k) {
   CoarseWarpParams w;
   const Eigen::Matrix3f K = cam.K();
   Eigen::Matrix3f Ki;
@@ -37,6 +38,9 @@ CoarseWarpParams makeLevelWarp(const LevelCamera& cam, const SE3d& T,
   w.fyi = cam.fyi;
   w.cxi = cam.cxi;
   w.cyi = cam.cyi;
+  w.cx = cam.cx;
+  w.cy = cam.cy;
+  w.radial_k = radial_k;
   w.margin = margin;
   w.scale = static_cast<float>(transfer(0));
   w.b_ref = static_cast<float>(b_ref);
@@ -96,8 +100,12 @@ CoarseTracker::CoarseTracker(int width, int height, int levels,
 
 void CoarseTracker::setReference(const ImagePyramid& reference, const PyramidCamera& camera,
                                  const DepthPoint* points, std::size_t count, double exposure,
-                                 const AffineLight& affine, DepthMapCanvas* canvas) {
+                                 const AffineLight& affine, DepthMapCanvas* canvas,
+                                 float radial_k) {
   checkExposure(exposure, "reference");
+  if (!std::isfinite(radial_k))
+    throw InputError("coarse tracker: radial_k must be finite (got " + std::to_string(radial_k) +
+                     ")");
   if (camera.levels() < levels() || camera[0].width != depth_maps_.width(0) ||
       camera[0].height != depth_maps_.height(0)) {
     throw InputError("coarse tracker: camera is " + std::to_string(camera[0].width) + "x" +
@@ -117,6 +125,23 @@ void CoarseTracker::setReference(const ImagePyramid& reference, const PyramidCam
     most = std::max(most, static_cast<std::size_t>(depth_maps_.points(l).count));
   if (warped_.dx_fx.size() < most) warped_.allocate(most + most / 4);
   camera_ = camera;
+  radial_k_ = radial_k;
+  if (radial_k != 0.f) {
+    for (int l = 0; l < levels(); ++l) {
+      const LevelPoints& pts = depth_maps_.points(l);
+      const LevelCamera& cam = camera[l];
+      if (ray_x_[l].size() < static_cast<std::size_t>(pts.count)) {
+        ray_x_[l].resize(static_cast<std::size_t>(pts.count));
+        ray_y_[l].resize(static_cast<std::size_t>(pts.count));
+      }
+      for (int i = 0; i < pts.count; ++i) {
+        const Eigen::Vector2f n =
+            removeRadial(radial_k, cam.fxi * pts.x[i] + cam.cxi, cam.fyi * pts.y[i] + cam.cyi);
+        ray_x_[l][i] = cam.fx * n.x() + cam.cx;
+        ray_y_[l][i] = cam.fy * n.y() + cam.cy;
+      }
+    }
+  }
   ref_exposure_ = exposure;
   ref_affine_ = affine;
   reference_cells_.reset();
@@ -131,13 +156,31 @@ double CoarseTracker::scaleOf(double exposure, const AffineLight& affine) const 
   return affineTransfer(ref_exposure_, exposure, ref_affine_, affine)(0);
 }
 
+const float* CoarseTracker::rayX(int level) const {
+  return radial_k_ != 0.f ? ray_x_[level].data() : depth_maps_.points(level).x.data();
+}
+
+const float* CoarseTracker::rayY(int level) const {
+  return radial_k_ != 0.f ? ray_y_[level].data() : depth_maps_.points(level).y.data();
+}
+
 CoarseTracker::Evaluation CoarseTracker::evaluate(const ImagePyramid& frame, double exposure,
                                                   int level, const SE3d& T,
                                                   const AffineLight& affine, float cutoff) {
-  const CoarseWarpParams w =
-      makeLevelWarp(camera_[level], T, affineTransfer(ref_exposure_, exposure, ref_affine_, affine),
-                    ref_affine_.b, affine, frame.gradients(level), settings_.border_margin);
+  return radial_k_ != 0.f ? evaluateLevel<true>(frame, exposure, level, T, affine, cutoff)
+                          : evaluateLevel<false>(frame, exposure, level, T, affine, cutoff);
+}
+
+template <bool kRadial>
+CoarseTracker::Evaluation CoarseTracker::evaluateLevel(const ImagePyramid& frame, double exposure,
+                                                       int level, const SE3d& T,
+                                                       const AffineLight& affine, float cutoff) {
+  const CoarseWarpParams w = makeLevelWarp(
+      camera_[level], T, affineTransfer(ref_exposure_, exposure, ref_affine_, affine),
+      ref_affine_.b, affine, frame.gradients(level), settings_.border_margin, radial_k_);
   const LevelPoints& pts = depth_maps_.points(level);
+  const float* rx = rayX(level);
+  const float* ry = rayY(level);
   const float c2 = settings_.gradient_weight_c * settings_.gradient_weight_c;
   const float k = settings_.huber_threshold;
   const float base_cutoff = settings_.outlier_threshold;
@@ -182,8 +225,8 @@ CoarseTracker::Evaluation CoarseTracker::evaluate(const ImagePyramid& frame, dou
   int i = 0;
   simd::CoarseWarp4 block;
   for (; i + 4 <= pts.count; i += 4) {
-    simd::warpCoarse4<simd::Vec4>(w, &pts.x[i], &pts.y[i], &pts.idepth[i], &pts.intensity[i],
-                                  block);
+    simd::warpCoarse4<simd::Vec4, kRadial>(w, rx + i, ry + i, &pts.idepth[i], &pts.intensity[i],
+                                           block);
     for (int l = 0; l < 4; ++l) {
       if (((block.inside >> l) & 1) == 0) continue;
       add({block.dx_fx[l], block.dy_fy[l], block.nx[l], block.ny[l], block.iz[l], block.ref_term[l],
@@ -193,8 +236,8 @@ CoarseTracker::Evaluation CoarseTracker::evaluate(const ImagePyramid& frame, dou
   }
   for (; i < pts.count; ++i) {
     CoarseWarpedPoint wp;
-    if (simd::reference::warpCoarsePoint(w, pts.x[i], pts.y[i], pts.idepth[i], pts.intensity[i],
-                                         wp))
+    if (simd::reference::warpCoarsePoint<kRadial>(w, rx[i], ry[i], pts.idepth[i], pts.intensity[i],
+                                                  wp))
       add(wp, i);
   }
   ev.energy += energy;
@@ -371,8 +414,11 @@ void CoarseTracker::computeFlow(const SE3d& T, CoarseTrackingResult& result) con
     acc += du * du + dv * dv;
     return true;
   };
+  // Flow of the pinhole pixels (those of the undistorted rays with a radial distortion).
+  const float* rx = rayX(0);
+  const float* ry = rayY(0);
   for (int i = 0; i < pts.count; i += stride) {
-    const double x = pts.x[i], y = pts.y[i];
+    const double x = rx[i], y = ry[i];
     const Eigen::Vector3d ray(cam.fxi * x + cam.cxi, cam.fyi * y + cam.cyi, 1.0);
     const Eigen::Vector3d p = ray / pts.idepth[i];
     double f = 0, ft = 0, fr = 0;
@@ -406,11 +452,19 @@ void CoarseTracker::computeCoverage(const SE3d& T, CoarseTrackingResult& result)
   const Eigen::Matrix3f R = T.rotationMatrix().cast<float>();
   const Eigen::Vector3f t = T.translation().cast<float>();
   std::bitset<kCoverageColumns * kCoverageRows> in_frame;
+  const float* rx = rayX(0);
+  const float* ry = rayY(0);
   for (int i = 0; i < pts.count; ++i) {
-    const Eigen::Vector3f ray(cam.fxi * pts.x[i] + cam.cxi, cam.fyi * pts.y[i] + cam.cyi, 1.f);
+    const Eigen::Vector3f ray(cam.fxi * rx[i] + cam.cxi, cam.fyi * ry[i] + cam.cyi, 1.f);
     const Eigen::Vector3f q = R * (ray / pts.idepth[i]) + t;
     if (!(q.z() > 0.f)) continue;
-    const int c = coverageCell(cam.fx * q.x() / q.z() + cam.cx, cam.fy * q.y() / q.z() + cam.cy);
+    int c;
+    if (radial_k_ != 0.f) {
+      const Eigen::Vector2f px = radialProject(cam, radial_k_, q);  // the image's pixel
+      c = coverageCell(px.x(), px.y());
+    } else {
+      c = coverageCell(cam.fx * q.x() / q.z() + cam.cx, cam.fy * q.y() / q.z() + cam.cy);
+    }
     if (c >= 0) in_frame.set(static_cast<std::size_t>(c));
   }
   result.coverage =
@@ -424,12 +478,14 @@ bool CoarseTracker::pointResidual(const ImagePyramid& frame, double exposure,
   if (!has_reference_ || index < 0 || index >= pts.count) return false;
   const CoarseWarpParams w = makeLevelWarp(
       camera_[level], T_frame_ref, affineTransfer(ref_exposure_, exposure, ref_affine_, affine),
-      ref_affine_.b, affine, frame.gradients(level), settings_.border_margin);
+      ref_affine_.b, affine, frame.gradients(level), settings_.border_margin, radial_k_);
   CoarseWarpedPoint wp;
-  if (!simd::reference::warpCoarsePoint(w, pts.x[index], pts.y[index], pts.idepth[index],
-                                        pts.intensity[index], wp)) {
-    return false;
-  }
+  const float x = rayX(level)[index], y = rayY(level)[index];
+  const bool in = radial_k_ != 0.f ? simd::reference::warpCoarsePoint<true>(
+                                         w, x, y, pts.idepth[index], pts.intensity[index], wp)
+                                   : simd::reference::warpCoarsePoint<false>(
+                                         w, x, y, pts.idepth[index], pts.intensity[index], wp);
+  if (!in) return false;
   if (residual != nullptr) *residual = wp.residual;
   if (jacobian != nullptr) {
     coarseJacobianRow(wp.dx_fx, wp.dy_fy, wp.nx, wp.ny, wp.iz, wp.ref_term, jacobian);

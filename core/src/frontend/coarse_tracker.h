@@ -112,14 +112,21 @@ class CoarseTracker {
   /// camera, the window's points projected into it, its exposure time (1 when unknown) and affine
   /// brightness. The depth maps are splatted into `canvas` (the builder's scratch, which the
   /// trackers one thread prepares can share) or, when null, into a canvas this tracker allocates
-  /// at its first such call. Allocates nothing else (the point lists grow to the most points seen).
+  /// at its first such call. `radial_k` is the residual radial distortion of the reference's and
+  /// the frames' images (camera/radial_distortion.h; the window's applied correction): the points
+  /// are then pixels of the distorted images, their rays are undistorted once here, and every
+  /// warp projects through the distortion (kernels/coarse_warp.h). Allocates nothing else (the
+  /// point lists grow to the most points seen).
   void setReference(const ImagePyramid& reference, const PyramidCamera& camera,
                     const DepthPoint* points, std::size_t count, double exposure,
-                    const AffineLight& affine, DepthMapCanvas* canvas = nullptr);
+                    const AffineLight& affine, DepthMapCanvas* canvas = nullptr,
+                    float radial_k = 0.f);
   void setReference(const ImagePyramid& reference, const PyramidCamera& camera,
                     const std::vector<DepthPoint>& points, double exposure,
-                    const AffineLight& affine, DepthMapCanvas* canvas = nullptr) {
-    setReference(reference, camera, points.data(), points.size(), exposure, affine, canvas);
+                    const AffineLight& affine, DepthMapCanvas* canvas = nullptr,
+                    float radial_k = 0.f) {
+    setReference(reference, camera, points.data(), points.size(), exposure, affine, canvas,
+                 radial_k);
   }
 
   /// Tracks `frame` (exposure time `exposure`) from level min(coarsest_level, levels() - 1) down
@@ -143,6 +150,8 @@ class CoarseTracker {
   const DepthMapPyramid& depthMaps() const { return depth_maps_; }
   const CoarseTrackerSettings& settings() const { return settings_; }
   bool hasReference() const { return has_reference_; }
+  /// The residual radial distortion the reference was set with.
+  float radialK() const { return radial_k_; }
   const AffineLight& referenceAffine() const { return ref_affine_; }
   double referenceExposure() const { return ref_exposure_; }
 
@@ -161,6 +170,13 @@ class CoarseTracker {
 
   Evaluation evaluate(const ImagePyramid& frame, double exposure, int level, const SE3d& T,
                       const AffineLight& affine, float cutoff);
+  template <bool kRadial>
+  Evaluation evaluateLevel(const ImagePyramid& frame, double exposure, int level, const SE3d& T,
+                           const AffineLight& affine, float cutoff);
+  /// The pinhole pixels of a level's reference rays: the points' own pixels without a radial
+  /// distortion, undistorted ones with it.
+  const float* rayX(int level) const;
+  const float* rayY(int level) const;
   /// Runs LM on one level; returns the final evaluation (and updates T, affine, cutoff).
   Evaluation optimiseLevel(const ImagePyramid& frame, double exposure, int level, SE3d& T,
                            AffineLight& affine, float& cutoff, int& iterations);
@@ -181,6 +197,10 @@ class CoarseTracker {
   static constexpr int kCoverageColumns = 16, kCoverageRows = 12;
   std::bitset<kCoverageColumns * kCoverageRows> reference_cells_;
   PyramidCamera camera_;
+  float radial_k_ = 0.f;
+  /// Per level, the undistorted pinhole pixels of the reference points (filled only while
+  /// radial_k_ != 0; they grow like the point lists).
+  std::array<std::vector<float>, kMaxPyramidLevels> ray_x_, ray_y_;
   WarpedResiduals warped_;
   double ref_exposure_ = 1;
   AffineLight ref_affine_;

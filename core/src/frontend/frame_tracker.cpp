@@ -6,6 +6,8 @@
 #include <cmath>
 #include <limits>
 
+#include "camera/radial_distortion.h"
+
 namespace ldsm {
 
 FrameTracker::FrameTracker(const FrameTrackerSettings& settings, const PyramidCamera& camera)
@@ -52,11 +54,14 @@ void FrameTracker::projectReferencePoints(int level, const SE3d& T_c_w,
   const SE3d T = T_c_w * T_ref_w_.inverse();
   const Eigen::Matrix3f R = T.rotationMatrix().cast<float>();
   const Eigen::Vector3f t = T.translation().cast<float>();
+  const float k = tracker_->radialK();  // the images' residual radial distortion
   for (int i = 0; i < pts.count; ++i) {
     if (pts.idepth[i] <= 0.f) continue;
-    const Eigen::Vector3f p = R * (cam.unproject(pts.x[i], pts.y[i]) / pts.idepth[i]) + t;
+    const Eigen::Vector3f ray =
+        k != 0.f ? radialRay(cam, k, pts.x[i], pts.y[i]) : cam.unproject(pts.x[i], pts.y[i]);
+    const Eigen::Vector3f p = R * (ray / pts.idepth[i]) + t;
     if (p.z() <= 1e-6f) continue;
-    const Eigen::Vector2f uv = cam.project(p);
+    const Eigen::Vector2f uv = k != 0.f ? radialProject(cam, k, p) : cam.project(p);
     if (uv.x() >= 0.f && uv.y() >= 0.f && uv.x() < static_cast<float>(cam.width) &&
         uv.y() < static_cast<float>(cam.height))
       out.push_back(uv);

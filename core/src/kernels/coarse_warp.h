@@ -5,6 +5,11 @@
 // (intensity, dx, dy) at (u, v) (bilinear) and what the residual and its Jacobian need:
 //   dx_fx = dx fx, dy_fy = dy fy, nx = u / fx - cx / fx, ny likewise, iz = idepth / p_z,
 //   ref_term = scale (I_ref - b_ref), residual = I - ref_term - b.
+// With kRadial, the images carry the residual radial distortion k of the calibration refinement
+// (camera/radial_distortion.h): (x, y) are then the pinhole pixels of the reference rays, the
+// frame is sampled at the distorted pixel K D(n), n = (nx, ny), D(n) = n (1 + k |n|^2), and the
+// gradient moves through D's Jacobian: (dx_fx, dy_fy) = (dx fx, dy fy) (f I + 2 k n n^T) with
+// f = 1 + k |n|^2, so that the Jacobian rows (coarse_residuals.h) stay those of the pinhole n.
 // warpCoarse4<V> does four points per vector (one 2x2 block load per point, transposed into
 // intensity, dx and dy rows); reference::warpCoarsePoint is the per-point formulation. Both use
 // the same operations in the same order (no fused multiply-add: -ffp-contract=off), so their
@@ -27,8 +32,10 @@ struct CoarseWarpParams {
   float KRKi[9] = {};  ///< K R K^-1, row-major
   float Kt[3] = {};    ///< K t
   float fx = 1.f, fy = 1.f, fxi = 1.f, fyi = 1.f, cxi = 0.f, cyi = 0.f;
-  float margin = 2.f;  ///< points stay this far inside the bilinear region (pixels)
-  float scale = 1.f;   ///< affine transfer reference -> frame
+  float cx = 0.f, cy = 0.f;  ///< principal point (pixels), used with kRadial only
+  float radial_k = 0.f;      ///< residual radial distortion, used with kRadial only
+  float margin = 2.f;        ///< points stay this far inside the bilinear region (pixels)
+  float scale = 1.f;         ///< affine transfer reference -> frame
   float b_ref = 0.f, b = 0.f;
   ImageView<const GradientPixel> image;  ///< the frame's level
 };
@@ -47,6 +54,7 @@ struct alignas(16) CoarseWarp4 {
 namespace reference {
 
 /// Warps one point; false when it is behind the camera or outside the frame (with margin).
+template <bool kRadial = false>
 [[gnu::always_inline]] inline bool warpCoarsePoint(const CoarseWarpParams& w, float x, float y,
                                                    float idepth, float ref_intensity,
                                                    CoarseWarpedPoint& out) {
@@ -58,16 +66,37 @@ namespace reference {
   const float zi = 1.f / pz;
   const float u = px * zi;
   const float v = py * zi;
-  if (!isInsideForBilinear(w.image, u, v, w.margin)) return false;
-  const GradientPixel g = interpolateBilinear(w.image, u, v);
-  out.dx_fx = g.dx * w.fx;
-  out.dy_fy = g.dy * w.fy;
-  out.nx = w.fxi * u + w.cxi;
-  out.ny = w.fyi * v + w.cyi;
-  out.iz = idepth * zi;
-  out.ref_term = w.scale * (ref_intensity - w.b_ref);
-  out.residual = g.intensity - out.ref_term - w.b;
-  return true;
+  if constexpr (kRadial) {
+    const float nx = w.fxi * u + w.cxi;
+    const float ny = w.fyi * v + w.cyi;
+    const float f = 1.f + w.radial_k * (nx * nx + ny * ny);
+    const float ud = w.fx * (nx * f) + w.cx;
+    const float vd = w.fy * (ny * f) + w.cy;
+    if (!isInsideForBilinear(w.image, ud, vd, w.margin)) return false;
+    const GradientPixel g = interpolateBilinear(w.image, ud, vd);
+    const float gx = g.dx * w.fx, gy = g.dy * w.fy;
+    const float k2 = 2.f * w.radial_k;
+    const float cross = k2 * (nx * ny);
+    out.dx_fx = gx * (f + k2 * (nx * nx)) + gy * cross;
+    out.dy_fy = gx * cross + gy * (f + k2 * (ny * ny));
+    out.nx = nx;
+    out.ny = ny;
+    out.iz = idepth * zi;
+    out.ref_term = w.scale * (ref_intensity - w.b_ref);
+    out.residual = g.intensity - out.ref_term - w.b;
+    return true;
+  } else {
+    if (!isInsideForBilinear(w.image, u, v, w.margin)) return false;
+    const GradientPixel g = interpolateBilinear(w.image, u, v);
+    out.dx_fx = g.dx * w.fx;
+    out.dy_fy = g.dy * w.fy;
+    out.nx = w.fxi * u + w.cxi;
+    out.ny = w.fyi * v + w.cyi;
+    out.iz = idepth * zi;
+    out.ref_term = w.scale * (ref_intensity - w.b_ref);
+    out.residual = g.intensity - out.ref_term - w.b;
+    return true;
+  }
 }
 
 }  // namespace reference
@@ -93,7 +122,7 @@ inline V coarseBilinear(const ImageView<const GradientPixel>& img, std::int32_t 
 
 /// Warps the four points x[0..3], ... into `out` (every row written when one is inside; lanes
 /// outside hold unspecified values).
-template <class V>
+template <class V, bool kRadial = false>
 [[gnu::always_inline]] inline void warpCoarse4(const CoarseWarpParams& w, const float* x,
                                                const float* y, const float* idepth,
                                                const float* ref_intensity, CoarseWarp4& out) {
@@ -104,8 +133,17 @@ template <class V>
   const V pz = V::set1(K[6]) * X + (V::set1(K[7]) * Y + V::set1(K[8])) + V::set1(w.Kt[2]) * D;
   const V one = V::set1(1.f);
   const V zi = one / pz;
-  const V u = px * zi;
-  const V v = py * zi;
+  const V pu = px * zi;  // the pinhole pixel
+  const V pv = py * zi;
+  V u = pu, v = pv;                           // the pixel sampled
+  V nx = V::zero(), ny = V::zero(), f = one;  // n and f: with kRadial
+  if constexpr (kRadial) {
+    nx = V::set1(w.fxi) * pu + V::set1(w.cxi);
+    ny = V::set1(w.fyi) * pv + V::set1(w.cyi);
+    f = one + V::set1(w.radial_k) * (nx * nx + ny * ny);
+    u = V::set1(w.fx) * (nx * f) + V::set1(w.cx);
+    v = V::set1(w.fy) * (ny * f) + V::set1(w.cy);
+  }
   const V lo = V::set1(w.margin);
   const V u_hi = V::set1(static_cast<float>(w.image.width - 1) - w.margin);
   const V v_hi = V::set1(static_cast<float>(w.image.height - 1) - w.margin);
@@ -135,10 +173,20 @@ template <class V>
   V dy = pixel(std::integral_constant<int, 2>{});
   V unused = pixel(std::integral_constant<int, 3>{});
   transpose4(I, dx, dy, unused);
-  (dx * V::set1(w.fx)).store(out.dx_fx);
-  (dy * V::set1(w.fy)).store(out.dy_fy);
-  (V::set1(w.fxi) * u + V::set1(w.cxi)).store(out.nx);
-  (V::set1(w.fyi) * v + V::set1(w.cyi)).store(out.ny);
+  if constexpr (kRadial) {
+    const V gx = dx * V::set1(w.fx), gy = dy * V::set1(w.fy);
+    const V k2 = V::set1(2.f * w.radial_k);
+    const V cross = k2 * (nx * ny);
+    (gx * (f + k2 * (nx * nx)) + gy * cross).store(out.dx_fx);
+    (gx * cross + gy * (f + k2 * (ny * ny))).store(out.dy_fy);
+    nx.store(out.nx);
+    ny.store(out.ny);
+  } else {
+    (dx * V::set1(w.fx)).store(out.dx_fx);
+    (dy * V::set1(w.fy)).store(out.dy_fy);
+    (V::set1(w.fxi) * u + V::set1(w.cxi)).store(out.nx);
+    (V::set1(w.fyi) * v + V::set1(w.cyi)).store(out.ny);
+  }
   (D * zi).store(out.iz);
   const V ref = V::set1(w.scale) * (V::loadu(ref_intensity) - V::set1(w.b_ref));
   ref.store(out.ref_term);

@@ -428,7 +428,7 @@ void MappingStage::publishReference() {
   std::unique_ptr<CoarseTracker> tracker = references_.acquire();
   const TrackingReference r = mapper_.newestReference();
   tracker->setReference(*r.pyramid, mapper_.camera(), depth_points_, r.exposure, r.aff,
-                        &depth_canvas_);
+                        &depth_canvas_, mapper_.radialK());
   references_.publish({std::move(tracker), r.keyframe_id, r.T_c_w, r.frame_index,
                        mapper_.calibration().settling()});
 }

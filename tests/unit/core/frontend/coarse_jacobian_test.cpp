@@ -16,8 +16,9 @@ using test::TrackScene;
 
 // On a frame whose intensity is linear in the pixel coordinates, bilinear interpolation and the
 // central-difference gradient are exact, so the analytic Jacobian must match numeric
-// differentiation of the residual to rounding.
-TEST(CoarseJacobianTest, MatchesNumericDifferentiation) {
+// differentiation of the residual to rounding. With a radial distortion k the frame is sampled
+// through it, and the Jacobian carries the distortion's own Jacobian.
+void expectJacobianMatchesNumericDifferentiation(float radial_k) {
   const TrackScene scene;
   ImageF ref_image, ref_idepth;
   scene.render(SE3d(), ref_image, &ref_idepth);
@@ -31,7 +32,7 @@ TEST(CoarseJacobianTest, MatchesNumericDifferentiation) {
   CoarseTracker tracker(TrackScene::kWidth, TrackScene::kHeight, TrackScene::kLevels,
                         CoarseTrackerSettings());
   tracker.setReference(ref, scene.camera(), test::selectPoints(ref_image, ref_idepth), 1.3,
-                       AffineLight{0.1, 3.0});
+                       AffineLight{0.1, 3.0}, nullptr, radial_k);
   const double exposure = 0.8;
   SE3d::Tangent x;
   x << 0.04, -0.03, 0.05, 0.02, -0.03, 0.01;
@@ -66,6 +67,15 @@ TEST(CoarseJacobianTest, MatchesNumericDifferentiation) {
     }
   }
   EXPECT_GT(checked, 8 * 100);
+}
+
+TEST(CoarseJacobianTest, MatchesNumericDifferentiation) {
+  expectJacobianMatchesNumericDifferentiation(0.f);
+}
+
+TEST(CoarseJacobianTest, MatchesNumericDifferentiationThroughARadialDistortion) {
+  expectJacobianMatchesNumericDifferentiation(0.15f);
+  expectJacobianMatchesNumericDifferentiation(-0.1f);
 }
 
 TEST(CoarseJacobianTest, ResidualUsesTheAffineModel) {

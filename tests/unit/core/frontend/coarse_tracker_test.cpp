@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <memory>
 #include <random>
 #include <vector>
@@ -108,6 +110,45 @@ TEST_F(CoarseTrackerTest, RecoversKnownMotion) {
   EXPECT_EQ(result.failure, TrackingFailure::kNone);
   EXPECT_EQ(result.failed_level, -1);
   for (int l = 0; l < TrackScene::kLevels; ++l) EXPECT_TRUE(std::isfinite(result.rmse(l)));
+}
+
+// Images through a radial distortion (7.7 px at the corners): the reference's points are pixels
+// of the distorted image, and the tracker told the distortion warps through it. Told none (the
+// plain pinhole), the same images give a pose several times further off (measured: rotation
+// 1.1e-4 against 2.9e-3 rad, translation 5.8e-4 against 1.2e-2 for a 6.7 cm motion).
+TEST_F(CoarseTrackerTest, TracksThroughTheImagesRadialDistortion) {
+  constexpr float k = 0.06f;
+  ImageF ref_image, ref_idepth, image;
+  scene_.render(SE3d(), ref_image, &ref_idepth, k);
+  const ImagePyramid ref = test::makePyramid(ref_image);
+  const std::vector<DepthPoint> points = test::selectPoints(ref_image, ref_idepth);
+  const SE3d truth = typicalMotion();
+  scene_.render(truth.inverse(), image, nullptr, k);
+  const ImagePyramid frame = test::makePyramid(image);
+  const auto trackWith = [&](float radial_k, SE3d& T, CoarseTrackingResult& result) {
+    CoarseTracker tracker(TrackScene::kWidth, TrackScene::kHeight, TrackScene::kLevels,
+                          CoarseTrackerSettings());
+    tracker.setReference(ref, scene_.camera(), points, 1.0, AffineLight(), nullptr, radial_k);
+    EXPECT_EQ(tracker.radialK(), radial_k);
+    T = SE3d();
+    AffineLight affine;
+    return tracker.track(frame, 1.0, T, affine, TrackScene::kLevels - 1, noAbortThresholds(),
+                         result);
+  };
+  SE3d T, T_pinhole;
+  CoarseTrackingResult result, result_pinhole;
+  ASSERT_TRUE(trackWith(k, T, result)) << toString(result.failure);
+  EXPECT_LT(test::rotationError(T, truth), 1e-3);
+  EXPECT_LT(test::translationError(T, truth), 0.01 * truth.translation().norm());
+  EXPECT_LT(result.rmse(0), 1.5);
+  EXPECT_GT(result.inlier_fraction, 0.95);
+  EXPECT_GT(result.coverage, 0.9);
+  trackWith(0.f, T_pinhole, result_pinhole);
+  std::printf("radial: rotation %.2e translation %.2e; pinhole: rotation %.2e translation %.2e\n",
+              test::rotationError(T, truth), test::translationError(T, truth),
+              test::rotationError(T_pinhole, truth), test::translationError(T_pinhole, truth));
+  EXPECT_GT(test::rotationError(T_pinhole, truth), 3.0 * test::rotationError(T, truth));
+  EXPECT_GT(test::translationError(T_pinhole, truth), 3.0 * test::translationError(T, truth));
 }
 
 TEST_F(CoarseTrackerTest, RecoversMotionFromNearbyGuessOnFinestLevelOnly) {
@@ -358,6 +399,9 @@ TEST_F(CoarseTrackerTest, RejectsBadInput) {
   wrong.width = 640;
   EXPECT_THROW(tracker->setReference(*ref_pyramid_, PyramidCamera(wrong, TrackScene::kLevels),
                                      points_, 1.0, AffineLight()),
+               InputError);
+  EXPECT_THROW(tracker->setReference(*ref_pyramid_, scene_.camera(), points_, 1.0, AffineLight(),
+                                     nullptr, std::numeric_limits<float>::quiet_NaN()),
                InputError);
   EXPECT_THROW(tracker->setReference(small_pyramid, scene_.camera(), points_, 1.0, AffineLight()),
                InputError);

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <limits>
 
+#include "camera/radial_distortion.h"
+
 namespace ldsm::test {
 
 TrackScene::TrackScene(Layout layout) {
@@ -44,14 +46,19 @@ double TrackScene::texture(double s_metres, double t_metres, double phase) {
   return 127.5 + 100.0 * v;
 }
 
-void TrackScene::render(const SE3d& T_world_cam, ImageF& image, ImageF* idepth) const {
+void TrackScene::render(const SE3d& T_world_cam, ImageF& image, ImageF* idepth,
+                        float radial_k) const {
   image.resize(kWidth, kHeight);
   if (idepth != nullptr) idepth->resize(kWidth, kHeight);
   const Eigen::Matrix3d R = T_world_cam.rotationMatrix();
   const Eigen::Vector3d o = T_world_cam.translation();
   // Nearest hit along the ray through (x, y): the texture value and the camera z of the hit.
   const auto castRay = [&](double x, double y, double& z_hit) {
-    const Eigen::Vector3d dir = R * Eigen::Vector3d((x - k_.cx) / k_.fx, (y - k_.cy) / k_.fy, 1.0);
+    Eigen::Vector2d m((x - k_.cx) / k_.fx, (y - k_.cy) / k_.fy);
+    if (radial_k != 0.f)
+      m = removeRadial(radial_k, static_cast<float>(m.x()), static_cast<float>(m.y()))
+              .cast<double>();
+    const Eigen::Vector3d dir = R * Eigen::Vector3d(m.x(), m.y(), 1.0);
     z_hit = std::numeric_limits<double>::infinity();
     double value = 0.0;
     for (const ScenePlane& p : planes_) {

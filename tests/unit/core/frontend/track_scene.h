@@ -38,8 +38,9 @@ class TrackScene {
   PyramidCamera camera() const { return PyramidCamera(k_, kLevels); }
 
   /// Renders the view of a camera with pose T_world_cam (the reference camera is the world):
-  /// intensity, and inverse depth per pixel when `idepth` is not null.
-  void render(const SE3d& T_world_cam, ImageF& image, ImageF* idepth) const;
+  /// intensity, and inverse depth per pixel when `idepth` is not null. With `radial_k`, through
+  /// the radial distortion of camera/radial_distortion.h: pixel = K D(x), D(x) = x (1 + k |x|^2).
+  void render(const SE3d& T_world_cam, ImageF& image, ImageF* idepth, float radial_k = 0.f) const;
 
   /// Texture value (roughly 30..225) at in-plane coordinates (s, t) of a plane with `phase`.
   static double texture(double s, double t, double phase);

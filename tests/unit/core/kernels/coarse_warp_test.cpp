@@ -44,8 +44,10 @@ CoarseWarpParams randomWarp(const Image<GradientPixel>& img, std::mt19937& rng) 
   w.fy = 300.f + 50.f * U(rng);
   w.fxi = 1.f / w.fx;
   w.fyi = 1.f / w.fy;
-  w.cxi = -0.5f * img.width() * w.fxi;
-  w.cyi = -0.5f * img.height() * w.fyi;
+  w.cx = 0.5f * img.width();
+  w.cy = 0.5f * img.height();
+  w.cxi = -w.cx * w.fxi;
+  w.cyi = -w.cy * w.fyi;
   w.margin = 2.f;
   w.scale = 1.f + 0.2f * U(rng);
   w.b_ref = 5.f * U(rng);
@@ -54,15 +56,16 @@ CoarseWarpParams randomWarp(const Image<GradientPixel>& img, std::mt19937& rng) 
   return w;
 }
 
-TYPED_TEST(CoarseWarpTest, FourPointsAtOnceEqualThePointByPointWarp) {
-  using V = TypeParam;
+template <class V, bool kRadial>
+void expectFourPointsEqualThePointByPointWarp() {
   const Image<GradientPixel> img = texture(97, 61);
   std::mt19937 rng(17);
   std::uniform_real_distribution<float> X(-8.f, 105.f), Y(-8.f, 69.f), D(0.f, 1.f);
   const float nan = std::numeric_limits<float>::quiet_NaN();
   int inside = 0, outside = 0;
   for (int trial = 0; trial < 200; ++trial) {
-    const CoarseWarpParams w = randomWarp(img, rng);
+    CoarseWarpParams w = randomWarp(img, rng);
+    if (kRadial) w.radial_k = 0.2f * (D(rng) - 0.5f);
     std::vector<float> x(64), y(64), idepth(64), intensity(64);
     for (int i = 0; i < 64; ++i) {
       x[i] = std::floor(X(rng));
@@ -77,11 +80,11 @@ TYPED_TEST(CoarseWarpTest, FourPointsAtOnceEqualThePointByPointWarp) {
     y[17] = 2.f;
     for (int i = 0; i < 64; i += 4) {
       CoarseWarp4 block;
-      warpCoarse4<V>(w, &x[i], &y[i], &idepth[i], &intensity[i], block);
+      warpCoarse4<V, kRadial>(w, &x[i], &y[i], &idepth[i], &intensity[i], block);
       for (int l = 0; l < 4; ++l) {
         CoarseWarpedPoint ref;
-        const bool in =
-            reference::warpCoarsePoint(w, x[i + l], y[i + l], idepth[i + l], intensity[i + l], ref);
+        const bool in = reference::warpCoarsePoint<kRadial>(w, x[i + l], y[i + l], idepth[i + l],
+                                                            intensity[i + l], ref);
         ASSERT_EQ(((block.inside >> l) & 1) != 0, in) << "trial " << trial << " point " << i + l;
         if (!in) {
           ++outside;
@@ -100,6 +103,14 @@ TYPED_TEST(CoarseWarpTest, FourPointsAtOnceEqualThePointByPointWarp) {
   }
   EXPECT_GT(inside, 5000);
   EXPECT_GT(outside, 1000);
+}
+
+TYPED_TEST(CoarseWarpTest, FourPointsAtOnceEqualThePointByPointWarp) {
+  expectFourPointsEqualThePointByPointWarp<TypeParam, false>();
+}
+
+TYPED_TEST(CoarseWarpTest, FourPointsAtOnceEqualThePointByPointWarpThroughARadialDistortion) {
+  expectFourPointsEqualThePointByPointWarp<TypeParam, true>();
 }
 
 TEST(CoarseWarp, ReferenceIsTheBilinearWarpOfThePoint) {
@@ -128,6 +139,38 @@ TEST(CoarseWarp, ReferenceIsTheBilinearWarpOfThePoint) {
   // Behind the camera and outside: no warp.
   EXPECT_FALSE(reference::warpCoarsePoint(w, x, y, -1e3f, I_ref, out));
   EXPECT_FALSE(reference::warpCoarsePoint(w, 500.f, y, d, I_ref, out));
+}
+
+// Through a radial distortion: the frame sampled at K D(n) of the pinhole n, the gradient moved
+// through D's Jacobian (from the definitions, in double).
+TEST(CoarseWarp, RadialReferenceSamplesTheDistortedPixel) {
+  const Image<GradientPixel> img = texture(97, 61);
+  std::mt19937 rng(5);
+  CoarseWarpParams w = randomWarp(img, rng);
+  w.radial_k = 0.12f;
+  const float x = 40.f, y = 30.f, d = 0.3f, I_ref = 100.f;
+  CoarseWarpedPoint out;
+  ASSERT_TRUE(reference::warpCoarsePoint<true>(w, x, y, d, I_ref, out));
+  const float* K = w.KRKi;
+  const double px = K[0] * x + K[1] * y + K[2] + w.Kt[0] * d;
+  const double py = K[3] * x + K[4] * y + K[5] + w.Kt[1] * d;
+  const double pz = K[6] * x + K[7] * y + K[8] + w.Kt[2] * d;
+  const double nx = (px / pz - w.cx) / w.fx, ny = (py / pz - w.cy) / w.fy;
+  const double k = w.radial_k, f = 1.0 + k * (nx * nx + ny * ny);
+  const double u = w.fx * nx * f + w.cx, v = w.fy * ny * f + w.cy;
+  const GradientPixel g =
+      interpolateBilinear(img.view(), static_cast<float>(u), static_cast<float>(v));
+  EXPECT_NEAR(out.nx, nx, 1e-5);
+  EXPECT_NEAR(out.ny, ny, 1e-5);
+  EXPECT_NEAR(out.iz, d / pz, 1e-6);
+  const double gx = g.dx * w.fx, gy = g.dy * w.fy;
+  EXPECT_NEAR(out.dx_fx, gx * (f + 2 * k * nx * nx) + gy * 2 * k * nx * ny, 2e-2);
+  EXPECT_NEAR(out.dy_fy, gx * 2 * k * nx * ny + gy * (f + 2 * k * ny * ny), 2e-2);
+  EXPECT_NEAR(out.residual, g.intensity - w.scale * (I_ref - w.b_ref) - w.b, 1e-3);
+  // Without the distortion the same point samples elsewhere.
+  CoarseWarpedPoint pinhole;
+  ASSERT_TRUE(reference::warpCoarsePoint<false>(w, x, y, d, I_ref, pinhole));
+  EXPECT_NE(pinhole.residual, out.residual);
 }
 
 }  // namespace
