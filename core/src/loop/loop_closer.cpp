@@ -438,7 +438,7 @@ std::optional<DetectedLoop> LoopCloser::closeLoop(int id, std::optional<MapMerge
   const int recent = config_.exclude_recent_keyframes;
   const auto covisible = covisible_.find(id);
   auto connected = [&](int k) {
-    if (k > id - recent) return true;
+    if (k >= id - recent) return true;  // the `recent` keyframes right before id
     return covisible != covisible_.end() &&
            std::find(covisible->second.begin(), covisible->second.end(), k) !=
                covisible->second.end();

@@ -35,7 +35,8 @@ class Verifier {
 
   // Runs the stages; returns false with out_.reason set at the first failed test.
   bool run() {
-    const std::vector<DescriptorMatch> all = matchDescriptors(cur_, cand_, s_.matching);
+    std::vector<DescriptorMatch> all = matchDescriptors(cur_, cand_, s_.matching);
+    if (s_.guided_min_inliers > 0) out_.num_guided_matches = extendByProjection(all);
     out_.num_matches = static_cast<int>(all.size());
     if (out_.num_matches < s_.min_matches) {
       return reject("only " + std::to_string(all.size()) + " ORB matches (need " +
@@ -116,6 +117,69 @@ class Verifier {
   /// Baseline (times the current points' mean depth) below which the two PnP translations are
   /// too short to give the scale.
   static constexpr double kMinBaselineForScale = 0.1;
+
+  /// The guided search (file comment of loop_verification.h): adds to `all` (kept sorted by
+  /// query) the matches found near the pixels a preliminary PnP predicts; returns how many.
+  int extendByProjection(std::vector<DescriptorMatch>& all) const {
+    std::vector<Eigen::Vector3d> points;
+    std::vector<Eigen::Vector2d> pixels;
+    for (const DescriptorMatch& m : all) {
+      if (!hasDepth(cand_.idepth[m.train])) continue;
+      points.push_back(unproject(cand_.camera, cand_.pixels[m.train], cand_.idepth[m.train]));
+      pixels.push_back(cur_.pixels[m.query].cast<double>());
+    }
+    if (static_cast<int>(points.size()) < s_.guided_min_inliers) return 0;
+    PnpRansacSettings pnp_settings = s_.pnp;
+    pnp_settings.min_inliers = s_.guided_min_inliers;
+    const PnpRansacResult pnp = solvePnpRansac(points, pixels, cur_.camera, pnp_settings);
+    if (!pnp.success) return 0;
+    std::vector<std::uint8_t> cur_used(cur_.pixels.size(), 0), cand_used(cand_.pixels.size(), 0);
+    for (const DescriptorMatch& m : all) {
+      cur_used[m.query] = 1;
+      cand_used[m.train] = 1;
+    }
+    // Per current feature, the best guided claim (a feature near two predictions goes to the
+    // closer descriptor).
+    std::vector<DescriptorMatch> claim(cur_.pixels.size(), DescriptorMatch{0, 0, -1});
+    const double r2 = s_.guided_radius_px * s_.guided_radius_px;
+    const PinholeIntrinsics& cam = cur_.camera;
+    for (std::size_t j = 0; j < cand_.pixels.size(); ++j) {
+      if (cand_used[j] || !hasDepth(cand_.idepth[j])) continue;
+      const Eigen::Vector3d q =
+          pnp.T_camera_points * unproject(cand_.camera, cand_.pixels[j], cand_.idepth[j]);
+      if (!(q.z() > 0.0)) continue;
+      const double u = cam.fx * q.x() / q.z() + cam.cx, v = cam.fy * q.y() / q.z() + cam.cy;
+      int best = 257, second = 257;
+      std::size_t best_i = 0;
+      for (std::size_t i = 0; i < cur_.pixels.size(); ++i) {
+        if (cur_used[i]) continue;
+        const double du = cur_.pixels[i].x() - u, dv = cur_.pixels[i].y() - v;
+        if (du * du + dv * dv > r2) continue;
+        const int d = hammingDistance(cur_.descriptors[i], cand_.descriptors[j]);
+        if (d < best) {
+          second = best;
+          best = d;
+          best_i = i;
+        } else if (d < second) {
+          second = d;
+        }
+      }
+      if (best > s_.matching.max_distance) continue;
+      if (second <= 256 && !(static_cast<float>(best) < s_.matching.ratio * second)) continue;
+      DescriptorMatch& c = claim[best_i];
+      if (c.distance < 0 || best < c.distance)
+        c = {static_cast<std::uint32_t>(best_i), static_cast<std::uint32_t>(j), best};
+    }
+    int added = 0;
+    for (const DescriptorMatch& c : claim)
+      if (c.distance >= 0) {
+        all.push_back(c);
+        ++added;
+      }
+    std::sort(all.begin(), all.end(),
+              [](const DescriptorMatch& a, const DescriptorMatch& b) { return a.query < b.query; });
+    return added;
+  }
 
   bool refine(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector2d>& px,
               const Sim3d& initial, const std::vector<std::uint8_t>& pnp_inlier) {

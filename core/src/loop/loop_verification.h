@@ -1,5 +1,11 @@
 // Geometric verification of a loop candidate and estimation of its Sim(3) constraint:
-//   1. ORB matches current -> candidate (descriptor_matcher.h),
+//   1. ORB matches current -> candidate (descriptor_matcher.h), extended by a guided search: a
+//      preliminary RANSAC PnP on the matches with candidate depth (fewer inliers needed) predicts
+//      where each unmatched candidate point appears in the current keyframe, and the nearest
+//      current features there are compared (radius, Hamming distance, ratio test; each feature
+//      used once). The global matching misses correspondences whose descriptors have a closer
+//      rival elsewhere in the image; near the predicted pixel they have none. Every later test
+//      counts the extended set with the same thresholds,
 //   2. RANSAC PnP of the candidate's 3D points (features with inverse depth) against the current
 //      keyframe's pixels (pnp_ransac.h); the relative scale from PnP solved both ways (LDSM: the
 //      ratio of the two translations' lengths) when the cameras are far enough apart, else from
@@ -34,6 +40,10 @@ struct LoopVerificationSettings {
   int min_inliers_3d = 10;  ///< inliers with depth in the current keyframe (fix scale)
   double min_scale = 0.05;  ///< plausible range of the relative scale
   double max_scale = 20.0;
+  /// Guided search: the preliminary PnP needs this many inliers (0: no guided search).
+  int guided_min_inliers = 12;
+  /// Guided search: a current feature is compared when it lies this close to the predicted pixel.
+  double guided_radius_px = 8.0;
 };
 
 /// Outcome of verifyLoop().
@@ -42,7 +52,8 @@ struct LoopVerification {
   std::string reason;  ///< why it was rejected ("accepted" otherwise)
   int current_id = -1;
   int candidate_id = -1;
-  int num_matches = 0;
+  int num_matches = 0;  ///< the global matches and the guided ones
+  int num_guided_matches = 0;
   int num_matches_with_depth = 0;
   int num_pnp_inliers = 0;
   int num_inliers = 0;     ///< after refinement

@@ -203,6 +203,38 @@ TEST(LoopCloser, ConsistentReuseConstraintCorrectsNothing) {
   EXPECT_TRUE(closer.takeCorrections().empty());
 }
 
+// loop.exclude_recent_keyframes = n: the n keyframes right before the query are never its loop
+// candidates (the keyframe n + 1 back is).
+TEST(LoopCloser, TheRecentKeyframesAreNoLoopCandidates) {
+  test::SceneOptions o;
+  o.S_current_candidate =
+      Sim3d(SO3d::exp(Eigen::Vector3d(0.02, -0.05, 0.03)), Eigen::Vector3d(0.1, -0.05, 0.08), 1.0);
+  const test::KeyframePair pair = test::makeKeyframePair(o);
+  constexpr int kRecent = 8, kCandidate = 3;
+  auto loopsAt = [&](int current_id) {
+    LoopConfig c = config();
+    c.exclude_recent_keyframes = kRecent;
+    LoopCloser closer(c, pair.current.camera, true);
+    test::SceneRandom rnd(7);
+    for (int k = 0; k <= current_id; ++k) {
+      LoopJob job = keyframe(k, SE3d(SO3d(), Eigen::Vector3d(0.05 * k, 0, 0)));
+      const KeyframeFeatures* f = k == kCandidate   ? &pair.candidate
+                                  : k == current_id ? &pair.current
+                                                    : nullptr;
+      describe(job, f, rnd);
+      closer.keyframeLeftWindow(std::move(job));
+    }
+    closer.flush();
+    int loops = 0;
+    for (const LoopCorrection& corr : closer.takeCorrections())
+      for (const DetectedLoop& l : corr.loops)
+        if (l.current_keyframe_id == current_id && l.candidate_keyframe_id == kCandidate) ++loops;
+    return loops;
+  };
+  EXPECT_EQ(loopsAt(kCandidate + kRecent + 1), 1);
+  EXPECT_EQ(loopsAt(kCandidate + kRecent), 0);
+}
+
 // A keyframe that shares many points with another (through the window or a map keyframe brought
 // back) is connected to it already: it is no loop candidate, however alike the two look.
 TEST(LoopCloser, CovisibleKeyframesAreNoLoopCandidates) {

@@ -3,6 +3,7 @@
 // too few inliers and missing depth.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <string>
 
 #include "ldsm/error.h"
@@ -81,8 +82,8 @@ TEST(LoopVerification, ScaleFromPnpSolvedBothWays) {
   ASSERT_TRUE(v.accepted) << v.reason;
   EXPECT_TRUE(v.scale_from_both_ways);
   EXPECT_NEAR(v.initial_scale, 1.35, 0.05 * 1.35);
-  o.S_current_candidate = Sim3d(SO3d::exp(Eigen::Vector3d(0.02, -0.1, 0.05)),
-                                Eigen::Vector3d(0.01, 0.0, -0.01), 1.35);
+  o.S_current_candidate =
+      Sim3d(SO3d::exp(Eigen::Vector3d(0.02, -0.1, 0.05)), Eigen::Vector3d(0.01, 0.0, -0.01), 1.35);
   const KeyframePair near = makeKeyframePair(o);
   const LoopVerification w = verifyLoop(near.current, near.candidate, {});
   ASSERT_TRUE(w.accepted) << w.reason;
@@ -136,6 +137,39 @@ TEST(LoopVerification, RejectsMatchingDescriptorsWithInconsistentGeometry) {
   EXPECT_TRUE(v.reason.find("PnP") != std::string::npos ||
               v.reason.find("inliers") != std::string::npos)
       << v.reason;
+}
+
+// A repeating texture (a facade's windows, a tiled floor): most candidate features have a twin
+// elsewhere in the image with the same descriptor, so the global matching's ratio test drops
+// them, too few matches are left, and without the guided search the place is rejected. Predicted
+// from a preliminary PnP on the few unambiguous matches, each candidate point is looked for near
+// its pixel only, where its twin's match is not: the loop is accepted, accurately.
+TEST(LoopVerification, AGuidedSearchFindsTheMatchesARepeatingTextureHides) {
+  SceneOptions o;
+  o.seed = 5;
+  KeyframePair pair = makeKeyframePair(o);
+  test::SceneRandom rnd(99);
+  KeyframeFeatures& cand = pair.candidate;
+  const std::size_t n = cand.pixels.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    if (rnd.chance(0.1)) continue;  // a few features stay unambiguous
+    const Eigen::Vector2d twin(rnd.uniform(0, cand.camera.width - 1),
+                               rnd.uniform(0, cand.camera.height - 1));
+    test::addFeature(cand, twin, 1.0 / rnd.uniform(2.0, 8.0), cand.descriptors[i]);
+  }
+  LoopVerificationSettings unguided;
+  unguided.guided_min_inliers = 0;
+  const LoopVerification without = verifyLoop(pair.current, pair.candidate, unguided);
+  EXPECT_FALSE(without.accepted);
+  EXPECT_EQ(without.num_guided_matches, 0);
+  const LoopVerification with = verifyLoop(pair.current, pair.candidate, {});
+  std::printf(
+      "global matches %d (rejected: %s); with the guided search %d (%d guided), %d inliers\n",
+      without.num_matches, without.reason.c_str(), with.num_matches, with.num_guided_matches,
+      with.num_inliers);
+  expectAccurate(with, pair.S_current_candidate, 0.15, 0.02, 0.005);
+  EXPECT_GT(with.num_guided_matches, 3 * without.num_matches);
+  EXPECT_GE(with.num_inliers, 0.7 * pair.num_true);
 }
 
 TEST(LoopVerification, RejectsTooFewInliers) {
