@@ -44,12 +44,7 @@ class Verifier {
     }
     std::vector<Eigen::Vector3d> points;
     std::vector<Eigen::Vector2d> pixels;
-    for (const DescriptorMatch& m : all) {
-      if (!hasDepth(cand_.idepth[m.train])) continue;
-      matches_.push_back(m);
-      points.push_back(unproject(cand_.camera, cand_.pixels[m.train], cand_.idepth[m.train]));
-      pixels.push_back(cur_.pixels[m.query].cast<double>());
-    }
+    withCandidateDepth(all, &matches_, points, pixels);
     out_.num_matches_with_depth = static_cast<int>(matches_.size());
     if (out_.num_matches_with_depth < s_.min_matches_with_depth) {
       return reject("only " + std::to_string(matches_.size()) +
@@ -118,16 +113,25 @@ class Verifier {
   /// too short to give the scale.
   static constexpr double kMinBaselineForScale = 0.1;
 
+  /// The matches of `all` whose candidate feature has a depth (into `kept` when given): the
+  /// candidate's 3D points and the current keyframe's pixels of them.
+  void withCandidateDepth(const std::vector<DescriptorMatch>& all,
+                          std::vector<DescriptorMatch>* kept, std::vector<Eigen::Vector3d>& points,
+                          std::vector<Eigen::Vector2d>& pixels) const {
+    for (const DescriptorMatch& m : all) {
+      if (!hasDepth(cand_.idepth[m.train])) continue;
+      if (kept != nullptr) kept->push_back(m);
+      points.push_back(unproject(cand_.camera, cand_.pixels[m.train], cand_.idepth[m.train]));
+      pixels.push_back(cur_.pixels[m.query].cast<double>());
+    }
+  }
+
   /// The guided search (file comment of loop_verification.h): adds to `all` (kept sorted by
   /// query) the matches found near the pixels a preliminary PnP predicts; returns how many.
   int extendByProjection(std::vector<DescriptorMatch>& all) const {
     std::vector<Eigen::Vector3d> points;
     std::vector<Eigen::Vector2d> pixels;
-    for (const DescriptorMatch& m : all) {
-      if (!hasDepth(cand_.idepth[m.train])) continue;
-      points.push_back(unproject(cand_.camera, cand_.pixels[m.train], cand_.idepth[m.train]));
-      pixels.push_back(cur_.pixels[m.query].cast<double>());
-    }
+    withCandidateDepth(all, nullptr, points, pixels);
     if (static_cast<int>(points.size()) < s_.guided_min_inliers) return 0;
     PnpRansacSettings pnp_settings = s_.pnp;
     pnp_settings.min_inliers = s_.guided_min_inliers;
