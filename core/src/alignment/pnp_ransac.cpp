@@ -51,8 +51,7 @@ PnpRansacResult solvePnpRansac(const std::vector<Eigen::Vector3d>& points,
   } catch (const cv::Exception&) {
     ok = false;  // degenerate configurations make some OpenCV solvers throw: no pose
   }
-  if (!ok || rvec.empty() || tvec.empty() ||
-      static_cast<int>(inliers.size()) < settings.min_inliers) {
+  if (!ok || rvec.empty() || tvec.empty()) {
     result.inliers = std::move(inliers);
     return result;
   }
@@ -63,10 +62,14 @@ PnpRansacResult solvePnpRansac(const std::vector<Eigen::Vector3d>& points,
     for (int c = 0; c < 3; ++c) Re(r, c) = R(r, c);
   }
   const Eigen::Vector3d t(tvec.at<double>(0), tvec.at<double>(1), tvec.at<double>(2));
-  if (!Re.allFinite() || !t.allFinite()) return result;
   std::sort(inliers.begin(), inliers.end());
-  result.success = true;
+  if (!Re.allFinite() || !t.allFinite()) {
+    result.inliers = std::move(inliers);
+    return result;
+  }
+  result.has_pose = true;
   result.T_camera_points = SE3d(Re, t);
+  result.success = static_cast<int>(inliers.size()) >= settings.min_inliers;
   result.inliers = std::move(inliers);
   return result;
 }

@@ -24,6 +24,9 @@ struct PnpRansacSettings {
 struct PnpRansacResult {
   bool success = false;
   SE3d T_camera_points;
+  /// T_camera_points holds the pose RANSAC found: always on success, and also when it found one
+  /// with fewer than min_inliers inliers (success false; `inliers` are then that pose's).
+  bool has_pose = false;
   std::vector<int> inliers;  ///< indices into the input arrays, increasing
 };
 

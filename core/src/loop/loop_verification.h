@@ -1,11 +1,5 @@
 // Geometric verification of a loop candidate and estimation of its Sim(3) constraint:
-//   1. ORB matches current -> candidate (descriptor_matcher.h), extended by a guided search: a
-//      preliminary RANSAC PnP on the matches with candidate depth (fewer inliers needed) predicts
-//      where each unmatched candidate point appears in the current keyframe, and the nearest
-//      current features there are compared (radius, Hamming distance, ratio test; each feature
-//      used once). The global matching misses correspondences whose descriptors have a closer
-//      rival elsewhere in the image; near the predicted pixel they have none. Every later test
-//      counts the extended set with the same thresholds,
+//   1. ORB matches current -> candidate (descriptor_matcher.h),
 //   2. RANSAC PnP of the candidate's 3D points (features with inverse depth) against the current
 //      keyframe's pixels (pnp_ransac.h); the relative scale from PnP solved both ways (LDSM: the
 //      ratio of the two translations' lengths) when the cameras are far enough apart, else from
@@ -13,6 +7,14 @@
 //   3. Sim(3) refinement with Huber norms, 3D-3D for matches with current depth, 2D otherwise
 //      (sim3_refinement.h),
 //   4. acceptance on the inlier counts after refinement.
+// A candidate that fails from its PnP on gets a second chance, a guided search: its PnP's pose
+// (with too few inliers, or one the later tests rejected; at least `guided_min_inliers`) predicts
+// where each unmatched candidate point appears in the current keyframe, the unmatched current
+// features within `guided_radius_px` of it are compared (the matching's Hamming limit and ratio
+// test; each current feature to the candidate point it matches best), and stages 2-4 run again
+// on the global and guided matches with the same thresholds. The global matching loses
+// correspondences whose descriptor has a close rival anywhere in the image (repeating texture);
+// near the predicted pixel the rival is not there.
 // Convention: S_current_candidate maps a point from the candidate keyframe's camera frame, in the
 // candidate's map scale, into the current keyframe's camera frame, in the current map scale:
 //   q_current = S_current_candidate * p_candidate.
@@ -40,7 +42,7 @@ struct LoopVerificationSettings {
   int min_inliers_3d = 10;  ///< inliers with depth in the current keyframe (fix scale)
   double min_scale = 0.05;  ///< plausible range of the relative scale
   double max_scale = 20.0;
-  /// Guided search: the preliminary PnP needs this many inliers (0: no guided search).
+  /// Guided search: the failed PnP's pose needs this many inliers (0: no guided search).
   int guided_min_inliers = 12;
   /// Guided search: a current feature is compared when it lies this close to the predicted pixel.
   double guided_radius_px = 8.0;

@@ -2,6 +2,7 @@
 // the 3D terms for the scale, outlier classification, bad input.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 
 #include <Eigen/Eigenvalues>
@@ -175,10 +176,23 @@ TEST(PnpRansac, FindsThePoseDespiteOutliers) {
   for (const int i : r.inliers) outliers_in += data.outlier[i];
   EXPECT_LE(outliers_in, 2);
   EXPECT_GE(r.inliers.size(), 75u);
+  EXPECT_TRUE(r.has_pose);
+  // Asking for more inliers than there are: no success, but the pose found and its inliers are
+  // reported (the loop verification's guided search starts from them).
+  PnpRansacSettings demanding;
+  demanding.min_inliers = 140;
+  const PnpRansacResult d = solvePnpRansac(pts, px, cam, demanding);
+  EXPECT_FALSE(d.success);
+  ASSERT_TRUE(d.has_pose);
+  EXPECT_LT((d.T_camera_points.so3().inverse() * T.so3()).log().norm(), 0.2 * kDeg);
+  EXPECT_LT((d.T_camera_points.translation() - T.translation()).norm(), 0.02);
+  EXPECT_EQ(d.inliers.size(), r.inliers.size());
+  EXPECT_TRUE(std::is_sorted(d.inliers.begin(), d.inliers.end()));
   // Too few correspondences: no pose, no exception.
   pts.resize(5);
   px.resize(5);
   EXPECT_FALSE(solvePnpRansac(pts, px, cam, {}).success);
+  EXPECT_FALSE(solvePnpRansac(pts, px, cam, {}).has_pose);
   px.resize(4);
   EXPECT_THROW(solvePnpRansac(pts, px, cam, {}), InputError);
 }
