@@ -9,10 +9,10 @@
 // camera is being corrected: docs/engine.md, "Keyframe rate") 0.0019 m exact; 0.0035 m (1.9x)
 // focal, 0.0108 m (5.7x) principal point, 0.0038 m (2.0x) radial, 0.0056 m (2.9x) all three (at
 // DSO's rate throughout, measured before the tracker warped through k: 0.0014; 0.0021, 0.0105,
-// 0.0031, 0.0079 m); the bound below keeps that from getting worse. The principal point and all-three cases depend on the start: over starts
-// 0-25 frames in (SimSource::seek) they span 0.0105-0.0200 m and 0.0079-0.0142 m, above the
-// bound at 2 of 8 starts each; the exact runs stay below 0.0018 m over starts 0-30
-// (docs/engine.md, "Radial correction of the calibration").
+// 0.0031, 0.0079 m); the bound below keeps that from getting worse. The principal point and
+// all-three cases depend on the start: over starts 0-25 frames in (SimSource::seek) they span
+// 0.0105-0.0200 m and 0.0079-0.0142 m, above the bound at 2 of 8 starts each; the exact runs stay
+// below 0.0018 m over starts 0-30 (docs/engine.md, "Radial correction of the calibration").
 #include <gtest/gtest.h>
 #include <spdlog/spdlog.h>
 

@@ -130,9 +130,10 @@ void CoarseTracker::setReference(const ImagePyramid& reference, const PyramidCam
     for (int l = 0; l < levels(); ++l) {
       const LevelPoints& pts = depth_maps_.points(l);
       const LevelCamera& cam = camera[l];
-      if (ray_x_[l].size() < static_cast<std::size_t>(pts.count)) {
-        ray_x_[l].resize(static_cast<std::size_t>(pts.count));
-        ray_y_[l].resize(static_cast<std::size_t>(pts.count));
+      const std::size_t points_here = static_cast<std::size_t>(pts.count);
+      if (ray_x_[l].size() < points_here) {  // grows like the residual buffer, with slack
+        ray_x_[l].resize(points_here + points_here / 4);
+        ray_y_[l].resize(points_here + points_here / 4);
       }
       for (int i = 0; i < pts.count; ++i) {
         const Eigen::Vector2f n =
@@ -460,7 +461,9 @@ void CoarseTracker::computeCoverage(const SE3d& T, CoarseTrackingResult& result)
     if (!(q.z() > 0.f)) continue;
     int c;
     if (radial_k_ != 0.f) {
-      const Eigen::Vector2f px = radialProject(cam, radial_k_, q);  // the image's pixel
+      const float xn = q.x() / q.z(), yn = q.y() / q.z();
+      if (!(1.f + 3.f * radial_k_ * (xn * xn + yn * yn) > 0.f)) continue;  // no image (k < 0)
+      const Eigen::Vector2f px = radialProject(cam, radial_k_, q);         // the image's pixel
       c = coverageCell(px.x(), px.y());
     } else {
       c = coverageCell(cam.fx * q.x() / q.z() + cam.cx, cam.fy * q.y() / q.z() + cam.cy);

@@ -21,15 +21,6 @@ FrameTracker::FrameTracker(const FrameTrackerSettings& settings, const PyramidCa
   hypotheses_wide_ = wideHypothesisSettings();
 }
 
-void FrameTracker::setReference(const TrackingReference& reference,
-                                const std::vector<DepthPoint>& points) {
-  has_reference_ = true;
-  reference_id_ = reference.keyframe_id;
-  T_ref_w_ = reference.T_c_w;
-  tracker_->setReference(*reference.pyramid, camera_, points, reference.exposure, reference.aff);
-  first_rmse_ = -1.0;
-}
-
 std::unique_ptr<CoarseTracker> FrameTracker::makeCoarseTracker() const {
   return std::make_unique<CoarseTracker>(camera_[0].width, camera_[0].height, camera_.levels(),
                                          tracker_->settings());

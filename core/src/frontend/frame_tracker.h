@@ -12,8 +12,6 @@
 #include "frontend/coarse_tracker.h"
 #include "frontend/motion_hypotheses.h"
 #include "ldsm/config.h"
-#include "model/depth_point.h"
-#include "model/tracking_reference.h"
 
 namespace ldsm {
 
@@ -39,9 +37,6 @@ class FrameTracker {
  public:
   FrameTracker(const FrameTrackerSettings& settings, const PyramidCamera& camera);
 
-  /// Tracks from now on against `reference`, whose pyramid must stay alive, with the window's
-  /// points projected into it.
-  void setReference(const TrackingReference& reference, const std::vector<DepthPoint>& points);
   /// A coarse tracker with this tracker's settings, for preparing references on another thread.
   std::unique_ptr<CoarseTracker> makeCoarseTracker() const;
   /// Tracks from now on with `prepared` (a coarse tracker whose reference was set elsewhere, the

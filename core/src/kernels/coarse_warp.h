@@ -10,6 +10,7 @@
 // frame is sampled at the distorted pixel K D(n), n = (nx, ny), D(n) = n (1 + k |n|^2), and the
 // gradient moves through D's Jacobian: (dx_fx, dy_fy) = (dx fx, dy fy) (f I + 2 k n n^T) with
 // f = 1 + k |n|^2, so that the Jacobian rows (coarse_residuals.h) stay those of the pinhole n.
+// Rays beyond the radius where the distortion turns back (1 + 3 k |n|^2 <= 0, k < 0) are outside.
 // warpCoarse4<V> does four points per vector (one 2x2 block load per point, transposed into
 // intensity, dx and dy rows); reference::warpCoarsePoint is the per-point formulation. Both use
 // the same operations in the same order (no fused multiply-add: -ffp-contract=off), so their
@@ -69,7 +70,10 @@ template <bool kRadial = false>
   if constexpr (kRadial) {
     const float nx = w.fxi * u + w.cxi;
     const float ny = w.fyi * v + w.cyi;
-    const float f = 1.f + w.radial_k * (nx * nx + ny * ny);
+    const float r2 = nx * nx + ny * ny;
+    const float f = 1.f + w.radial_k * r2;
+    // Beyond the radius where the distortion turns back (k < 0) a ray has no image.
+    if (!(1.f + (3.f * w.radial_k) * r2 > 0.f)) return false;
     const float ud = w.fx * (nx * f) + w.cx;
     const float vd = w.fy * (ny * f) + w.cy;
     if (!isInsideForBilinear(w.image, ud, vd, w.margin)) return false;
@@ -137,10 +141,12 @@ template <class V, bool kRadial = false>
   const V pv = py * zi;
   V u = pu, v = pv;                           // the pixel sampled
   V nx = V::zero(), ny = V::zero(), f = one;  // n and f: with kRadial
+  V r2 = V::zero();
   if constexpr (kRadial) {
     nx = V::set1(w.fxi) * pu + V::set1(w.cxi);
     ny = V::set1(w.fyi) * pv + V::set1(w.cyi);
-    f = one + V::set1(w.radial_k) * (nx * nx + ny * ny);
+    r2 = nx * nx + ny * ny;
+    f = one + V::set1(w.radial_k) * r2;
     u = V::set1(w.fx) * (nx * f) + V::set1(w.cx);
     v = V::set1(w.fy) * (ny * f) + V::set1(w.cy);
   }
@@ -148,8 +154,9 @@ template <class V, bool kRadial = false>
   const V u_hi = V::set1(static_cast<float>(w.image.width - 1) - w.margin);
   const V v_hi = V::set1(static_cast<float>(w.image.height - 1) - w.margin);
   // Ordered comparisons: NaN fails them all.
-  const typename V::Mask inside =
-      (pz > V::zero()) & (u >= lo) & (v >= lo) & (u < u_hi) & (v < v_hi);
+  typename V::Mask inside = (pz > V::zero()) & (u >= lo) & (v >= lo) & (u < u_hi) & (v < v_hi);
+  if constexpr (kRadial)  // inside the radius where the distortion turns back (k < 0)
+    inside = inside & (one + V::set1(3.f * w.radial_k) * r2 > V::zero());
   out.inside = laneBits(inside);
   if (out.inside == 0) return;
   // Lanes outside are truncated at 0 instead (their u, v may be anything, NaN included).

@@ -62,11 +62,12 @@ class CellGrid {
   }
 
  private:
+  // Clamped in double before the cast: any finite pixel, however far out, has a cell.
   int column(double u) const {
-    return std::clamp(static_cast<int>(std::floor(u / cell_)), 0, columns_ - 1);
+    return static_cast<int>(std::clamp(std::floor(u / cell_), 0.0, columns_ - 1.0));
   }
   int row(double v) const {
-    return std::clamp(static_cast<int>(std::floor(v / cell_)), 0, rows_ - 1);
+    return static_cast<int>(std::clamp(std::floor(v / cell_), 0.0, rows_ - 1.0));
   }
   int cellIndex(int c, int r) const { return r * columns_ + c; }
 
@@ -220,7 +221,7 @@ class Verifier {
           T_cur_cand * unproject(cand_.camera, cand_.pixels[j], cand_.idepth[j]);
       if (!(q.z() > 0.0)) continue;
       const double u = cam.fx * q.x() / q.z() + cam.cx, v = cam.fy * q.y() / q.z() + cam.cy;
-      if (!(std::abs(u) < 1e6 && std::abs(v) < 1e6)) continue;
+      if (!(std::isfinite(u) && std::isfinite(v))) continue;
       // The two smallest distances (best the lowest index among equals: any visiting order
       // gives the same result).
       int best = 257, second = 257;
@@ -238,7 +239,9 @@ class Verifier {
         }
       });
       if (best > s_.matching.max_distance) continue;
-      if (second <= 256 && !(static_cast<float>(best) < s_.matching.ratio * second)) continue;
+      if (s_.matching.ratio < 1.f && second <= 256 &&
+          !(static_cast<float>(best) < s_.matching.ratio * second))
+        continue;
       DescriptorMatch& c = claim[best_i];
       if (c.distance < 0 || best < c.distance)
         c = {static_cast<std::uint32_t>(best_i), static_cast<std::uint32_t>(j), best};
@@ -323,6 +326,12 @@ LoopVerification verifyLoop(const KeyframeFeatures& current, const KeyframeFeatu
   validateKeyframeFeatures(candidate, "candidate keyframe");
   checkCamera(current, "current keyframe");
   checkCamera(candidate, "candidate keyframe");
+  if (settings.guided_min_inliers < 0 ||
+      !(settings.guided_radius_px > 0.0 && std::isfinite(settings.guided_radius_px)))
+    throw InputError("loop verification: guided_min_inliers must be >= 0 (got " +
+                     std::to_string(settings.guided_min_inliers) +
+                     ") and guided_radius_px finite and > 0 (got " +
+                     std::to_string(settings.guided_radius_px) + ")");
   LoopVerification out;
   out.current_id = current.keyframe_id;
   out.candidate_id = candidate.keyframe_id;

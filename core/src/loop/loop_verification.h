@@ -72,7 +72,8 @@ struct LoopVerification {
 
 /// Verifies that `candidate` shows the same place as `current` and estimates
 /// S_current_candidate. Needs no pose prior: the odometry poses of a loop are drifted anyway.
-/// Throws InputError for inconsistent keyframe features (sizes, indices) or invalid intrinsics.
+/// Throws InputError for inconsistent keyframe features (sizes, indices), invalid intrinsics or
+/// guided-search settings out of range.
 LoopVerification verifyLoop(const KeyframeFeatures& current, const KeyframeFeatures& candidate,
                             const LoopVerificationSettings& settings);
 

@@ -65,7 +65,9 @@ void expectFourPointsEqualThePointByPointWarp() {
   int inside = 0, outside = 0;
   for (int trial = 0; trial < 200; ++trial) {
     CoarseWarpParams w = randomWarp(img, rng);
-    if (kRadial) w.radial_k = 0.2f * (D(rng) - 0.5f);
+    // Up to 8 % distortion at the image's border (|k| <= 3, |n| <= 0.17), and points whose rays
+    // lie beyond the radius where the distortion turns back for k < 0 (n = 0.5 and more).
+    if (kRadial) w.radial_k = 6.f * (D(rng) - 0.5f);
     std::vector<float> x(64), y(64), idepth(64), intensity(64);
     for (int i = 0; i < 64; ++i) {
       x[i] = std::floor(X(rng));
@@ -78,6 +80,9 @@ void expectFourPointsEqualThePointByPointWarp() {
     idepth[13] = nan;
     x[17] = 2.f;  // at the margin
     y[17] = 2.f;
+    x[21] = 0.5f * 97 + 150.f;  // far right and left of the image (n = +-0.5 and beyond)
+    x[25] = -110.f;
+    x[29] = 260.f;
     for (int i = 0; i < 64; i += 4) {
       CoarseWarp4 block;
       warpCoarse4<V, kRadial>(w, &x[i], &y[i], &idepth[i], &intensity[i], block);
@@ -167,6 +172,24 @@ TEST(CoarseWarp, RadialReferenceSamplesTheDistortedPixel) {
   EXPECT_NEAR(out.dx_fx, gx * (f + 2 * k * nx * nx) + gy * 2 * k * nx * ny, 2e-2);
   EXPECT_NEAR(out.dy_fy, gx * 2 * k * nx * ny + gy * (f + 2 * k * ny * ny), 2e-2);
   EXPECT_NEAR(out.residual, g.intensity - w.scale * (I_ref - w.b_ref) - w.b, 1e-3);
+  // Beyond the radius where a distortion with k < 0 turns back (1 + 3 k |n|^2 <= 0) a ray has no
+  // image, although D would put it inside: n = 0.5 with k = -3 lands 37 px from the centre.
+  CoarseWarpParams fold;
+  fold.KRKi[0] = fold.KRKi[4] = fold.KRKi[8] = 1.f;
+  fold.fx = fold.fy = 300.f;
+  fold.fxi = fold.fyi = 1.f / 300.f;
+  fold.cx = 48.f;
+  fold.cy = 30.f;
+  fold.cxi = -fold.cx * fold.fxi;
+  fold.cyi = -fold.cy * fold.fyi;
+  fold.image = img.view();
+  fold.radial_k = -3.f;
+  CoarseWarpedPoint folded;
+  EXPECT_FALSE(reference::warpCoarsePoint<true>(fold, 48.f + 150.f, 30.f, d, I_ref, folded));
+  fold.radial_k = -1.f;  // 1 + 3 k |n|^2 = 0.25: an image, outside this one
+  EXPECT_FALSE(reference::warpCoarsePoint<true>(fold, 48.f + 150.f, 30.f, d, I_ref, folded));
+  fold.radial_k = -3.f;  // near the centre the same distortion has an image
+  EXPECT_TRUE(reference::warpCoarsePoint<true>(fold, 48.f + 30.f, 30.f, d, I_ref, folded));
   // Without the distortion the same point samples elsewhere.
   CoarseWarpedPoint pinhole;
   ASSERT_TRUE(reference::warpCoarsePoint<false>(w, x, y, d, I_ref, pinhole));
