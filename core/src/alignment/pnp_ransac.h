@@ -14,7 +14,7 @@ namespace ldsm {
 
 /// Settings of solvePnpRansac().
 struct PnpRansacSettings {
-  int max_iterations = 300;          ///< RANSAC iterations (adaptive: fewer when inliers abound)
+  int max_iterations = 1000;         ///< RANSAC iterations (adaptive: fewer when inliers abound)
   double inlier_threshold_px = 4.0;  ///< reprojection error of an inlier
   double confidence = 0.999;         ///< probability of drawing one outlier-free sample
   int min_inliers = 20;              ///< fewer inliers: failure
