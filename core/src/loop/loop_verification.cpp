@@ -129,7 +129,6 @@ class Verifier {
     }
     const PnpRansacResult pnp = solvePnpRansac(points, pixels, cur_.camera, s_.pnp);
     out_.num_pnp_inliers = static_cast<int>(pnp.inliers.size());
-    pnp_tried_ = true;
     if (pnp.has_pose) {
       pnp_pose_ = pnp.T_camera_points;
       pnp_pose_inliers_ = out_.num_pnp_inliers;
@@ -199,8 +198,8 @@ class Verifier {
     // The preliminary pose: the one the verification's PnP found, also with too few inliers.
     // A candidate the verification stopped before PnP (too few global matches) gets no guided
     // search: a PnP of its own for each of those cost 15 ms per keyframe on vamr_desk_loop
-    // (OpenCV's RANSAC, 300 iterations) and found no loop there that the rest did not.
-    if (!pnp_tried_ || pnp_pose_inliers_ < s_.guided_min_inliers) return 0;
+    // (OpenCV's RANSAC, 300 EPnP iterations) and found no loop there that the rest did not.
+    if (pnp_pose_inliers_ < s_.guided_min_inliers) return 0;  // -1: no pose (or no PnP)
     const SE3d& T_cur_cand = pnp_pose_;
     std::vector<std::uint8_t> cur_used(cur_.pixels.size(), 0), cand_used(cand_.pixels.size(), 0);
     for (const DescriptorMatch& m : all) {
@@ -302,8 +301,7 @@ class Verifier {
   const LoopVerificationSettings& s_;
   LoopVerification& out_;
   std::vector<DescriptorMatch> matches_;  // matches whose candidate feature has depth
-  // The first verification's PnP (the guided search's preliminary pose when it had one).
-  bool pnp_tried_ = false;
+  // The first verification's PnP pose and its inliers (-1: no pose), the guided search's start.
   SE3d pnp_pose_;
   int pnp_pose_inliers_ = -1;
 };

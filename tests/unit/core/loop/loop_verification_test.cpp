@@ -209,7 +209,11 @@ TEST(LoopVerification, AGuidedSearchFindsTheMatchesARepeatingTextureHides) {
     EXPECT_NE(without.reason.find("PnP"), std::string::npos) << without.reason;
     // PnP found the right matches' pose (not a chance fit), which the guided search starts from.
     EXPECT_GE(without.num_pnp_inliers, right - 1);
-    expectAccurate(with, pair.S_current_candidate, 0.15, 0.02, 0.005);
+    // About 40 inliers with depth on both sides (half of RecoversTheSim3's): over the 56 scenes
+    // of seeds 1-120 that qualify, rms errors 0.043 deg, 0.95 % of the translation and 0.26 % in
+    // scale (at most 0.08 deg, 1.8 %, 0.52 %). The bounds are about 4 of those deviations, so that
+    // another build's scenes pass too; a wrong pose misses them by far.
+    expectAccurate(with, pair.S_current_candidate, 0.15, 0.04, 0.01);
     EXPECT_GT(with.num_guided_matches, 2 * without.num_pnp_inliers);
     EXPECT_GE(with.num_inliers, 0.8 * pair.num_true);
   }
