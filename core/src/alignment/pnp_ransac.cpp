@@ -52,20 +52,30 @@ PnpRansacResult solvePnpRansac(const std::vector<Eigen::Vector3d>& points,
                             settings.max_iterations,
                             static_cast<float>(settings.inlier_threshold_px), settings.confidence,
                             inliers, cv::SOLVEPNP_AP3P);
-    if (ok && inliers.size() >= kMinCorrespondences) {
-      // OpenCV ends an AP3P RANSAC with EPnP on the inliers; Levenberg-Marquardt from there
-      // minimises their reprojection error (what the iterative solver's RANSAC ended with).
-      std::vector<cv::Point3d> inlier_object;
-      std::vector<cv::Point2d> inlier_image;
-      for (const int i : inliers) {
-        inlier_object.push_back(object[static_cast<std::size_t>(i)]);
-        inlier_image.push_back(image[static_cast<std::size_t>(i)]);
-      }
-      cv::solvePnP(inlier_object, inlier_image, K, cv::noArray(), rvec, tvec, true,
-                   cv::SOLVEPNP_ITERATIVE);
-    }
   } catch (const cv::Exception&) {
     ok = false;  // degenerate configurations make some OpenCV solvers throw: no pose
+  }
+  if (ok && inliers.size() >= kMinCorrespondences) {
+    // OpenCV ends an AP3P RANSAC with EPnP on the inliers; Levenberg-Marquardt from there
+    // minimises their reprojection error (what the iterative solver's RANSAC ended with). Should
+    // it fail, RANSAC's pose stands.
+    std::vector<cv::Point3d> inlier_object;
+    std::vector<cv::Point2d> inlier_image;
+    for (const int i : inliers) {
+      inlier_object.push_back(object[static_cast<std::size_t>(i)]);
+      inlier_image.push_back(image[static_cast<std::size_t>(i)]);
+    }
+    cv::Mat rvec_lm = rvec.clone(), tvec_lm = tvec.clone();
+    try {
+      if (cv::solvePnP(inlier_object, inlier_image, K, cv::noArray(), rvec_lm, tvec_lm, true,
+                       cv::SOLVEPNP_ITERATIVE) &&
+          cv::checkRange(rvec_lm) && cv::checkRange(tvec_lm)) {
+        rvec = rvec_lm;
+        tvec = tvec_lm;
+      }
+    } catch (const cv::Exception&) {
+      // a degenerate inlier set: RANSAC's pose stands
+    }
   }
   if (!ok || rvec.empty() || tvec.empty()) {
     result.inliers = std::move(inliers);

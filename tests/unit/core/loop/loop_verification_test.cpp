@@ -31,6 +31,19 @@ void expectAccurate(const LoopVerification& v, const Sim3d& truth, double rot_to
   EXPECT_NEAR(v.S_current_candidate.scale() / truth.scale(), 1.0, scale_tol);
 }
 
+// How far the match's current pixel lies from where the candidate's feature, at its depth, lands
+// under the true transform [px].
+double trueReprojectionError(const KeyframePair& pair, const DescriptorMatch& m) {
+  const Eigen::Vector2f& u = pair.candidate.pixels[m.train];
+  const double z = 1.0 / pair.candidate.idepth[m.train];
+  const PinholeIntrinsics& c = pair.candidate.camera;
+  const Eigen::Vector3d p((u.x() - c.cx) / c.fx * z, (u.y() - c.cy) / c.fy * z, z);
+  const Eigen::Vector3d q = pair.S_current_candidate * p;
+  const PinholeIntrinsics& k = pair.current.camera;
+  const Eigen::Vector2d px(k.fx * q.x() / q.z() + k.cx, k.fy * q.y() / q.z() + k.cy);
+  return (px - pair.current.pixels[m.query].cast<double>()).norm();
+}
+
 TEST(LoopVerification, RecoversTheSim3WithNoiseAndOutliers) {
   for (unsigned seed : {1u, 2u, 3u}) {
     SceneOptions o;
@@ -48,16 +61,8 @@ TEST(LoopVerification, RecoversTheSim3WithNoiseAndOutliers) {
     EXPECT_LT(v.rms_reprojection_px, 1.5);
     EXPECT_EQ(static_cast<int>(v.inlier_matches.size()), v.num_inliers);
     // Every inlier is geometrically right: the candidate's true point lands near its pixel.
-    for (const DescriptorMatch& m : v.inlier_matches) {
-      const Eigen::Vector2f& u = pair.candidate.pixels[m.train];
-      const double z = 1.0 / pair.candidate.idepth[m.train];
-      const PinholeIntrinsics& c = pair.candidate.camera;
-      const Eigen::Vector3d p((u.x() - c.cx) / c.fx * z, (u.y() - c.cy) / c.fy * z, z);
-      const Eigen::Vector3d q = pair.S_current_candidate * p;
-      const PinholeIntrinsics& k = pair.current.camera;
-      const Eigen::Vector2d px(k.fx * q.x() / q.z() + k.cx, k.fy * q.y() / q.z() + k.cy);
-      EXPECT_LT((px - pair.current.pixels[m.query].cast<double>()).norm(), 5.0);
-    }
+    for (const DescriptorMatch& m : v.inlier_matches)
+      EXPECT_LT(trueReprojectionError(pair, m), 5.0);
   }
 }
 
@@ -172,19 +177,8 @@ KeyframePair repeatingTexturePair(unsigned seed) {
 int rightGlobalMatchesWithDepth(const KeyframePair& pair) {
   int right = 0;
   for (const DescriptorMatch& m :
-       matchDescriptors(pair.current, pair.candidate, LoopVerificationSettings{}.matching)) {
-    const float idepth = pair.candidate.idepth[m.train];
-    if (!(idepth > 0.0f)) continue;
-    const Eigen::Vector2f& u = pair.candidate.pixels[m.train];
-    const PinholeIntrinsics& c = pair.candidate.camera;
-    const double z = 1.0 / idepth;
-    const Eigen::Vector3d q =
-        pair.S_current_candidate *
-        Eigen::Vector3d((u.x() - c.cx) / c.fx * z, (u.y() - c.cy) / c.fy * z, z);
-    const PinholeIntrinsics& k = pair.current.camera;
-    const Eigen::Vector2d px(k.fx * q.x() / q.z() + k.cx, k.fy * q.y() / q.z() + k.cy);
-    if ((px - pair.current.pixels[m.query].cast<double>()).norm() < 4.0) ++right;
-  }
+       matchDescriptors(pair.current, pair.candidate, LoopVerificationSettings{}.matching))
+    right += pair.candidate.idepth[m.train] > 0.0f && trueReprojectionError(pair, m) < 4.0;
   return right;
 }
 
