@@ -32,6 +32,7 @@ void FramePairPrecalc::set(const WindowKeyframe& host, const WindowKeyframe& tar
   sampling.scale = scale;
   sampling.offset = offset;
   sampling.image = target_image.full;
+  sampling.intensity = target_image.intensity;
   sampling.compact = target_image.compact;
 }
 

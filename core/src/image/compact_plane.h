@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "image/gradient_pixel.h"
+#include "image/intensity_plane.h"
 #include "image/interpolation.h"
 #include "ldsm/image.h"
 
@@ -42,14 +43,18 @@ struct CompactPlaneView {
   }
 };
 
-/// A level 0 as residuals sample it: the float plane, or (full empty) the compact one.
+/// A level 0 as residuals sample it: the packed float plane (a keyframe not compacted), the
+/// intensities alone (compacted), or the 16-bit plane (compacted with 16-bit images). Exactly one
+/// of the three is set.
 struct Level0View {
   ImageView<const GradientPixel> full;
+  IntensityPlaneView intensity;
   CompactPlaneView compact;
   int width = 0;
   int height = 0;
 
-  bool isCompact() const { return full.data == nullptr; }
+  bool isCompact() const { return compact.pixels.data != nullptr; }
+  bool isIntensity() const { return intensity.pixels.data != nullptr; }
 };
 
 /// Owns a compact plane.
@@ -89,8 +94,9 @@ inline GradientPixel interpolateBilinear(const CompactPlaneView& image, float x,
 /// Bilinear (intensity, dx, dy) of whichever plane `image` holds. Requires
 /// isInsideForBilinear(x, y, image.width, image.height).
 inline GradientPixel interpolateBilinear(const Level0View& image, float x, float y) {
-  return image.isCompact() ? interpolateBilinear(image.compact, x, y)
-                           : interpolateBilinear(image.full, x, y);
+  if (image.isCompact()) return interpolateBilinear(image.compact, x, y);
+  if (image.isIntensity()) return interpolateBilinear(image.intensity, x, y);
+  return interpolateBilinear(image.full, x, y);
 }
 
 }  // namespace ldsm

@@ -75,8 +75,8 @@ void ImagePyramid::compact(bool level0_16bit) {
   clipped_ = Image<std::uint8_t>();
   for (std::size_t l = 1; l < gradients_.size(); ++l) gradients_[l] = Image<GradientPixel>();
   for (ImageF& plane : grad_mag_sq_) plane = ImageF();
-  if (level0_16bit && compact0_.encode(gradients_[0].view()))
-    gradients_[0] = Image<GradientPixel>();
+  if (!level0_16bit || !compact0_.encode(gradients_[0].view())) copyIntensity(0, intensity0_);
+  gradients_[0] = Image<GradientPixel>();
   compacted_ = true;
 }
 
@@ -84,6 +84,7 @@ void ImagePyramid::expand() {
   if (!compacted_) return;
   allocatePlanes();
   compact0_.clear();
+  intensity0_ = ImageF();
   compacted_ = false;
 }
 
@@ -92,12 +93,19 @@ std::size_t ImagePyramid::bytes() const {
   for (const Image<GradientPixel>& plane : gradients_)
     n += plane.capacity() * sizeof(GradientPixel);
   for (const ImageF& plane : grad_mag_sq_) n += plane.capacity() * sizeof(float);
-  return n + compact0_.bytes();
+  return n + compact0_.bytes() + intensity0_.capacity() * sizeof(float);
 }
 
 void ImagePyramid::copyIntensity(int level, ImageF& out) const {
   if (level == 0 && !compact0_.empty()) {
     compact0_.copyIntensity(out);
+    return;
+  }
+  if (level == 0 && compacted_) {
+    const ImageView<const float> in = intensity0_.view();
+    out.resize(in.width, in.height);
+    for (int y = 0; y < in.height; ++y)
+      std::memcpy(out.row(y), in.row(y), in.width * sizeof(float));
     return;
   }
   const ImageView<const GradientPixel> g = gradients(level);

@@ -49,25 +49,28 @@ class ImagePyramid {
   int height(int level) const { return sizes_[level].second; }
   bool hasGradMagSq() const { return !grad_mag_sq_.empty(); }
 
-  /// Packed (intensity, dx, dy) plane of a level. Throws std::logic_error after compact() (for
-  /// level 0 when it went into the 16-bit plane: level0() reads either).
+  /// Packed (intensity, dx, dy) plane of a level. Throws std::logic_error after compact()
+  /// (level0() reads level 0 then).
   ImageView<const GradientPixel> gradients(int level) const {
-    if (level != 0 || !compact0_.empty()) requireFull("gradients", level);
+    requireFull("gradients", level);
     return gradients_[level].view();
   }
-  /// Level 0 as the target of residuals: the float plane, or after compact() the 16-bit one.
+  /// Level 0 as the target of residuals: the packed float plane, or after compact() its
+  /// intensities alone (or the 16-bit plane).
   Level0View level0() const {
     Level0View v;
     v.width = width(0);
     v.height = height(0);
-    if (compact0_.empty())
-      v.full = gradients_[0].view();
-    else
+    if (!compact0_.empty())
       v.compact = compact0_.view();
+    else if (compacted_)
+      v.intensity.pixels = intensity0_.view();
+    else
+      v.full = gradients_[0].view();
     return v;
   }
   /// Copies a level's intensities (the packed plane's first channel) into `out`; level 0 also
-  /// after compact() (then rounded to the 16-bit plane's step).
+  /// after compact() (then rounded to the 16-bit plane's step when it went there).
   void copyIntensity(int level, ImageF& out) const;
   /// Marks the level-0 pixels where `raw` (the camera's raw values, in the pyramid's geometry) is
   /// >= `level` as clipped. Allocates nothing. Throws InputError when the size differs.
@@ -85,13 +88,16 @@ class ImagePyramid {
     return hasGradMagSq() ? grad_mag_sq_[level].view() : ImageView<const float>();
   }
 
-  /// Frees every plane but the level-0 (intensity, dx, dy) one: all a keyframe needs once it is
-  /// no longer the newest (it is then only the target image of the window's residuals, and
-  /// copyIntensity() gives the image it is described by when it leaves): with 5 levels and
-  /// without |gradient|^2, 12 of 17 bytes per level-0 pixel are kept. With `level0_16bit`,
-  /// level 0 goes into 16-bit fixed point (CompactPlane: steps of 1/128 grey level for values up
-  /// to 255; 6 bytes per pixel; level0() reads it); a level 0 with a non-finite value stays in
-  /// float. expand() allocates the planes again (contents undefined until the next build()).
+  /// Frees every plane but the level-0 intensities: all a keyframe needs once it is no longer
+  /// the newest (it is then only the target image of the window's residuals, and copyIntensity()
+  /// gives the image it is described by when it leaves). level0() then reads the intensities
+  /// alone, and makes each pixel's gradients again with the arithmetic they were stored with
+  /// (IntensityPlaneView: the same values bit for bit): with 5 levels and without |gradient|^2,
+  /// 4 of 17 bytes per level-0 pixel are kept. With `level0_16bit`, level 0 goes into 16-bit
+  /// fixed point instead (CompactPlane: intensity and gradients in steps of 1/128 grey level for
+  /// values up to 255; 6 bytes per pixel); a level 0 with a non-finite value then keeps its float
+  /// intensities. expand() allocates the planes again (contents undefined until the next
+  /// build()).
   void compact(bool level0_16bit = false);
   void expand();
   bool compacted() const { return compacted_; }
@@ -116,8 +122,10 @@ class ImagePyramid {
   std::vector<Image<GradientPixel>> gradients_;
   std::vector<ImageF> grad_mag_sq_;
   Image<std::uint8_t> clipped_;
-  /// Level 0 once compacted (empty before, or when it held a non-finite value).
+  /// Level 0 once compacted with 16-bit images (empty before, or when it held a non-finite value).
   CompactPlane compact0_;
+  /// Level 0's intensities once compacted without 16-bit images (empty before).
+  ImageF intensity0_;
 };
 
 }  // namespace ldsm

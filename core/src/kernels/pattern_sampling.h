@@ -19,6 +19,7 @@
 
 #include "image/compact_plane.h"
 #include "image/gradient_pixel.h"
+#include "image/intensity_plane.h"
 #include "image/interpolation.h"
 #include "ldsm/image.h"
 #include "math/simd/vec4f.h"
@@ -50,8 +51,9 @@ struct PatternSamplingParams {
   float Kt[3] = {};    ///< K t_th
   float scale = 1.f;   ///< affine transfer host -> target: I_t ~ scale * I_h + offset
   float offset = 0.f;
-  ImageView<const GradientPixel> image;  ///< target level 0 (unless `compact` is set)
-  CompactPlaneView compact;              ///< the target's compacted level 0, when set
+  ImageView<const GradientPixel> image;  ///< target level 0 (unless another plane is set)
+  IntensityPlaneView intensity;          ///< the target's compacted level 0, when set
+  CompactPlaneView compact;              ///< the target's 16-bit level 0, when set
 };
 
 /// The residual settings the sampling needs.
@@ -107,6 +109,52 @@ inline V bilinearPixel(const CompactPlaneView& img, std::int32_t x, std::int32_t
   return left + right;
 }
 
+/// (intensity, dx, dy) of four pattern pixels as rows (lane k: pixel k, top-left corner
+/// (x[k], y[k]), weights lane k of w00..w11) on a packed or 16-bit plane: one bilinearPixel per
+/// pixel, transposed.
+template <class V, class Plane>
+[[gnu::always_inline]] inline void bilinearRows(const Plane& image, const std::int32_t* x,
+                                                const std::int32_t* y, V w00, V w10, V w01, V w11,
+                                                V& I, V& gx, V& gy) {
+  I = bilinearPixel<V, 0>(image, x[0], y[0], w00, w10, w01, w11);
+  gx = bilinearPixel<V, 1>(image, x[1], y[1], w00, w10, w01, w11);
+  gy = bilinearPixel<V, 2>(image, x[2], y[2], w00, w10, w01, w11);
+  V unused = bilinearPixel<V, 3>(image, x[3], y[3], w00, w10, w01, w11);
+  transpose4(I, gx, gy, unused);
+}
+
+/// The same on an intensity plane: each pixel's 4x4 neighbourhood rows (columns x-1..x+2, rows
+/// y-1..y+2) transposed, so that lane k of row j of A, B, C, D holds I(x[k] - 1 + j) on rows
+/// y[k] - 1, y[k], y[k] + 1, y[k] + 2; the four corners' gradients are made with the pyramid's
+/// arithmetic (0.5 (right - left), 0.5 (below - above)) and blended as bilinearPixel blends the
+/// packed plane's values ((p00 w00 + p01 w01) + (p10 w10 + p11 w11)): the same bits. Needs
+/// 1 <= x, x + 2 <= width - 1 and the same for y (a margin of at least 1).
+template <class V>
+[[gnu::always_inline]] inline void bilinearRows(const IntensityPlaneView& image,
+                                                const std::int32_t* x, const std::int32_t* y, V w00,
+                                                V w10, V w01, V w11, V& I, V& gx, V& gy) {
+  const std::ptrdiff_t stride = image.pixels.stride;
+  V A[4], B[4], C[4], D[4];
+  LDSM_SIMD_UNROLL
+  for (int k = 0; k < 4; ++k) {
+    const float* b = image.pixels.data + static_cast<std::ptrdiff_t>(y[k]) * stride + (x[k] - 1);
+    A[k] = V::loadu(b - stride);
+    B[k] = V::loadu(b);
+    C[k] = V::loadu(b + stride);
+    D[k] = V::loadu(b + 2 * stride);
+  }
+  transpose4(A[0], A[1], A[2], A[3]);
+  transpose4(B[0], B[1], B[2], B[3]);
+  transpose4(C[0], C[1], C[2], C[3]);
+  transpose4(D[0], D[1], D[2], D[3]);
+  const V half = V::set1(0.5f);
+  I = (B[1] * w00 + C[1] * w01) + (B[2] * w10 + C[2] * w11);
+  gx = (half * (B[2] - B[0]) * w00 + half * (C[2] - C[0]) * w01) +
+       (half * (B[3] - B[1]) * w10 + half * (C[3] - C[1]) * w11);
+  gy = (half * (C[1] - A[1]) * w00 + half * (D[1] - B[1]) * w01) +
+       (half * (C[2] - A[2]) * w10 + half * (D[2] - B[2]) * w11);
+}
+
 /// The factor bilinearPixel's results on `img` are in: 1 for float planes, the step of compact
 /// ones.
 inline float planeUnit(const ImageView<const GradientPixel>&) {
@@ -114,6 +162,20 @@ inline float planeUnit(const ImageView<const GradientPixel>&) {
 }
 inline float planeUnit(const CompactPlaneView& img) {
   return img.step;
+}
+inline float planeUnit(const IntensityPlaneView&) {
+  return 1.f;
+}
+/// The least margin a plane's kernel reads within (bilinearRows on an intensity plane reads one
+/// pixel around the 2x2 block).
+inline float planeMargin(const ImageView<const GradientPixel>&, float margin) {
+  return margin;
+}
+inline float planeMargin(const CompactPlaneView&, float margin) {
+  return margin;
+}
+inline float planeMargin(const IntensityPlaneView&, float margin) {
+  return margin < 1.f ? 1.f : margin;
 }
 
 inline int planeWidth(const ImageView<const GradientPixel>& img) {
@@ -126,6 +188,12 @@ inline int planeWidth(const CompactPlaneView& img) {
   return img.width();
 }
 inline int planeHeight(const CompactPlaneView& img) {
+  return img.height();
+}
+inline int planeWidth(const IntensityPlaneView& img) {
+  return img.width();
+}
+inline int planeHeight(const IntensityPlaneView& img) {
   return img.height();
 }
 
@@ -144,6 +212,8 @@ template <class V>
 [[gnu::always_inline]] inline bool samplePattern(const PatternSamplingParams& p,
                                                  const PatternWeighting& pw, const PatternPoint& pt,
                                                  PatternSamples& out) {
+  if (p.intensity.pixels.data != nullptr)
+    return detail::samplePatternIn<V>(p.intensity, p, pw, pt, out);
   return p.compact.pixels.data != nullptr ? detail::samplePatternIn<V>(p.compact, p, pw, pt, out)
                                           : detail::samplePatternIn<V>(p.image, p, pw, pt, out);
 }
@@ -159,9 +229,10 @@ template <class V, class Plane>
   const V bx = V::set1(K[0] * pt.u + K[3] * pt.v + K[6] + p.Kt[0] * d);
   const V by = V::set1(K[1] * pt.u + K[4] * pt.v + K[7] + p.Kt[1] * d);
   const V bz = V::set1(K[2] * pt.u + K[5] * pt.v + K[8] + p.Kt[2] * d);
-  const V lo = V::set1(pw.margin);
-  const V x_hi = V::set1(static_cast<float>(planeWidth(image) - 1) - pw.margin);
-  const V y_hi = V::set1(static_cast<float>(planeHeight(image) - 1) - pw.margin);
+  const float margin = planeMargin(image, pw.margin);
+  const V lo = V::set1(margin);
+  const V x_hi = V::set1(static_cast<float>(planeWidth(image) - 1) - margin);
+  const V y_hi = V::set1(static_cast<float>(planeHeight(image) - 1) - margin);
   const V one = V::set1(1.f);
   alignas(16) std::int32_t ix[kPatternSize];
   alignas(16) std::int32_t iy[kPatternSize];
@@ -191,13 +262,9 @@ template <class V, class Plane>
     const V w01 = (one - fx[h]) * fy[h];
     const V w11 = fx[h] * fy[h];
     const int o = 4 * h;
-    // One (intensity, dx, dy, -) vector per pixel, transposed into intensity, dx, dy rows.
-    V I = bilinearPixel<V, 0>(image, ix[o], iy[o], w00, w10, w01, w11);
-    V gx = bilinearPixel<V, 1>(image, ix[o + 1], iy[o + 1], w00, w10, w01, w11);
-    V gy = bilinearPixel<V, 2>(image, ix[o + 2], iy[o + 2], w00, w10, w01, w11);
-    V unused = bilinearPixel<V, 3>(image, ix[o + 3], iy[o + 3], w00, w10, w01, w11);
-    transpose4(I, gx, gy, unused);
-    if constexpr (!std::is_same_v<Plane, ImageView<const GradientPixel>>) {
+    V I, gx, gy;
+    bilinearRows<V>(image, ix + o, iy + o, w00, w10, w01, w11, I, gx, gy);
+    if constexpr (std::is_same_v<Plane, CompactPlaneView>) {
       const V unit = V::set1(planeUnit(image));
       I = I * unit;
       gx = gx * unit;
@@ -243,12 +310,20 @@ inline bool samplePattern(const PatternSamplingParams& p, const PatternWeighting
     const float qz = bz + ox * K[2] + oy * K[5];
     const float x = qx / qz + pt.shift_x;
     const float y = qy / qz + pt.shift_y;
-    const bool compact = p.compact.pixels.data != nullptr;
-    const int w = compact ? p.compact.width() : p.image.width;
-    const int h = compact ? p.compact.height() : p.image.height;
-    if (!(qz > 0.f) || !isInsideForBilinear(x, y, w, h, pw.margin)) return false;
-    const GradientPixel g =
-        compact ? interpolateBilinear(p.compact, x, y) : interpolateBilinear(p.image, x, y);
+    Level0View target;
+    target.full = p.image;
+    target.intensity = p.intensity;
+    target.compact = p.compact;
+    const bool intensity = target.isIntensity() && !target.isCompact();
+    const int w = target.isCompact() ? p.compact.width()
+                  : intensity        ? p.intensity.width()
+                                     : p.image.width;
+    const int h = target.isCompact() ? p.compact.height()
+                  : intensity        ? p.intensity.height()
+                                     : p.image.height;
+    const float margin = intensity ? detail::planeMargin(p.intensity, pw.margin) : pw.margin;
+    if (!(qz > 0.f) || !isInsideForBilinear(x, y, w, h, margin)) return false;
+    const GradientPixel g = interpolateBilinear(target, x, y);
     const float r = g.intensity - p.scale * pt.colors[k] - p.offset;
     const float gw_target =
         std::sqrt(pw.gradient_c2 / (pw.gradient_c2 + g.dx * g.dx + g.dy * g.dy));

@@ -75,14 +75,14 @@ void expectConvergesToTheTruthAndStaysBounded(bool keyframe_images_16bit) {
   }
   EXPECT_GE(left_ids.size(), 2u) << "the window never marginalised a keyframe";
   EXPECT_GT(points_out, 0u);
-  // Only the newest keyframe keeps its whole pyramid; the older ones keep the level-0 gradient
-  // plane their residuals sample (ImagePyramid::compact).
+  // Only the newest keyframe keeps its whole pyramid; the older ones keep the level-0
+  // intensities their residuals sample (ImagePyramid::compact: 4 bytes per pixel).
   const std::size_t full = w.pyramid(0)->bytes();
   // In 16 bits: 6 bytes per pixel and one of padding (window.keyframe_images_16bit).
   const std::size_t level0 =
       keyframe_images_16bit
           ? sizeof(CompactGradientPixel) * (SyntheticWindow::kW * SyntheticWindow::kH + 1)
-          : sizeof(GradientPixel) * SyntheticWindow::kW * SyntheticWindow::kH;
+          : sizeof(float) * SyntheticWindow::kW * SyntheticWindow::kH;
   const std::size_t n = mapper.windowPoses().size();
   EXPECT_EQ(mapper.windowImageBytes(), full + (n - 1) * level0);
   // Once the tracking reference is made from the newest, it needs no more either.

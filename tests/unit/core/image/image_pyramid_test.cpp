@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <limits>
 #include <random>
 #include <vector>
@@ -256,7 +257,7 @@ ImageF randomGreyImage(unsigned seed) {
   return img;
 }
 
-TEST(ImagePyramid, CompactKeepsTheLevel0GradientsAndFreesTheRest) {
+TEST(ImagePyramid, CompactKeepsTheLevel0IntensitiesAndFreesTheRest) {
   const ImageF img = randomGreyImage(7);
   ImagePyramid pyr(40, 30, 3);
   pyr.build(img.view());
@@ -265,19 +266,37 @@ TEST(ImagePyramid, CompactKeepsTheLevel0GradientsAndFreesTheRest) {
     g.copyFrom(pyr.gradients(0));
     return g;
   }();
+  EXPECT_FALSE(pyr.level0().isIntensity());
   pyr.compact();
   EXPECT_TRUE(pyr.compacted());
-  // Sizes and level 0 stay; everything else is gone and says so instead of reading freed memory.
+  // Sizes stay; level 0 keeps its intensities alone (4 bytes per pixel), and every pixel's
+  // gradients made from them are the packed plane's, bit for bit, on the border too.
   EXPECT_EQ(pyr.levels(), 3);
   EXPECT_EQ(pyr.width(2), 10);
   EXPECT_EQ(pyr.height(2), 7);
-  const ImageView<const GradientPixel> g = pyr.gradients(0);
+  EXPECT_EQ(pyr.bytes(), sizeof(float) * 40 * 30);
+  const Level0View g = pyr.level0();
+  ASSERT_TRUE(g.isIntensity());
+  ASSERT_FALSE(g.isCompact());
+  EXPECT_EQ(g.width, 40);
+  EXPECT_EQ(g.height, 30);
   for (int y = 0; y < 30; ++y)
     for (int x = 0; x < 40; ++x) {
-      EXPECT_EQ(g(x, y).intensity, before(x, y).intensity);
-      EXPECT_EQ(g(x, y).dx, before(x, y).dx);
-      EXPECT_EQ(g(x, y).dy, before(x, y).dy);
+      const GradientPixel a = g.intensity.at(x, y);
+      EXPECT_EQ(a.intensity, before(x, y).intensity);
+      EXPECT_EQ(a.dx, before(x, y).dx);
+      EXPECT_EQ(a.dy, before(x, y).dy);
     }
+  // So is any interpolation of them, wherever it may read.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> ux(0.f, 38.999f), uy(0.f, 28.999f);
+  for (int i = 0; i < 2000; ++i) {
+    const float x = ux(rng), y = uy(rng);
+    const GradientPixel a = interpolateBilinear(g, x, y);
+    const GradientPixel b = interpolateBilinear(before.view(), x, y);
+    ASSERT_EQ(std::memcmp(&a, &b, sizeof a), 0) << x << " " << y;
+  }
+  EXPECT_THROW(pyr.gradients(0), std::logic_error);
   ImageF level0;
   pyr.copyIntensity(0, level0);
   ASSERT_EQ(level0.width(), 40);
@@ -341,7 +360,7 @@ TEST(ImagePyramid, CompactIn16BitsKeepsLevel0WithinHalfAStep) {
   EXPECT_EQ(pyr.gradients(0)(7, 9).dx, before(7, 9).dx);
 }
 
-TEST(ImagePyramid, ALevel0WithANonFiniteValueStaysInFloatWhenCompactedIn16Bits) {
+TEST(ImagePyramid, ALevel0WithANonFiniteValueKeepsItsFloatIntensitiesWhenCompactedIn16Bits) {
   ImageF img(16, 12, 100.f);
   img(5, 5) = std::numeric_limits<float>::infinity();
   ImagePyramid pyr(16, 12, 2);
@@ -349,8 +368,10 @@ TEST(ImagePyramid, ALevel0WithANonFiniteValueStaysInFloatWhenCompactedIn16Bits) 
   pyr.compact(true);
   EXPECT_TRUE(pyr.compacted());
   ASSERT_FALSE(pyr.level0().isCompact());
-  EXPECT_EQ(pyr.gradients(0)(5, 5).intensity, std::numeric_limits<float>::infinity());
-  EXPECT_EQ(pyr.bytes(), sizeof(GradientPixel) * 16 * 12);
+  ASSERT_TRUE(pyr.level0().isIntensity());
+  EXPECT_EQ(pyr.level0().intensity.at(5, 5).intensity, std::numeric_limits<float>::infinity());
+  EXPECT_EQ(pyr.bytes(), sizeof(float) * 16 * 12);
+  EXPECT_THROW(pyr.gradients(0), std::logic_error);
   EXPECT_THROW(pyr.gradients(1), std::logic_error);
 }
 

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <memory>
 #include <random>
 #include <vector>
@@ -229,6 +230,43 @@ TEST(EvaluateResidual, MatchesScalarPath) {
 
 TEST(EvaluateResidual, MatchesScalarPathOnACompactedTarget) {
   expectMatchesScalarPath(true);
+}
+
+// A keyframe that is no longer the newest keeps its level-0 intensities alone: its residuals,
+// Jacobians and sums are the same bits as before it was compacted.
+TEST(EvaluateResidual, ACompactedTargetGivesTheSameBits) {
+  Scene s = makeScene();
+  ResidualSettings settings;
+  const auto evaluateAll = [&](std::vector<float>& energies, std::vector<double>& sums) {
+    FramePairPrecalc pair;
+    pair.set(*s.frames[0], *s.frames[1], s.cam);
+    PairAccumulator pair_acc;
+    pair_acc.reset();
+    for (auto& p : s.points) {
+      ResidualAccumulator acc;
+      acc.pair = &pair_acc;
+      energies.push_back(evaluateResidual(*p, p->residuals[0], pair, settings, &acc));
+      energies.push_back(static_cast<float>(p->residuals[0].state));
+      sums.push_back(acc.H_dd);
+      sums.push_back(acc.b_d);
+      for (int i = 0; i < kRelParams; ++i) sums.push_back(acc.coupling[i]);
+    }
+    RelMatrix H;
+    RelVector b;
+    pair_acc.reduce(pair, H, b);
+    sums.insert(sums.end(), H.data(), H.data() + H.size());
+    sums.insert(sums.end(), b.data(), b.data() + b.size());
+    return pair.target_image.isIntensity();
+  };
+  std::vector<float> e_full, e_compacted;
+  std::vector<double> s_full, s_compacted;
+  EXPECT_FALSE(evaluateAll(e_full, s_full));
+  s.frames[1]->compactPyramid(false);
+  EXPECT_TRUE(evaluateAll(e_compacted, s_compacted));
+  ASSERT_EQ(e_full.size(), e_compacted.size());
+  ASSERT_EQ(s_full.size(), s_compacted.size());
+  EXPECT_EQ(std::memcmp(e_full.data(), e_compacted.data(), e_full.size() * sizeof(float)), 0);
+  EXPECT_EQ(std::memcmp(s_full.data(), s_compacted.data(), s_full.size() * sizeof(double)), 0);
 }
 
 TEST(EvaluateResidual, EitherKeyframesAdaptedThresholdDecides) {

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <random>
 
@@ -171,6 +172,53 @@ TYPED_TEST(PatternKernelTest, SamplingACompactPlaneMatchesReferenceAndTheDecoded
         << trial;
   }
   EXPECT_GT(inside, 1000);
+}
+
+/// Every value of `a` and `b` the same bits (the struct's padding aside).
+bool sameBits(const PatternSamples& a, const PatternSamples& b) {
+  return std::memcmp(a.gx, b.gx, sizeof a.gx) == 0 && std::memcmp(a.gy, b.gy, sizeof a.gy) == 0 &&
+         std::memcmp(a.r, b.r, sizeof a.r) == 0 && std::memcmp(a.w, b.w, sizeof a.w) == 0 &&
+         std::memcmp(&a.energy, &b.energy, sizeof a.energy) == 0;
+}
+
+// A compacted keyframe keeps only its level-0 intensities (image/intensity_plane.h); sampling
+// them makes the gradients again and must give the packed plane's results bit for bit, at the
+// residuals' margin (2) and the least one the intensity plane allows (1).
+TYPED_TEST(PatternKernelTest, SamplingAnIntensityPlaneGivesThePackedPlanesBits) {
+  std::mt19937 rng(17);
+  const Image<GradientPixel> img = randomTexture(97, 61, rng);
+  Image<float> intensities(img.width(), img.height());
+  for (int y = 0; y < img.height(); ++y)
+    for (int x = 0; x < img.width(); ++x) intensities(x, y) = img(x, y).intensity;
+  const IntensityPlaneView iv{intensities.view()};
+  for (int y = 0; y < img.height(); ++y)
+    for (int x = 0; x < img.width(); ++x) {
+      const GradientPixel a = iv.at(x, y), b = img(x, y);
+      ASSERT_EQ(std::memcmp(&a, &b, sizeof a), 0) << x << " " << y;
+    }
+  int inside = 0;
+  for (const float margin : {2.f, 1.f}) {
+    for (int trial = 0; trial < 3000; ++trial) {
+      RandomPair rp = randomPair(img, rng);
+      rp.weighting.margin = margin;
+      const RandomPoint pt = randomPoint(img.width(), img.height(), rng);
+      PatternSamples packed, ref_packed, got, ref;
+      const bool ok_packed = samplePattern<TypeParam>(rp.params, rp.weighting, pt.point, packed);
+      const bool ok_ref_packed =
+          reference::samplePattern(rp.params, rp.weighting, pt.point, ref_packed);
+      rp.params.image = ImageView<const GradientPixel>();
+      rp.params.intensity = iv;
+      const bool ok = samplePattern<TypeParam>(rp.params, rp.weighting, pt.point, got);
+      const bool ok_ref = reference::samplePattern(rp.params, rp.weighting, pt.point, ref);
+      ASSERT_EQ(ok, ok_packed) << "trial " << trial;
+      ASSERT_EQ(ok_ref, ok_ref_packed) << "trial " << trial;
+      if (!ok) continue;
+      ++inside;
+      ASSERT_TRUE(sameBits(got, packed)) << "trial " << trial;
+      ASSERT_TRUE(sameBits(ref, ref_packed)) << "trial " << trial;
+    }
+  }
+  EXPECT_GT(inside, 2000);
 }
 
 TYPED_TEST(PatternKernelTest, SamplingRejectsBehindCameraAndNonFinite) {
