@@ -166,9 +166,9 @@ struct WindowConfig {
   bool adaptive_outlier_threshold = true;
   double min_trace_quality = 3.0;   ///< immature point: second-best / best match energy
   double max_trace_interval = 8.0;  ///< immature point: depth interval in pixels to activate
-  /// Keyframes that are no longer the newest keep their level-0 image in 16-bit fixed point
-  /// (6 instead of 12 bytes per pixel; docs/engine.md, "Memory": peak RSS kitti00_200 98 -> 81
-  /// MiB, vamr_desk_loop 77 -> 65, 11 % more instructions; trajectories not bit-identical).
+  /// Keyframes that are no longer the newest keep their level-0 intensities in 16-bit fixed
+  /// point (steps of 1/128 grey level; 2 instead of 4 bytes per pixel; docs/engine.md, "Memory";
+  /// trajectories not bit-identical to float).
   bool keyframe_images_16bit = false;
 
   template <typename V>
@@ -193,8 +193,8 @@ struct WindowConfig {
     v.field("max_trace_interval", max_trace_interval, Range<double>{0.5, 100.0},
             "largest depth uncertainty (pixels along the epipolar line) to activate a point");
     v.field("keyframe_images_16bit", keyframe_images_16bit,
-            "older window keyframes keep their level-0 image in 16 bits (half the memory, a "
-            "little more time, results not bit-identical to float)");
+            "older window keyframes keep their level-0 intensities in 16 bits (half the memory "
+            "of float, results not bit-identical to float)");
   }
 };
 

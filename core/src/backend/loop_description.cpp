@@ -142,7 +142,6 @@ void describeForLoopClosure(WindowKeyframe& f,
       fill.from_immature, fill.from_neighbours, fill.without);
   out.corners = f.corners;
   out.corner_idepth = f.corner_idepth;
-  f.pyramid().copyIntensity(0, out.image);
 }
 
 }  // namespace ldsm

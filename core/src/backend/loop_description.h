@@ -44,8 +44,9 @@ void appendLoopCorners(const std::vector<Eigen::Vector2f>& loop_corners,
                        std::vector<Eigen::Vector2f>& corners);
 
 /// Fills the loop-closure description of `f` (in `window`) into `out`: the odometry's corners plus
-/// its loop corners (appendLoopCorners; they join f.corners), their depths, and the level-0
-/// image.
+/// its loop corners (appendLoopCorners; they join f.corners) and their depths. The level-0 image
+/// is handed on by the caller once the keyframe is no longer sampled
+/// (ImagePyramid::takeIntensity0).
 void describeForLoopClosure(WindowKeyframe& f,
                             const std::vector<std::unique_ptr<WindowKeyframe>>& window,
                             const LevelCamera& camera, MarginalizedKeyframe& out);

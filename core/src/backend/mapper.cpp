@@ -366,6 +366,9 @@ void Mapper::marginalizeFrame(int window_index) {
   optimizer_.marginalizeFrame(view, f, prior_);
   update_.keyframes.push_back({f.id(), f.frameIndex(), f.timestamp(), f.T_c_w.inverse()});
   leaving.T_w_c = f.T_c_w.inverse();
+  // Nothing samples the keyframe any more: its image goes with its description (moved, not
+  // copied, from a compacted pyramid).
+  if (describe_leaving_) f.takeImage(leaving.image);
   update_.left.push_back(std::move(leaving));
   update_.points.insert(update_.points.end(), finished.begin(), finished.end());
   pyramids_.release(f.releasePyramid());
@@ -556,6 +559,8 @@ std::vector<MarginalizedKeyframe> Mapper::describeWindow() {
     for (const auto& p : kf->points)
       if (p->inlier_residuals >= 1 && p->hessian_idepth > 0.f) points.push_back(toPatchPoint(*p));
     out.push_back(describeLeavingKeyframe(*kf, std::move(points)));
+    // The keyframe stays in the window: its image is copied.
+    if (describe_leaving_) kf->pyramid().copyIntensity(0, out.back().image);
   }
   return out;
 }

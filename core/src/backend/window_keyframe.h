@@ -45,10 +45,15 @@ class WindowKeyframe {
   bool hasImage() const { return pyramid_ != nullptr; }
   std::unique_ptr<ImagePyramid> releasePyramid() { return std::move(pyramid_); }
   /// Frees what the keyframe no longer needs once a newer keyframe exists (ImagePyramid::compact:
-  /// all but the level-0 gradient plane, its residuals' target image; in 16 bits with
+  /// all but the level-0 intensities, its residuals' target image; in 16 bits with
   /// `level0_16bit`).
   void compactPyramid(bool level0_16bit) {
     if (pyramid_) pyramid_->compact(level0_16bit);
+  }
+  /// Hands the level-0 image on as it leaves the window (ImagePyramid::takeIntensity0); nothing
+  /// may sample the keyframe afterwards.
+  void takeImage(ImageF& out) {
+    if (pyramid_) pyramid_->takeIntensity0(out);
   }
 
   /// Sets the current estimate and makes it the linearisation point (first estimate).

@@ -20,32 +20,28 @@ float CompactPlane::stepFor(float max_abs) {
   return std::ldexp(1.f, -k);
 }
 
-bool CompactPlane::encode(ImageView<const GradientPixel> plane) {
+bool CompactPlane::encode(ImageView<const float> intensities) {
   // The largest magnitude, and whether every value is finite.
   simd::PlaneRange range;
-  for (int y = 0; y < plane.height; ++y)
-    simd::addToRange<simd::Vec4>(&plane.row(y)->intensity, 3 * plane.width, range);
+  for (int y = 0; y < intensities.height; ++y)
+    simd::addToRange<simd::Vec4>(intensities.row(y), intensities.width, range);
   if (!range.finite()) {
     clear();
     return false;
   }
   step_ = stepFor(range.max_abs);
   const float inv_step = 1.f / step_;
-  width_ = plane.width;
-  height_ = plane.height;
-  // One pixel past the end: the kernels' 4-lane loads of the last pixel read its first value.
-  pixels_.assign(static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_) + 1,
-                 CompactGradientPixel{0, 0, 0});
-  for (int y = 0; y < height_; ++y) {
-    const float* in = &plane.row(y)->intensity;
-    std::int16_t* out = &pixels_[static_cast<std::size_t>(y) * width_].intensity;
-    simd::quantizeRow<simd::Vec4>(in, 3 * width_, inv_step, out);
-  }
+  width_ = intensities.width;
+  height_ = intensities.height;
+  pixels_.assign(static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_), 0);
+  for (int y = 0; y < height_; ++y)
+    simd::quantizeRow<simd::Vec4>(intensities.row(y), width_, inv_step,
+                                  &pixels_[static_cast<std::size_t>(y) * width_]);
   return true;
 }
 
 void CompactPlane::clear() {
-  std::vector<CompactGradientPixel>().swap(pixels_);
+  std::vector<std::int16_t>().swap(pixels_);
   width_ = height_ = 0;
   step_ = 0.f;
 }
@@ -55,8 +51,7 @@ void CompactPlane::copyIntensity(ImageF& out) const {
   out.resize(width_, height_);
   for (int y = 0; y < height_; ++y) {
     float* o = out.row(y);
-    const CompactGradientPixel* in = v.pixels.row(y);
-    for (int x = 0; x < width_; ++x) o[x] = step_ * static_cast<float>(in[x].intensity);
+    for (int x = 0; x < width_; ++x) o[x] = v.intensity(x, y);
   }
 }
 

@@ -2,6 +2,7 @@
 
 #include <cstring>
 #include <string>
+#include <utility>
 
 #include "image/gradient_row.h"
 #include "ldsm/error.h"
@@ -75,8 +76,9 @@ void ImagePyramid::compact(bool level0_16bit) {
   clipped_ = Image<std::uint8_t>();
   for (std::size_t l = 1; l < gradients_.size(); ++l) gradients_[l] = Image<GradientPixel>();
   for (ImageF& plane : grad_mag_sq_) plane = ImageF();
-  if (!level0_16bit || !compact0_.encode(gradients_[0].view())) copyIntensity(0, intensity0_);
+  copyIntensity(0, intensity0_);
   gradients_[0] = Image<GradientPixel>();
+  if (level0_16bit && compact0_.encode(intensity0_.view())) intensity0_ = ImageF();
   compacted_ = true;
 }
 
@@ -85,6 +87,7 @@ void ImagePyramid::expand() {
   allocatePlanes();
   compact0_.clear();
   intensity0_ = ImageF();
+  intensity0_taken_ = false;
   compacted_ = false;
 }
 
@@ -96,7 +99,19 @@ std::size_t ImagePyramid::bytes() const {
   return n + compact0_.bytes() + intensity0_.capacity() * sizeof(float);
 }
 
+void ImagePyramid::takeIntensity0(ImageF& out) {
+  if (!compacted_ || !compact0_.empty() || intensity0_taken_) {
+    copyIntensity(0, out);
+    return;
+  }
+  out = std::move(intensity0_);
+  intensity0_ = ImageF();
+  intensity0_taken_ = true;
+}
+
 void ImagePyramid::copyIntensity(int level, ImageF& out) const {
+  if (intensity0_taken_ && level == 0)
+    throw std::logic_error("image pyramid: level 0 was handed on (takeIntensity0)");
   if (level == 0 && !compact0_.empty()) {
     compact0_.copyIntensity(out);
     return;

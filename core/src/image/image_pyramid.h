@@ -58,6 +58,8 @@ class ImagePyramid {
   /// Level 0 as the target of residuals: the packed float plane, or after compact() its
   /// intensities alone (or the 16-bit plane).
   Level0View level0() const {
+    if (intensity0_taken_)
+      throw std::logic_error("image pyramid: level 0 was handed on (takeIntensity0)");
     Level0View v;
     v.width = width(0);
     v.height = height(0);
@@ -72,6 +74,10 @@ class ImagePyramid {
   /// Copies a level's intensities (the packed plane's first channel) into `out`; level 0 also
   /// after compact() (then rounded to the 16-bit plane's step when it went there).
   void copyIntensity(int level, ImageF& out) const;
+  /// Level 0's intensities into `out` as copyIntensity(0, out) gives them, moved instead of
+  /// copied when the compacted pyramid holds them alone (a keyframe leaving the window hands its
+  /// image on to be described); level 0 can then no longer be read until the next build().
+  void takeIntensity0(ImageF& out);
   /// Marks the level-0 pixels where `raw` (the camera's raw values, in the pyramid's geometry) is
   /// >= `level` as clipped. Allocates nothing. Throws InputError when the size differs.
   void markClipped(ImageView<const float> raw, float level);
@@ -93,11 +99,11 @@ class ImagePyramid {
   /// gives the image it is described by when it leaves). level0() then reads the intensities
   /// alone, and makes each pixel's gradients again with the arithmetic they were stored with
   /// (IntensityPlaneView: the same values bit for bit): with 5 levels and without |gradient|^2,
-  /// 4 of 17 bytes per level-0 pixel are kept. With `level0_16bit`, level 0 goes into 16-bit
-  /// fixed point instead (CompactPlane: intensity and gradients in steps of 1/128 grey level for
-  /// values up to 255; 6 bytes per pixel); a level 0 with a non-finite value then keeps its float
-  /// intensities. expand() allocates the planes again (contents undefined until the next
-  /// build()).
+  /// 4 of 17 bytes per level-0 pixel are kept. With `level0_16bit`, the intensities go into
+  /// 16-bit fixed point instead (CompactPlane: steps of 1/128 grey level for values up to 255;
+  /// 2 bytes per pixel; the gradients are those of the rounded values); a level 0 with a
+  /// non-finite value then keeps its float intensities. expand() allocates the planes again
+  /// (contents undefined until the next build()).
   void compact(bool level0_16bit = false);
   void expand();
   bool compacted() const { return compacted_; }
@@ -116,6 +122,7 @@ class ImagePyramid {
   std::vector<std::pair<int, int>> sizes_;  ///< width, height per level
   bool with_grad_mag_sq_ = true;
   bool compacted_ = false;
+  bool intensity0_taken_ = false;  ///< takeIntensity0() moved level 0 out
 
   /// Three rows of a coarser level's intensities while it is built.
   std::vector<float> rows_;

@@ -7,9 +7,11 @@
 //   energy = gw^2 * (|r| < th ? r^2 : 2 th |r| - th^2),
 // as a struct of arrays over the pattern. samplePattern<V> is the SIMD kernel (V from vec4f.h:
 // two 4-lane halves, one bilinear lookup per pixel as two 4-float loads per image row);
-// reference::samplePattern is the plain per-pixel formulation it must agree with. The target is a
-// float plane or a compacted keyframe's 16-bit one (image/compact_plane.h), which the kernel
-// interpolates in units of the plane's step and scales once per pattern half.
+// reference::samplePattern is the plain per-pixel formulation it must agree with. The target is
+// the newest keyframe's packed float plane, or a compacted keyframe's intensities alone, in float
+// (image/intensity_plane.h) or 16 bits (image/compact_plane.h): the kernel then loads each pattern
+// pixel's 4x4 neighbourhood and makes the gradients with the pyramid's arithmetic (the packed
+// plane's bits), a 16-bit plane in units of its step, scaled once per pattern half.
 #pragma once
 
 #include <cmath>
@@ -96,26 +98,13 @@ inline V bilinearPixel(const ImageView<const GradientPixel>& img, std::int32_t x
   return left + shiftDown1(right);
 }
 
-/// The same on a compact plane, in units of its step: one 4-lane load per pixel (its three
-/// values and the next pixel's intensity), summed in the float version's order.
-template <class V, int K>
-inline V bilinearPixel(const CompactPlaneView& img, std::int32_t x, std::int32_t y, V w00, V w10,
-                       V w01, V w11) {
-  const std::int16_t* p =
-      &img.pixels.data[static_cast<std::ptrdiff_t>(y) * img.pixels.stride + x].intensity;
-  const std::int16_t* q = p + 3 * img.pixels.stride;
-  const V left = V::loadInt16(p) * broadcast<K>(w00) + V::loadInt16(q) * broadcast<K>(w01);
-  const V right = V::loadInt16(p + 3) * broadcast<K>(w10) + V::loadInt16(q + 3) * broadcast<K>(w11);
-  return left + right;
-}
-
 /// (intensity, dx, dy) of four pattern pixels as rows (lane k: pixel k, top-left corner
-/// (x[k], y[k]), weights lane k of w00..w11) on a packed or 16-bit plane: one bilinearPixel per
+/// (x[k], y[k]), weights lane k of w00..w11) on a packed float plane: one bilinearPixel per
 /// pixel, transposed.
-template <class V, class Plane>
-[[gnu::always_inline]] inline void bilinearRows(const Plane& image, const std::int32_t* x,
-                                                const std::int32_t* y, V w00, V w10, V w01, V w11,
-                                                V& I, V& gx, V& gy) {
+template <class V>
+[[gnu::always_inline]] inline void bilinearRows(const ImageView<const GradientPixel>& image,
+                                                const std::int32_t* x, const std::int32_t* y, V w00,
+                                                V w10, V w01, V w11, V& I, V& gx, V& gy) {
   I = bilinearPixel<V, 0>(image, x[0], y[0], w00, w10, w01, w11);
   gx = bilinearPixel<V, 1>(image, x[1], y[1], w00, w10, w01, w11);
   gy = bilinearPixel<V, 2>(image, x[2], y[2], w00, w10, w01, w11);
@@ -123,25 +112,23 @@ template <class V, class Plane>
   transpose4(I, gx, gy, unused);
 }
 
-/// The same on an intensity plane: each pixel's 4x4 neighbourhood rows (columns x-1..x+2, rows
-/// y-1..y+2) transposed, so that lane k of row j of A, B, C, D holds I(x[k] - 1 + j) on rows
-/// y[k] - 1, y[k], y[k] + 1, y[k] + 2; the four corners' gradients are made with the pyramid's
-/// arithmetic (0.5 (right - left), 0.5 (below - above)) and blended as bilinearPixel blends the
-/// packed plane's values ((p00 w00 + p01 w01) + (p10 w10 + p11 w11)): the same bits. Needs
+/// The same on a plane of intensities alone: each pixel's 4x4 neighbourhood rows (columns
+/// x-1..x+2 of rows y-1..y+2, `row(k, r)` the four values of pixel k's row y[k] + r) transposed,
+/// so that lane k of row j of A, B, C, D holds I(x[k] - 1 + j) on rows y[k] - 1, y[k], y[k] + 1,
+/// y[k] + 2; the four corners' gradients are made with the pyramid's arithmetic
+/// (0.5 (right - left), 0.5 (below - above)) and blended as bilinearPixel blends the packed
+/// plane's values ((p00 w00 + p01 w01) + (p10 w10 + p11 w11)): the same bits. Needs
 /// 1 <= x, x + 2 <= width - 1 and the same for y (a margin of at least 1).
-template <class V>
-[[gnu::always_inline]] inline void bilinearRows(const IntensityPlaneView& image,
-                                                const std::int32_t* x, const std::int32_t* y, V w00,
-                                                V w10, V w01, V w11, V& I, V& gx, V& gy) {
-  const std::ptrdiff_t stride = image.pixels.stride;
+template <class V, class Row>
+[[gnu::always_inline]] inline void bilinearFromIntensityRows(Row row, V w00, V w10, V w01, V w11,
+                                                             V& I, V& gx, V& gy) {
   V A[4], B[4], C[4], D[4];
   LDSM_SIMD_UNROLL
   for (int k = 0; k < 4; ++k) {
-    const float* b = image.pixels.data + static_cast<std::ptrdiff_t>(y[k]) * stride + (x[k] - 1);
-    A[k] = V::loadu(b - stride);
-    B[k] = V::loadu(b);
-    C[k] = V::loadu(b + stride);
-    D[k] = V::loadu(b + 2 * stride);
+    A[k] = row(k, -1);
+    B[k] = row(k, 0);
+    C[k] = row(k, 1);
+    D[k] = row(k, 2);
   }
   transpose4(A[0], A[1], A[2], A[3]);
   transpose4(B[0], B[1], B[2], B[3]);
@@ -155,6 +142,32 @@ template <class V>
        (half * (C[2] - A[2]) * w10 + half * (D[2] - B[2]) * w11);
 }
 
+template <class V>
+[[gnu::always_inline]] inline void bilinearRows(const IntensityPlaneView& image,
+                                                const std::int32_t* x, const std::int32_t* y, V w00,
+                                                V w10, V w01, V w11, V& I, V& gx, V& gy) {
+  const std::ptrdiff_t stride = image.pixels.stride;
+  const auto row = [&](int k, int r) {
+    return V::loadu(image.pixels.data + (static_cast<std::ptrdiff_t>(y[k]) + r) * stride +
+                    (x[k] - 1));
+  };
+  bilinearFromIntensityRows<V>(row, w00, w10, w01, w11, I, gx, gy);
+}
+
+/// On a 16-bit plane, in units of its step (the caller scales by it: a power of two, so the
+/// result is that of the float intensity plane of the decoded values, bit for bit).
+template <class V>
+[[gnu::always_inline]] inline void bilinearRows(const CompactPlaneView& image,
+                                                const std::int32_t* x, const std::int32_t* y, V w00,
+                                                V w10, V w01, V w11, V& I, V& gx, V& gy) {
+  const std::ptrdiff_t stride = image.pixels.stride;
+  const auto row = [&](int k, int r) {
+    return V::loadInt16(image.pixels.data + (static_cast<std::ptrdiff_t>(y[k]) + r) * stride +
+                        (x[k] - 1));
+  };
+  bilinearFromIntensityRows<V>(row, w00, w10, w01, w11, I, gx, gy);
+}
+
 /// The factor bilinearPixel's results on `img` are in: 1 for float planes, the step of compact
 /// ones.
 inline float planeUnit(const ImageView<const GradientPixel>&) {
@@ -166,13 +179,13 @@ inline float planeUnit(const CompactPlaneView& img) {
 inline float planeUnit(const IntensityPlaneView&) {
   return 1.f;
 }
-/// The least margin a plane's kernel reads within (bilinearRows on an intensity plane reads one
-/// pixel around the 2x2 block).
+/// The least margin a plane's kernel reads within (bilinearRows on a plane of intensities alone
+/// reads one pixel around the 2x2 block).
 inline float planeMargin(const ImageView<const GradientPixel>&, float margin) {
   return margin;
 }
 inline float planeMargin(const CompactPlaneView&, float margin) {
-  return margin;
+  return margin < 1.f ? 1.f : margin;
 }
 inline float planeMargin(const IntensityPlaneView&, float margin) {
   return margin < 1.f ? 1.f : margin;
@@ -314,14 +327,17 @@ inline bool samplePattern(const PatternSamplingParams& p, const PatternWeighting
     target.full = p.image;
     target.intensity = p.intensity;
     target.compact = p.compact;
-    const bool intensity = target.isIntensity() && !target.isCompact();
-    const int w = target.isCompact() ? p.compact.width()
-                  : intensity        ? p.intensity.width()
-                                     : p.image.width;
-    const int h = target.isCompact() ? p.compact.height()
-                  : intensity        ? p.intensity.height()
-                                     : p.image.height;
-    const float margin = intensity ? detail::planeMargin(p.intensity, pw.margin) : pw.margin;
+    int w = p.image.width, h = p.image.height;
+    float margin = pw.margin;
+    if (target.isCompact()) {
+      w = p.compact.width();
+      h = p.compact.height();
+      margin = detail::planeMargin(p.compact, pw.margin);
+    } else if (target.isIntensity()) {
+      w = p.intensity.width();
+      h = p.intensity.height();
+      margin = detail::planeMargin(p.intensity, pw.margin);
+    }
     if (!(qz > 0.f) || !isInsideForBilinear(x, y, w, h, margin)) return false;
     const GradientPixel g = interpolateBilinear(target, x, y);
     const float r = g.intensity - p.scale * pt.colors[k] - p.offset;

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <set>
 
 #include "synthetic_window.h"
@@ -78,11 +79,10 @@ void expectConvergesToTheTruthAndStaysBounded(bool keyframe_images_16bit) {
   // Only the newest keyframe keeps its whole pyramid; the older ones keep the level-0
   // intensities their residuals sample (ImagePyramid::compact: 4 bytes per pixel).
   const std::size_t full = w.pyramid(0)->bytes();
-  // In 16 bits: 6 bytes per pixel and one of padding (window.keyframe_images_16bit).
-  const std::size_t level0 =
-      keyframe_images_16bit
-          ? sizeof(CompactGradientPixel) * (SyntheticWindow::kW * SyntheticWindow::kH + 1)
-          : sizeof(float) * SyntheticWindow::kW * SyntheticWindow::kH;
+  // In 16 bits: 2 bytes per pixel (window.keyframe_images_16bit).
+  const std::size_t level0 = keyframe_images_16bit
+                                 ? sizeof(std::int16_t) * SyntheticWindow::kW * SyntheticWindow::kH
+                                 : sizeof(float) * SyntheticWindow::kW * SyntheticWindow::kH;
   const std::size_t n = mapper.windowPoses().size();
   EXPECT_EQ(mapper.windowImageBytes(), full + (n - 1) * level0);
   // Once the tracking reference is made from the newest, it needs no more either.

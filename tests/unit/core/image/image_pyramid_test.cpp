@@ -323,6 +323,43 @@ TEST(ImagePyramid, CompactKeepsTheLevel0IntensitiesAndFreesTheRest) {
   EXPECT_EQ(pyr.clipped()(5, 5), 0);
 }
 
+// A keyframe leaving the window hands its image on to be described: moved out of a compacted
+// pyramid (which can then no longer be sampled), copied from any other.
+TEST(ImagePyramid, TakingLevel0MovesTheIntensitiesOfACompactedPyramid) {
+  const ImageF img = randomGreyImage(11);
+  ImagePyramid pyr(40, 30, 3);
+  pyr.build(img.view());
+  ImageF copied;
+  pyr.takeIntensity0(copied);  // not compacted: a copy, the pyramid stays whole
+  EXPECT_FALSE(pyr.compacted());
+  EXPECT_EQ(pyr.gradients(0)(3, 4).intensity, img(3, 4));
+  pyr.compact();
+  ImageF taken;
+  pyr.takeIntensity0(taken);
+  EXPECT_EQ(pyr.bytes(), 0u);
+  EXPECT_THROW(pyr.level0(), std::logic_error);
+  ImageF again;
+  EXPECT_THROW(pyr.copyIntensity(0, again), std::logic_error);
+  ASSERT_EQ(taken.width(), 40);
+  ASSERT_EQ(taken.height(), 30);
+  for (int y = 0; y < 30; ++y)
+    for (int x = 0; x < 40; ++x) {
+      EXPECT_EQ(taken(x, y), img(x, y));
+      EXPECT_EQ(copied(x, y), img(x, y));
+    }
+  // A new build makes it whole again.
+  pyr.build(img.view());
+  EXPECT_FALSE(pyr.level0().isIntensity());
+  pyr.copyIntensity(0, again);
+  EXPECT_EQ(again(5, 6), img(5, 6));
+  // In 16 bits the decoded values are copied.
+  pyr.compact(true);
+  ImageF decoded;
+  pyr.takeIntensity0(decoded);
+  EXPECT_NEAR(decoded(5, 6), img(5, 6), 1.f / 256.f);
+  EXPECT_TRUE(pyr.level0().isCompact());
+}
+
 TEST(ImagePyramid, CompactIn16BitsKeepsLevel0WithinHalfAStep) {
   const ImageF img = randomGreyImage(9);
   ImagePyramid pyr(40, 30, 3);
@@ -332,20 +369,30 @@ TEST(ImagePyramid, CompactIn16BitsKeepsLevel0WithinHalfAStep) {
   EXPECT_FALSE(pyr.level0().isCompact());
   pyr.compact(true);
   EXPECT_TRUE(pyr.compacted());
-  // Grey levels up to 255: steps of 1/128, every value within half a step; 6 bytes per pixel and
-  // one pixel of padding; the float plane is gone.
-  EXPECT_EQ(pyr.bytes(), sizeof(CompactGradientPixel) * (40 * 30 + 1));
+  // Grey levels up to 255: steps of 1/128, every intensity within half a step and so every
+  // central difference too; 2 bytes per pixel; the float planes are gone.
+  EXPECT_EQ(pyr.bytes(), sizeof(std::int16_t) * 40 * 30);
   const Level0View g = pyr.level0();
   ASSERT_TRUE(g.isCompact());
+  ASSERT_FALSE(g.isIntensity());
   EXPECT_EQ(g.width, 40);
   EXPECT_EQ(g.height, 30);
   const float step = g.compact.step;
   EXPECT_EQ(step, 1.f / 128.f);
+  ImageF decoded(40, 30);
   for (int y = 0; y < 30; ++y)
     for (int x = 0; x < 40; ++x) {
       EXPECT_NEAR(g.compact.at(x, y).intensity, before(x, y).intensity, 0.5f * step);
       EXPECT_NEAR(g.compact.at(x, y).dx, before(x, y).dx, 0.5f * step);
       EXPECT_NEAR(g.compact.at(x, y).dy, before(x, y).dy, 0.5f * step);
+      decoded(x, y) = g.compact.intensity(x, y);
+    }
+  // It reads exactly as the float intensity plane of the decoded values.
+  const IntensityPlaneView as_float{decoded.view()};
+  for (int y = 0; y < 30; ++y)
+    for (int x = 0; x < 40; ++x) {
+      const GradientPixel a = g.compact.at(x, y), b = as_float.at(x, y);
+      ASSERT_EQ(std::memcmp(&a, &b, sizeof a), 0) << x << " " << y;
     }
   ImageF level0;
   pyr.copyIntensity(0, level0);
@@ -384,21 +431,28 @@ TEST(CompactPlane, TheStepIsTheFinestPowerOfTwoAtWhichTheLargestValueFits) {
   EXPECT_EQ(CompactPlane::stepFor(1e6f), 32.f);
   EXPECT_EQ(CompactPlane::stepFor(0.f), 1.f / 16384.f);
   // Encoded values round to the nearest step (ties to even) and stay inside int16.
-  Image<GradientPixel> plane(3, 2);
-  for (int y = 0; y < 2; ++y)
-    for (int x = 0; x < 3; ++x) plane(x, y) = {1000.f, -1000.f, 0.3f};
-  plane(2, 1) = {-2047.9f, 2047.9f, 3.f / 32.f};  // x16: -32766.4, 32766.4, 1.5
+  ImageF plane(3, 3, 1000.f);
+  plane(1, 0) = -1000.f;
+  plane(1, 2) = 0.3f;
+  plane(2, 1) = -2047.9f;  // x16: -32766.4
+  plane(0, 1) = 2047.9f;
+  plane(1, 1) = 3.f / 32.f;  // x16: 1.5
   CompactPlane c;
   ASSERT_TRUE(c.encode(plane.view()));
   const CompactPlaneView v = c.view();
   EXPECT_EQ(v.step, 1.f / 16.f);
-  EXPECT_EQ(v.at(0, 0).intensity, 1000.f);
-  EXPECT_EQ(v.at(0, 0).dx, -1000.f);
-  EXPECT_EQ(v.at(0, 0).dy, 0.3125f);
-  EXPECT_EQ(v.at(2, 1).intensity, -2047.875f);
-  EXPECT_EQ(v.at(2, 1).dx, 2047.875f);
-  EXPECT_EQ(v.at(2, 1).dy, 0.125f);
-  plane(1, 0).dx = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_EQ(v.intensity(0, 0), 1000.f);
+  EXPECT_EQ(v.intensity(1, 0), -1000.f);
+  EXPECT_EQ(v.intensity(1, 2), 0.3125f);
+  EXPECT_EQ(v.intensity(2, 1), -2047.875f);
+  EXPECT_EQ(v.intensity(0, 1), 2047.875f);
+  EXPECT_EQ(v.intensity(1, 1), 0.125f);
+  // The inner pixel's gradients are the decoded values' central differences; the border's zero.
+  EXPECT_EQ(v.at(1, 1).dx, 0.5f * (-2047.875f - 2047.875f));
+  EXPECT_EQ(v.at(1, 1).dy, 0.5f * (0.3125f - -1000.f));
+  EXPECT_EQ(v.at(0, 1).dx, 0.f);
+  EXPECT_EQ(v.at(1, 0).dy, 0.f);
+  plane(1, 0) = std::numeric_limits<float>::quiet_NaN();
   EXPECT_FALSE(c.encode(plane.view()));
   EXPECT_TRUE(c.empty());
 }
