@@ -8,6 +8,7 @@
 #include "camera/radial_distortion.h"
 #include "image/interpolation.h"
 #include "kernels/coarse_warp.h"
+#include "kernels/coarse_weigh.h"
 #include "ldsm/error.h"
 
 namespace ldsm {
@@ -187,35 +188,35 @@ CoarseTracker::Evaluation CoarseTracker::evaluateLevel(const ImagePyramid& frame
   const float base_cutoff = settings_.outlier_threshold;
   // Cost of an outlier: the Huber cost at the cutoff, so the cost is continuous there.
   const float outlier_cost = cutoff > k ? 2.f * k * cutoff - k * k : cutoff * cutoff;
+  simd::CoarseWeighting weighting;
+  weighting.c2 = c2;
+  weighting.huber = k;
+  weighting.cutoff = cutoff;
+  weighting.outlier_cost = outlier_cost;
+  weighting.base_cutoff = base_cutoff;
   Evaluation ev;
   float energy = 0.f, huber_sq = 0.f;  // partial sums, flushed to double every block
   int n = 0, in_image = 0, base_outliers = 0;
-  // One warped point into the sums and the residual arrays, in point order (the float partial
-  // sums are flushed into double when an inlier makes the count in the image a multiple of 256).
-  const auto add = [&](const CoarseWarpedPoint& wp, int i) {
+  // One warped and weighed point into the sums and the residual arrays, in point order (the
+  // float partial sums are flushed into double when an inlier makes the count in the image a
+  // multiple of 256).
+  const auto add = [&](const CoarseWarpedPoint& wp, const simd::CoarseWeightedPoint& wt) {
     ++in_image;
-    const float r = wp.residual;
-    const float abs_r = std::abs(r);
-    const float gw = c2 > 0.f ? c2 / (c2 + pts.grad_sq[i]) : 1.f;
-    base_outliers += abs_r > base_cutoff ? 1 : 0;
-    if (!(abs_r <= cutoff)) {  // also NaN
+    base_outliers += wt.base_outlier ? 1 : 0;
+    energy += wt.energy;
+    huber_sq += wt.huber;
+    if (!wt.inlier) {
       ++ev.outliers;
-      energy += gw * outlier_cost;
-      huber_sq += outlier_cost;
       return;  // (the partial sums are flushed after inliers only)
     }
-    const float hw = abs_r < k ? 1.f : k / abs_r;
-    const float cost = hw * (2.f - hw) * r * r;
-    energy += gw * cost;
-    huber_sq += cost;
     warped_.dx_fx[n] = wp.dx_fx;
     warped_.dy_fy[n] = wp.dy_fy;
     warped_.nx[n] = wp.nx;
     warped_.ny[n] = wp.ny;
     warped_.iz[n] = wp.iz;
     warped_.ref_term[n] = wp.ref_term;
-    warped_.residual[n] = r;
-    warped_.weight[n] = hw * gw;
+    warped_.residual[n] = wp.residual;
+    warped_.weight[n] = wt.weight;
     ++n;
     if ((in_image & 255) == 0) {
       ev.energy += energy;
@@ -225,21 +226,25 @@ CoarseTracker::Evaluation CoarseTracker::evaluateLevel(const ImagePyramid& frame
   };
   int i = 0;
   simd::CoarseWarp4 block;
+  simd::CoarseWeights4 weights;
   for (; i + 4 <= pts.count; i += 4) {
     simd::warpCoarse4<simd::Vec4, kRadial>(w, rx + i, ry + i, &pts.idepth[i], &pts.intensity[i],
                                            block);
+    if (block.inside == 0) continue;
+    simd::weighCoarse4<simd::Vec4>(weighting, block.residual, &pts.grad_sq[i], weights);
     for (int l = 0; l < 4; ++l) {
       if (((block.inside >> l) & 1) == 0) continue;
       add({block.dx_fx[l], block.dy_fy[l], block.nx[l], block.ny[l], block.iz[l], block.ref_term[l],
            block.residual[l]},
-          i + l);
+          {weights.energy[l], weights.huber[l], weights.weight[l], ((weights.inlier >> l) & 1) != 0,
+           ((weights.base_outlier >> l) & 1) != 0});
     }
   }
   for (; i < pts.count; ++i) {
     CoarseWarpedPoint wp;
     if (simd::reference::warpCoarsePoint<kRadial>(w, rx[i], ry[i], pts.idepth[i], pts.intensity[i],
                                                   wp))
-      add(wp, i);
+      add(wp, simd::reference::weighCoarsePoint(weighting, wp.residual, pts.grad_sq[i]));
   }
   ev.energy += energy;
   ev.huber_sq_sum += huber_sq;
