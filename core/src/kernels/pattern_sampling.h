@@ -112,23 +112,36 @@ template <class V>
   transpose4(I, gx, gy, unused);
 }
 
-/// The same on a plane of intensities alone: each pixel's 4x4 neighbourhood rows (columns
-/// x-1..x+2 of rows y-1..y+2, `row(k, r)` the four values of pixel k's row y[k] + r) transposed,
-/// so that lane k of row j of A, B, C, D holds I(x[k] - 1 + j) on rows y[k] - 1, y[k], y[k] + 1,
-/// y[k] + 2; the four corners' gradients are made with the pyramid's arithmetic
-/// (0.5 (right - left), 0.5 (below - above)) and blended as bilinearPixel blends the packed
-/// plane's values ((p00 w00 + p01 w01) + (p10 w10 + p11 w11)): the same bits. Needs
-/// 1 <= x, x + 2 <= width - 1 and the same for y (a margin of at least 1).
-template <class V, class Row>
-[[gnu::always_inline]] inline void bilinearFromIntensityRows(Row row, V w00, V w10, V w01, V w11,
-                                                             V& I, V& gx, V& gy) {
+/// Four values of a row of intensities as a vector (float or 16-bit plane).
+template <class V>
+inline V loadRow(const float* p) {
+  return V::loadu(p);
+}
+template <class V>
+inline V loadRow(const std::int16_t* p) {
+  return V::loadInt16(p);
+}
+
+/// The same on a plane of intensities alone (`data`, `stride` elements per row): each pixel's
+/// 4x4 neighbourhood rows (columns x-1..x+2 of rows y-1..y+2) transposed, so that lane k of row j
+/// of A, B, C, D holds I(x[k] - 1 + j) on rows y[k] - 1, y[k], y[k] + 1, y[k] + 2; the four
+/// corners' gradients are made with the pyramid's arithmetic (0.5 (right - left),
+/// 0.5 (below - above)) and blended as bilinearPixel blends the packed plane's values
+/// ((p00 w00 + p01 w01) + (p10 w10 + p11 w11)): the same bits. Needs 1 <= x, x + 2 <= width - 1
+/// and the same for y (a margin of at least 1).
+template <class V, class T>
+[[gnu::always_inline]] inline void bilinearFromIntensityRows(const T* data, std::ptrdiff_t stride,
+                                                             const std::int32_t* x,
+                                                             const std::int32_t* y, V w00, V w10,
+                                                             V w01, V w11, V& I, V& gx, V& gy) {
   V A[4], B[4], C[4], D[4];
   LDSM_SIMD_UNROLL
   for (int k = 0; k < 4; ++k) {
-    A[k] = row(k, -1);
-    B[k] = row(k, 0);
-    C[k] = row(k, 1);
-    D[k] = row(k, 2);
+    const T* b = data + static_cast<std::ptrdiff_t>(y[k]) * stride + (x[k] - 1);
+    A[k] = loadRow<V>(b - stride);
+    B[k] = loadRow<V>(b);
+    C[k] = loadRow<V>(b + stride);
+    D[k] = loadRow<V>(b + 2 * stride);
   }
   transpose4(A[0], A[1], A[2], A[3]);
   transpose4(B[0], B[1], B[2], B[3]);
@@ -146,12 +159,8 @@ template <class V>
 [[gnu::always_inline]] inline void bilinearRows(const IntensityPlaneView& image,
                                                 const std::int32_t* x, const std::int32_t* y, V w00,
                                                 V w10, V w01, V w11, V& I, V& gx, V& gy) {
-  const std::ptrdiff_t stride = image.pixels.stride;
-  const auto row = [&](int k, int r) {
-    return V::loadu(image.pixels.data + (static_cast<std::ptrdiff_t>(y[k]) + r) * stride +
-                    (x[k] - 1));
-  };
-  bilinearFromIntensityRows<V>(row, w00, w10, w01, w11, I, gx, gy);
+  bilinearFromIntensityRows<V>(image.pixels.data, image.pixels.stride, x, y, w00, w10, w01, w11, I,
+                               gx, gy);
 }
 
 /// On a 16-bit plane, in units of its step (the caller scales by it: a power of two, so the
@@ -160,12 +169,8 @@ template <class V>
 [[gnu::always_inline]] inline void bilinearRows(const CompactPlaneView& image,
                                                 const std::int32_t* x, const std::int32_t* y, V w00,
                                                 V w10, V w01, V w11, V& I, V& gx, V& gy) {
-  const std::ptrdiff_t stride = image.pixels.stride;
-  const auto row = [&](int k, int r) {
-    return V::loadInt16(image.pixels.data + (static_cast<std::ptrdiff_t>(y[k]) + r) * stride +
-                        (x[k] - 1));
-  };
-  bilinearFromIntensityRows<V>(row, w00, w10, w01, w11, I, gx, gy);
+  bilinearFromIntensityRows<V>(image.pixels.data, image.pixels.stride, x, y, w00, w10, w01, w11, I,
+                               gx, gy);
 }
 
 /// The factor bilinearPixel's results on `img` are in: 1 for float planes, the step of compact
