@@ -155,20 +155,13 @@ template <class V, class T>
        (half * (C[2] - A[2]) * w10 + half * (D[2] - B[2]) * w11);
 }
 
-template <class V>
-[[gnu::always_inline]] inline void bilinearRows(const IntensityPlaneView& image,
-                                                const std::int32_t* x, const std::int32_t* y, V w00,
-                                                V w10, V w01, V w11, V& I, V& gx, V& gy) {
-  bilinearFromIntensityRows<V>(image.pixels.data, image.pixels.stride, x, y, w00, w10, w01, w11, I,
-                               gx, gy);
-}
-
-/// On a 16-bit plane, in units of its step (the caller scales by it: a power of two, so the
-/// result is that of the float intensity plane of the decoded values, bit for bit).
-template <class V>
-[[gnu::always_inline]] inline void bilinearRows(const CompactPlaneView& image,
-                                                const std::int32_t* x, const std::int32_t* y, V w00,
-                                                V w10, V w01, V w11, V& I, V& gx, V& gy) {
+/// On a plane of intensities alone: float (IntensityPlaneView) or 16 bits (CompactPlaneView, in
+/// units of its step: the caller scales by it, a power of two, so the result is that of the float
+/// intensity plane of the decoded values, bit for bit).
+template <class V, class IntensityPlane>
+[[gnu::always_inline]] inline void bilinearRows(const IntensityPlane& image, const std::int32_t* x,
+                                                const std::int32_t* y, V w00, V w10, V w01, V w11,
+                                                V& I, V& gx, V& gy) {
   bilinearFromIntensityRows<V>(image.pixels.data, image.pixels.stride, x, y, w00, w10, w01, w11, I,
                                gx, gy);
 }
