@@ -92,12 +92,12 @@ class Mapper {
   KeyframeInsertion addKeyframe(std::unique_ptr<ImagePyramid> pyramid, const MapperFrame& info);
 
   const WindowKeyframe& newestKeyframe() const { return *window_.back(); }
-  /// Bytes of image data the window holds: the level-0 gradient plane of each keyframe
+  /// Bytes of image data the window holds: the level-0 intensities of each keyframe
   /// (ImagePyramid::compact), and the newest keyframe's whole pyramid until
   /// compactNewestImage().
   std::size_t windowImageBytes() const;
-  /// Frees all but the newest keyframe's level-0 gradient plane, once the tracking reference
-  /// was made from it (a newer keyframe frees it anyway).
+  /// Frees all but the newest keyframe's level-0 intensities, once the tracking reference was
+  /// made from it (a newer keyframe frees the rest anyway).
   void compactNewestImage() {
     if (!window_.empty()) window_.back()->compactPyramid(settings_.window.keyframe_images_16bit);
   }
