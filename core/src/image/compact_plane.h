@@ -29,10 +29,8 @@ struct CompactPlaneView {
   float intensity(int x, int y) const { return step * static_cast<float>(pixels(x, y)); }
   /// Decoded intensity and the gradients of the decoded values (zero on the one-pixel border).
   GradientPixel at(int x, int y) const {
-    const bool inner = x > 0 && y > 0 && x < width() - 1 && y < height() - 1;
-    if (!inner) return {intensity(x, y), 0.f, 0.f};
-    return {intensity(x, y), 0.5f * (intensity(x + 1, y) - intensity(x - 1, y)),
-            0.5f * (intensity(x, y + 1) - intensity(x, y - 1))};
+    return centralDifferencePixel(x, y, width(), height(),
+                                  [this](int u, int v) { return intensity(u, v); });
   }
 };
 

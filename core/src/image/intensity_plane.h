@@ -13,6 +13,15 @@
 
 namespace ldsm {
 
+/// The packed plane's pixel (x, y) of a width x height plane of intensities `I(x, y)`: its
+/// intensity and central differences, zero on the one-pixel border.
+template <class Intensity>
+inline GradientPixel centralDifferencePixel(int x, int y, int width, int height, Intensity I) {
+  const bool inner = x > 0 && y > 0 && x < width - 1 && y < height - 1;
+  if (!inner) return {I(x, y), 0.f, 0.f};
+  return {I(x, y), 0.5f * (I(x + 1, y) - I(x - 1, y)), 0.5f * (I(x, y + 1) - I(x, y - 1))};
+}
+
 /// A level-0 intensity plane as readers take it.
 struct IntensityPlaneView {
   ImageView<const float> pixels;
@@ -21,11 +30,8 @@ struct IntensityPlaneView {
   int height() const { return pixels.height; }
   /// The packed plane's pixel (x, y).
   GradientPixel at(int x, int y) const {
-    const float* row = pixels.row(y);
-    const bool inner = x > 0 && y > 0 && x < pixels.width - 1 && y < pixels.height - 1;
-    if (!inner) return {row[x], 0.f, 0.f};
-    return {row[x], 0.5f * (row[x + 1] - row[x - 1]),
-            0.5f * (pixels.row(y + 1)[x] - pixels.row(y - 1)[x])};
+    return centralDifferencePixel(x, y, width(), height(),
+                                  [this](int u, int v) { return pixels(u, v); });
   }
 };
 
