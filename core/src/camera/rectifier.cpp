@@ -86,40 +86,43 @@ std::size_t Rectifier::tableBytes() const {
 }
 
 template <typename T>
-void Rectifier::remap(ImageView<const T> in, ImageF& out, float invalid_value) const {
+void Rectifier::checkInput(ImageView<const T> in) const {
   const int w = input_->width(), h = input_->height();
   if (in.width != w || in.height != h || in.data == nullptr)
     throw InputError("rectification: input image is " + std::to_string(in.width) + "x" +
                      std::to_string(in.height) + " but the calibration is for " +
                      std::to_string(w) + "x" + std::to_string(h));
-  out.resize(output_.width, output_.height);
+}
+
+template <typename T>
+void Rectifier::remapRow(ImageView<const T> in, int v, float* dst, float invalid_value) const {
   if (identity_) {
-    for (int y = 0; y < h; ++y) {
-      const T* src = in.row(y);
-      float* dst = out.row(y);
-      for (int x = 0; x < w; ++x) dst[x] = static_cast<float>(src[x]);
-    }
+    const T* src = in.row(v);
+    for (int x = 0; x < output_.width; ++x) dst[x] = static_cast<float>(src[x]);
     return;
   }
   const simd::RemapInput<T> input{in.data, in.stride, in.width, in.height};
   if (separable_) {
-    for (int v = 0; v < output_.height; ++v) {
-      float* dst = out.row(v);
-      if (row_y_[v] < 0.0f) {
-        std::fill(dst, dst + output_.width, invalid_value);
-        continue;
-      }
-      std::int32_t y0;
-      float ay;
-      simd::clampedCell(row_y_[v], h, y0, ay);
-      simd::remapSeparableRow<simd::Vec4>(input, column_x0_.data(), column_ax_.data(), y0, ay,
-                                          output_.width, invalid_value, dst);
+    if (row_y_[v] < 0.0f) {
+      std::fill(dst, dst + output_.width, invalid_value);
+      return;
     }
+    std::int32_t y0;
+    float ay;
+    simd::clampedCell(row_y_[v], in.height, y0, ay);
+    simd::remapSeparableRow<simd::Vec4>(input, column_x0_.data(), column_ax_.data(), y0, ay,
+                                        output_.width, invalid_value, dst);
     return;
   }
-  for (int v = 0; v < output_.height; ++v)
-    simd::remapRow<simd::Vec4>(input, map_x_.row(v), map_y_.row(v), output_.width, invalid_value,
-                               out.row(v));
+  simd::remapRow<simd::Vec4>(input, map_x_.row(v), map_y_.row(v), output_.width, invalid_value,
+                             dst);
+}
+
+template <typename T>
+void Rectifier::remap(ImageView<const T> in, ImageF& out, float invalid_value) const {
+  checkInput(in);
+  out.resize(output_.width, output_.height);
+  for (int v = 0; v < output_.height; ++v) remapRow(in, v, out.row(v), invalid_value);
 }
 
 void Rectifier::rectify(ImageView<const std::uint8_t> in, ImageF& out, float invalid_value) const {
@@ -128,6 +131,30 @@ void Rectifier::rectify(ImageView<const std::uint8_t> in, ImageF& out, float inv
 
 void Rectifier::rectify(ImageView<const float> in, ImageF& out, float invalid_value) const {
   remap(in, out, invalid_value);
+}
+
+namespace {
+
+void checkOutputRow(int v, int height) {
+  if (v < 0 || v >= height)
+    throw InputError("rectification: row " + std::to_string(v) + " is not an output row (0-" +
+                     std::to_string(height - 1) + ")");
+}
+
+}  // namespace
+
+void Rectifier::rectifyRow(ImageView<const std::uint8_t> in, int v, float* out,
+                           float invalid_value) const {
+  checkInput(in);
+  checkOutputRow(v, output_.height);
+  remapRow(in, v, out, invalid_value);
+}
+
+void Rectifier::rectifyRow(ImageView<const float> in, int v, float* out,
+                           float invalid_value) const {
+  checkInput(in);
+  checkOutputRow(v, output_.height);
+  remapRow(in, v, out, invalid_value);
 }
 
 }  // namespace ldsm

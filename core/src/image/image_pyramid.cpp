@@ -132,24 +132,47 @@ void ImagePyramid::copyIntensity(int level, ImageF& out) const {
   }
 }
 
+namespace {
+
+// The rows of a whole image, as build(ImageRows&) asks for them.
+class ViewRows final : public ImageRows {
+ public:
+  explicit ViewRows(ImageView<const float> image) : image_(image) {}
+  const float* row(int y) override { return image_.row(y); }
+
+ private:
+  ImageView<const float> image_;
+};
+
+}  // namespace
+
 void ImagePyramid::build(ImageView<const float> image) {
-  expand();
   if (image.empty() || image.width != width(0) || image.height != height(0) ||
       image.stride < image.width) {
+    expand();
     throw InputError("image pyramid: input image is " + sizeString(image.width, image.height) +
                      " with stride " + std::to_string(image.stride) + ", expected " +
                      sizeString(width(0), height(0)));
   }
-  const int h0 = image.height;
+  ViewRows rows(image);
+  build(rows);
+}
+
+void ImagePyramid::build(ImageRows& rows) {
+  expand();
+  const int w0 = width(0);
+  const int h0 = height(0);
+  // Row y needs rows y - 1 and y + 1 as well: each is asked for once, in order.
+  const float* in[3] = {rows.row(0), nullptr, nullptr};
+  if (h0 > 1) in[1] = rows.row(1);
   for (int y = 0; y < h0; ++y) {
+    if (y + 1 < h0 && y >= 1) in[(y + 1) % 3] = rows.row(y + 1);
     const bool inner = y > 0 && y < h0 - 1;
-    simd::gradientRow<simd::Vec4>(inner ? image.row(y - 1) : nullptr, image.row(y),
-                                  inner ? image.row(y + 1) : nullptr, image.width,
-                                  gradients_[0].row(y));
+    simd::gradientRow<simd::Vec4>(inner ? in[(y + 2) % 3] : nullptr, in[y % 3],
+                                  inner ? in[(y + 1) % 3] : nullptr, w0, gradients_[0].row(y));
   }
   computeGradMagSq(0);
-  for (int y = 0; y < h0; ++y)
-    std::memset(clipped_.row(y), 0, static_cast<std::size_t>(image.width));
+  for (int y = 0; y < h0; ++y) std::memset(clipped_.row(y), 0, static_cast<std::size_t>(w0));
   // Coarser levels: each row's intensities are made once into a ring of three rows (the row, the
   // one above and the one below), from the packed plane of the level before.
   for (int l = 1; l < levels(); ++l) {
@@ -178,6 +201,24 @@ void ImagePyramid::markClipped(ImageView<const float> raw, float level) {
     const float* in = raw.row(y);
     std::uint8_t* out = clipped_.row(y);
     for (int x = 0; x < raw.width; ++x) out[x] = in[x] >= level ? 1 : 0;
+  }
+}
+
+void ImagePyramid::markClipped(ImageRows& raw, float level) {
+  requireFull("clipping mask", 0);
+  for (int y = 0; y < height(0); ++y) {
+    const float* in = raw.row(y);
+    std::uint8_t* out = clipped_.row(y);
+    for (int x = 0; x < width(0); ++x) out[x] = in[x] >= level ? 1 : 0;
+  }
+}
+
+void ImagePyramid::markClippedFromIntensity(float level) {
+  requireFull("clipping mask", 0);
+  for (int y = 0; y < height(0); ++y) {
+    const GradientPixel* in = gradients_[0].row(y);
+    std::uint8_t* out = clipped_.row(y);
+    for (int x = 0; x < width(0); ++x) out[x] = in[x].intensity >= level ? 1 : 0;
   }
 }
 

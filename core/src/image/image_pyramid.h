@@ -26,6 +26,15 @@ namespace ldsm {
 ///
 /// Level 0 also carries a clipping mask: the pixels where the camera's raw value was saturated
 /// (see markClipped()). build() clears it.
+/// An image handed over row by row, so that a pyramid can be built without the whole image in
+/// memory: row(y) is asked for in order y = 0, 1, ..., and the row it returns (level-0 width
+/// floats) must stay valid until row(y + 3) is asked for (a ring of three rows suffices).
+class ImageRows {
+ public:
+  virtual ~ImageRows() = default;
+  virtual const float* row(int y) = 0;
+};
+
 class ImagePyramid {
  public:
   /// Largest supported number of levels.
@@ -43,6 +52,9 @@ class ImagePyramid {
   /// are allocated again first). Throws InputError when the image size differs from the one
   /// given at construction or the view is empty.
   void build(ImageView<const float> image);
+  /// The same from the image's rows (of the size given at construction), every float as
+  /// build(ImageView) makes it from the whole image.
+  void build(ImageRows& rows);
 
   int levels() const { return static_cast<int>(sizes_.size()); }
   int width(int level) const { return sizes_[level].first; }
@@ -81,6 +93,11 @@ class ImagePyramid {
   /// Marks the level-0 pixels where `raw` (the camera's raw values, in the pyramid's geometry) is
   /// >= `level` as clipped. Allocates nothing. Throws InputError when the size differs.
   void markClipped(ImageView<const float> raw, float level);
+  /// The same from the raw values' rows (of the level-0 size).
+  void markClipped(ImageRows& raw, float level);
+  /// markClipped() where the raw values are the intensities build() was given (no photometric
+  /// correction): from level 0's own intensities.
+  void markClippedFromIntensity(float level);
   /// Level-0 clipping mask: 1 where the raw value was saturated, else 0. Throws std::logic_error
   /// once compacted.
   ImageView<const std::uint8_t> clipped() const {

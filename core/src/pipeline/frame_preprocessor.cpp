@@ -20,6 +20,25 @@ PhotometricCalibration selectedCalibration(const PhotometricCalibration& c,
   return out;
 }
 
+// The rectified rows of an input image, into a ring of three rows.
+template <typename T>
+class RectifiedRows final : public ImageRows {
+ public:
+  RectifiedRows(const Rectifier& rectifier, ImageView<const T> input, std::vector<float>& ring)
+      : rectifier_(rectifier), input_(input), ring_(ring) {}
+  const float* row(int y) override {
+    const auto width = static_cast<std::size_t>(rectifier_.output().width);
+    float* out = ring_.data() + static_cast<std::size_t>(y % 3) * width;
+    rectifier_.rectifyRow(input_, y, out);
+    return out;
+  }
+
+ private:
+  const Rectifier& rectifier_;
+  ImageView<const T> input_;
+  std::vector<float>& ring_;
+};
+
 }  // namespace
 
 FramePreprocessor::FramePreprocessor(const GeometricCalibration& geometric,
@@ -39,19 +58,26 @@ void FramePreprocessor::process(ImageView<const std::uint8_t> image, ImagePyrami
     throw InputError("frame is " + std::to_string(image.width) + "x" +
                      std::to_string(image.height) + " but the calibration is for " +
                      std::to_string(input_width_) + "x" + std::to_string(input_height_));
+  const PinholeIntrinsics& out = rectifier_.output();
+  if (pyramid.width(0) != out.width || pyramid.height(0) != out.height)
+    throw InputError("image pyramid is " + std::to_string(pyramid.width(0)) + "x" +
+                     std::to_string(pyramid.height(0)) + " but the rectified frames are " +
+                     std::to_string(out.width) + "x" + std::to_string(out.height));
+  row_ring_.resize(3 * static_cast<std::size_t>(out.width));
   if (photometric_) {
     photometric_->correct(image, corrected_);
-    rectifier_.rectify(corrected_.view(), rectified_);
+    RectifiedRows<float> rows(rectifier_, corrected_.view(), row_ring_);
+    pyramid.build(rows);
   } else {
-    rectifier_.rectify(image, rectified_);
+    RectifiedRows<std::uint8_t> rows(rectifier_, image, row_ring_);
+    pyramid.build(rows);
   }
-  pyramid.build(rectified_.view());
   if (clipped_level_ > 255.f) return;
   if (photometric_) {
-    rectifier_.rectify(image, rectified_raw_);
-    pyramid.markClipped(rectified_raw_.view(), clipped_level_);
+    RectifiedRows<std::uint8_t> raw(rectifier_, image, row_ring_);
+    pyramid.markClipped(raw, clipped_level_);
   } else {
-    pyramid.markClipped(rectified_.view(), clipped_level_);
+    pyramid.markClippedFromIntensity(clipped_level_);  // the rectified raw values themselves
   }
 }
 

@@ -1,9 +1,10 @@
 // Turns a raw 8-bit camera frame into what the engine works on: photometrically corrected
 // (inverse response, vignette) when a calibration is given, rectified to the ideal pinhole, and
-// built into an image pyramid with gradients. Buffers are allocated once.
+// built into an image pyramid with gradients, row by row. Buffers are allocated once.
 #pragma once
 
 #include <memory>
+#include <vector>
 
 #include "image/image_pyramid.h"
 #include "ldsm/camera/calibration.h"
@@ -35,9 +36,11 @@ class FramePreprocessor {
   Rectifier rectifier_;
   std::unique_ptr<PhotometricModel> photometric_;
   float clipped_level_;
-  ImageF corrected_;
-  ImageF rectified_;
-  ImageF rectified_raw_;  ///< raw values in the output geometry (with a photometric model only)
+  ImageF corrected_;  ///< the photometrically corrected input (with a photometric model only)
+  /// Three rectified rows: the pyramid is built row by row from them (ImageRows) instead of
+  /// from a whole rectified image (1.8 MB at 1232x368), and the raw values' rows for the
+  /// clipping mask go through them too.
+  std::vector<float> row_ring_;
 };
 
 }  // namespace ldsm

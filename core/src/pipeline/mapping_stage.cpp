@@ -74,7 +74,7 @@ MappingStage::MappingStage(const MappingStageSettings& settings, const PyramidCa
                                                tracker);
       }),
       depth_canvas_(camera[0].width, camera[0].height, camera.levels()),
-      timer_({"trace", "mapping", "reuse", "loop"}, 20000),
+      timer_({"trace", "mapping", "reuse", "loop"}, StageTimer::kPipelineSamples),
       describe_(loop_closer != nullptr || settings.reuse.enabled),
       inline_mode_(inline_mode),
       snapshot_(std::make_shared<const MappingSnapshot>()) {

@@ -9,9 +9,9 @@ StageTimer::StageTimer(std::vector<std::string> stages, std::size_t capacity)
   for (auto& name : stages) {
     auto st = std::make_unique<Stage>();
     st->name = std::move(name);
-    st->samples = std::make_unique<std::atomic<double>[]>(capacity_);
+    st->samples = std::make_unique<std::atomic<float>[]>(capacity_);
     for (std::size_t i = 0; i < capacity_; ++i)
-      st->samples[i].store(0.0, std::memory_order_relaxed);
+      st->samples[i].store(0.f, std::memory_order_relaxed);
     stages_.push_back(std::move(st));
   }
 }
@@ -20,7 +20,8 @@ void StageTimer::record(int stage, double ms) {
   Stage& s = *stages_[static_cast<std::size_t>(stage)];
   // One recording thread per stage: plain read-modify-write through the atomics.
   const std::int64_t n = s.count.load(std::memory_order_relaxed);
-  s.samples[static_cast<std::size_t>(n) % capacity_].store(ms, std::memory_order_relaxed);
+  s.samples[static_cast<std::size_t>(n) % capacity_].store(static_cast<float>(ms),
+                                                           std::memory_order_relaxed);
   s.sum.store(s.sum.load(std::memory_order_relaxed) + ms, std::memory_order_relaxed);
   if (ms > s.max.load(std::memory_order_relaxed)) s.max.store(ms, std::memory_order_relaxed);
   s.count.store(n + 1, std::memory_order_release);
@@ -39,7 +40,8 @@ std::vector<StageTiming> StageTimer::summary() const {
       t.max_ms = s.max.load(std::memory_order_relaxed);
       const std::size_t m = std::min(capacity_, static_cast<std::size_t>(t.count));
       v.resize(m);
-      for (std::size_t i = 0; i < m; ++i) v[i] = s.samples[i].load(std::memory_order_relaxed);
+      for (std::size_t i = 0; i < m; ++i)
+        v[i] = static_cast<double>(s.samples[i].load(std::memory_order_relaxed));
       std::sort(v.begin(), v.end());
       t.p50_ms = v[v.size() / 2];
       t.p99_ms =

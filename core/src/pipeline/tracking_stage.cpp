@@ -20,7 +20,7 @@ TrackingStage::TrackingStage(const TrackingStageSettings& settings, const Pyrami
       events_(events),
       initializer_(camera, settings.initializer, settings.initializer_hypotheses),
       tracker_(settings.tracker, camera),
-      timer_({"preprocess", "initialize", "track", "total"}, 20000),
+      timer_({"preprocess", "initialize", "track", "total"}, StageTimer::kPipelineSamples),
       relocalization_timeout_s_(settings.localize_only ? std::numeric_limits<double>::infinity()
                                                        : settings.reuse.relocalization_timeout_s),
       place_candidates_(settings.reuse.relocalization_place_candidates),

@@ -52,6 +52,12 @@ class Rectifier {
   /// Throws ldsm::InputError when `in` does not have the input size.
   void rectify(ImageView<const std::uint8_t> in, ImageF& out, float invalid_value = 0.0f) const;
   void rectify(ImageView<const float> in, ImageF& out, float invalid_value = 0.0f) const;
+  /// Output row `v` alone into `out` (output width floats): row v of what rectify() makes, for
+  /// consumers that take an image row by row. Throws ldsm::InputError like rectify(), and when v
+  /// is not an output row.
+  void rectifyRow(ImageView<const std::uint8_t> in, int v, float* out,
+                  float invalid_value = 0.0f) const;
+  void rectifyRow(ImageView<const float> in, int v, float* out, float invalid_value = 0.0f) const;
 
   /// The input pixel output pixel (x, y) samples; (-1, -1) when it sees no input.
   Eigen::Vector2f inputPixel(int x, int y) const;
@@ -67,6 +73,11 @@ class Rectifier {
  private:
   template <typename T>
   void remap(ImageView<const T> in, ImageF& out, float invalid_value) const;
+  template <typename T>
+  void checkInput(ImageView<const T> in) const;
+  /// Row v of the output (the input checked).
+  template <typename T>
+  void remapRow(ImageView<const T> in, int v, float* out, float invalid_value) const;
 
   std::shared_ptr<const CameraModel> input_;
   PinholeIntrinsics output_;

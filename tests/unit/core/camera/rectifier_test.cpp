@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <random>
 #include <vector>
@@ -307,6 +308,43 @@ TEST(Rectifier, RectifyDoesNotReallocateASizedOutput) {
   EXPECT_EQ(out.data(), before);
   EXPECT_FLOAT_EQ(out(320, 240), 77.0f);
   EXPECT_FLOAT_EQ(out(0, 0), 77.0f);
+}
+
+// rectifyRow() is what a pyramid is built from, row by row: every row must be that row of
+// rectify()'s whole image, bit for bit, for each kind of table and both input types.
+TEST(Rectifier, ARowIsThatRowOfTheWholeImage) {
+  std::mt19937 rng(5);
+  std::uniform_int_distribution<int> grey(0, 255);
+  const GeometricCalibration cameras[] = {
+      calibration(test::radTanIntrinsics(), OutputMode::Crop, 640, 480),   // full table
+      calibration(test::pinholeIntrinsics(), OutputMode::Crop, 600, 440),  // separable
+      calibration(test::pinholeIntrinsics(), OutputMode::None, 640, 480),  // identity
+      calibration(test::fovIntrinsics(), OutputMode::Full, 500, 400),      // invalid pixels
+  };
+  for (const GeometricCalibration& c : cameras) {
+    const Rectifier rect(c);
+    ImageU8 in8(c.input.width, c.input.height);
+    ImageF inf(c.input.width, c.input.height);
+    for (int y = 0; y < in8.height(); ++y)
+      for (int x = 0; x < in8.width(); ++x) {
+        in8(x, y) = static_cast<std::uint8_t>(grey(rng));
+        inf(x, y) = static_cast<float>(grey(rng)) * 0.37f;
+      }
+    ImageF whole8, wholef;
+    rect.rectify(in8.view(), whole8, -3.f);
+    rect.rectify(inf.view(), wholef, -3.f);
+    std::vector<float> row(static_cast<std::size_t>(rect.output().width));
+    for (int v = 0; v < rect.output().height; ++v) {
+      rect.rectifyRow(in8.view(), v, row.data(), -3.f);
+      ASSERT_EQ(std::memcmp(row.data(), whole8.row(v), row.size() * sizeof(float)), 0) << v;
+      rect.rectifyRow(inf.view(), v, row.data(), -3.f);
+      ASSERT_EQ(std::memcmp(row.data(), wholef.row(v), row.size() * sizeof(float)), 0) << v;
+    }
+    EXPECT_THROW(rect.rectifyRow(in8.view(), rect.output().height, row.data()), InputError);
+    EXPECT_THROW(rect.rectifyRow(in8.view(), -1, row.data()), InputError);
+    const ImageU8 small(c.input.width - 1, c.input.height);
+    EXPECT_THROW(rect.rectifyRow(small.view(), 0, row.data()), InputError);
+  }
 }
 
 void expectError(const GeometricCalibration& c, const std::string& text) {

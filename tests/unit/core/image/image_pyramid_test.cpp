@@ -2,6 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
+#include <utility>
+
 #include <cstring>
 #include <limits>
 #include <random>
@@ -257,6 +261,61 @@ ImageF randomGreyImage(unsigned seed) {
   return img;
 }
 
+// An image's rows through a ring of three, as the frame preprocessor hands them over; a row asked
+// for out of order fails the test, and an expired row is overwritten with garbage first.
+class RingRows final : public ImageRows {
+ public:
+  explicit RingRows(const ImageF& image)
+      : image_(image), ring_(3 * static_cast<std::size_t>(image.width())) {}
+  const float* row(int y) override {
+    EXPECT_EQ(y, next_);
+    next_ = y + 1;
+    float* out = ring_.data() + static_cast<std::size_t>(y % 3) * image_.width();
+    std::fill(out, out + image_.width(), std::numeric_limits<float>::quiet_NaN());
+    std::copy(image_.row(y), image_.row(y) + image_.width(), out);
+    return out;
+  }
+  int next_ = 0;
+
+ private:
+  const ImageF& image_;
+  std::vector<float> ring_;
+};
+
+TEST(ImagePyramid, BuildingFromRowsGivesTheWholeImagesBits) {
+  for (const auto& [w, h] : {std::pair{40, 30}, std::pair{1, 1}, std::pair{7, 2}}) {
+    ImageF img(w, h);
+    std::mt19937 rng(static_cast<unsigned>(w * h));
+    std::uniform_real_distribution<float> grey(0.f, 255.f);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) img(x, y) = grey(rng);
+    const int levels = ImagePyramid::maxLevels(w, h);
+    ImagePyramid whole(w, h, levels), rows(w, h, levels);
+    whole.build(img.view());
+    RingRows source(img);
+    rows.build(source);
+    EXPECT_EQ(source.next_, h);
+    for (int l = 0; l < levels; ++l)
+      for (int y = 0; y < whole.height(l); ++y)
+        ASSERT_EQ(std::memcmp(whole.gradients(l).row(y), rows.gradients(l).row(y),
+                              sizeof(GradientPixel) * static_cast<std::size_t>(whole.width(l))),
+                  0)
+            << w << "x" << h << " level " << l << " row " << y;
+    // The clipping mask from rows, and from the intensities themselves, as from the image.
+    whole.markClipped(img.view(), 128.f);
+    RingRows raw(img);
+    rows.markClipped(raw, 128.f);
+    ImagePyramid own(w, h, levels);
+    own.build(img.view());
+    own.markClippedFromIntensity(128.f);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        EXPECT_EQ(rows.clipped()(x, y), whole.clipped()(x, y));
+        EXPECT_EQ(own.clipped()(x, y), whole.clipped()(x, y));
+      }
+  }
+}
+
 TEST(ImagePyramid, CompactKeepsTheLevel0IntensitiesAndFreesTheRest) {
   const ImageF img = randomGreyImage(7);
   ImagePyramid pyr(40, 30, 3);
@@ -468,6 +527,42 @@ TEST(PyramidPool, ACompactedPyramidComesBackWhole) {
   EXPECT_FALSE(again->compacted());
   EXPECT_EQ(again->gradients(2).width, 8);
   EXPECT_EQ(again->gradients(1).height, 12);
+}
+
+TEST(PyramidPool, KeepsAtMostMaxFreePyramids) {
+  PyramidPool pool(32, 24, 3, /*max_free=*/2);
+  std::vector<std::unique_ptr<ImagePyramid>> taken;
+  for (int i = 0; i < 4; ++i) taken.push_back(pool.acquire());
+  std::vector<const ImagePyramid*> addresses;
+  for (auto& p : taken) addresses.push_back(p.get());
+  taken[1]->compact();
+  for (auto& p : taken) pool.release(std::move(p));
+  // The first two came back and are kept (the compacted one whole again); the others were freed.
+  EXPECT_EQ(pool.freeCount(), 2u);
+  std::unique_ptr<ImagePyramid> a = pool.acquire();
+  std::unique_ptr<ImagePyramid> b = pool.acquire();
+  EXPECT_EQ(pool.freeCount(), 0u);
+  EXPECT_EQ(a.get(), addresses[1]);
+  EXPECT_EQ(b.get(), addresses[0]);
+  EXPECT_FALSE(a->compacted());
+  EXPECT_EQ(a->gradients(0).width, 32);
+  // An empty pool makes a new pyramid of the pool's size.
+  std::unique_ptr<ImagePyramid> c = pool.acquire();
+  ASSERT_NE(c, nullptr);
+  EXPECT_EQ(c->levels(), 3);
+  EXPECT_EQ(c->width(0), 32);
+  EXPECT_EQ(c->height(0), 24);
+  pool.release(nullptr);
+  EXPECT_EQ(pool.freeCount(), 0u);
+}
+
+TEST(PyramidPool, KeepsAtLeastOnePyramid) {
+  PyramidPool pool(16, 16, 2, /*max_free=*/0);
+  std::unique_ptr<ImagePyramid> p = pool.acquire();
+  const ImagePyramid* address = p.get();
+  pool.release(std::move(p));
+  EXPECT_EQ(pool.freeCount(), 1u);
+  EXPECT_EQ(pool.acquire().get(), address);
 }
 
 }  // namespace

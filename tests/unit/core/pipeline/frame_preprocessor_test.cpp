@@ -5,6 +5,10 @@
 #include <cmath>
 #include <vector>
 
+#include "ldsm/camera/photometric_model.h"
+#include "ldsm/camera/rectifier.h"
+#include "ldsm/error.h"
+
 namespace ldsm {
 namespace {
 
@@ -59,6 +63,55 @@ TEST(FramePreprocessor, MarksClippedPixelsFromRawValues) {
       EXPECT_EQ(pyr.clipped()(10, 10), 1);
     }
   }
+}
+
+// The pyramid is built row by row from the rectifier: the same bits as building it from the
+// whole rectified image, for a distorted camera with and without a photometric model.
+TEST(FramePreprocessor, BuildsThePyramidOfTheRectifiedImage) {
+  GeometricCalibration c;
+  c.input.model = CameraModelType::RadTan;
+  c.input.fx = 40.0;
+  c.input.fy = 41.0;
+  c.input.cx = 16.2;
+  c.input.cy = 11.7;
+  c.input.distortion = {-0.2, 0.05, 0.001, -0.002};
+  c.input.width = kW;
+  c.input.height = kH;
+  c.output.mode = OutputMode::Crop;
+  c.output.width = 28;
+  c.output.height = 20;
+  PhotometricCalibration gamma;
+  gamma.has_response = true;
+  for (int v = 0; v < 256; ++v)
+    gamma.inverse_response[v] = static_cast<float>(255.0 * std::pow(v / 255.0, 2.2));
+  const std::vector<std::uint8_t> raw = rawFrame();
+  const ImageView<const std::uint8_t> view(raw.data(), kW, kH, kW);
+  for (const bool with_response : {false, true}) {
+    FramePreprocessor pre(c, with_response ? gamma : PhotometricCalibration{}, PhotometricConfig{});
+    ImagePyramid pyr(28, 20, 3);
+    pre.process(view, pyr);
+    const Rectifier rect(c);
+    ImageF corrected, rectified;
+    if (with_response) {
+      PhotometricModel(gamma, kW, kH).correct(view, corrected);
+      rect.rectify(corrected.view(), rectified);
+    } else {
+      rect.rectify(view, rectified);
+    }
+    ImagePyramid expected(28, 20, 3);
+    expected.build(rectified.view());
+    for (int l = 0; l < 3; ++l)
+      for (int y = 0; y < expected.height(l); ++y)
+        for (int x = 0; x < expected.width(l); ++x) {
+          const GradientPixel a = pyr.gradients(l)(x, y), b = expected.gradients(l)(x, y);
+          ASSERT_EQ(a.intensity, b.intensity) << l << ": " << x << ", " << y;
+          ASSERT_EQ(a.dx, b.dx) << l << ": " << x << ", " << y;
+          ASSERT_EQ(a.dy, b.dy) << l << ": " << x << ", " << y;
+        }
+  }
+  ImagePyramid wrong(27, 20, 3);
+  FramePreprocessor pre(c, PhotometricCalibration{}, PhotometricConfig{});
+  EXPECT_THROW(pre.process(view, wrong), InputError);
 }
 
 TEST(FramePreprocessor, ClippingCanBeTurnedOff) {
