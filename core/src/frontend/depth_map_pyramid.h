@@ -15,9 +15,11 @@
 
 #include <cstddef>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "camera/pyramid_camera.h"
+#include "frontend/pixel_sums.h"
 #include "image/image_pyramid.h"
 #include "ldsm/image.h"
 #include "model/depth_point.h"
@@ -35,50 +37,54 @@ struct LevelPoints {
   int count = 0;
 };
 
-/// The dense per-level sums a build splats into and dilates (about 12 bytes per level-0 pixel:
-/// 5.3 MB at 1232x368): scratch that matters only while DepthMapPyramid::build runs. Pyramids
-/// built on one thread can share one canvas (the mapping stage builds every tracking reference
-/// into its own), so that the coarse trackers between builds hold only their point lists.
+/// The per-level sums a build splats into and dilates: scratch that matters only while
+/// DepthMapPyramid::build runs. Level 0 keeps cells for the pixels that have sums alone
+/// (PixelSums), the coarser levels, which dilation makes dense, a plane each (DensePixelSums):
+/// 1.9 MB at 1232x368 where dense planes on every level took 5.3 MB, with their results bit for
+/// bit. Pyramids built on one thread can share one canvas (the mapping stage builds every
+/// tracking reference into its own), so that the coarse trackers between builds hold only their
+/// point lists.
 class DepthMapCanvas {
  public:
-  /// Preallocates the planes for width x height images and `levels` levels. Throws
-  /// InputError/ConfigError like ImagePyramid for bad sizes.
-  DepthMapCanvas(int width, int height, int levels);
-
-  int levels() const { return static_cast<int>(idepth_sum_.size()); }
-  int width(int level) const { return idepth_sum_[level].width(); }
-  int height(int level) const { return idepth_sum_[level].height(); }
-  /// Inverse depth of pixel (x, y) of a level as the last build into this canvas left it (after
-  /// dilation); 0 where unknown.
-  float idepthAt(int level, int x, int y) const;
-  /// Bytes of the planes.
-  std::size_t bytes() const;
-
- private:
-  friend class DepthMapPyramid;
   /// A pixel the dilation fills (or, rejected, leaves empty) and its neighbours' sums.
   struct Fill {
     int index;
     float sum, weight;
   };
 
-  // Weighted sums: idepth_sum = sum(w * idepth), weight_sum = sum(w); 0 weight = unknown.
-  std::vector<ImageF> idepth_sum_;
-  std::vector<ImageF> weight_sum_;
+  /// A canvas for width x height images and `levels` levels. Throws InputError/ConfigError like
+  /// ImagePyramid for bad sizes.
+  DepthMapCanvas(int width, int height, int levels);
+
+  int levels() const { return static_cast<int>(sizes_.size()); }
+  int width(int level) const { return sizes_[level].first; }
+  int height(int level) const { return sizes_[level].second; }
+  /// Inverse depth of pixel (x, y) of a level as the last build into this canvas left it (after
+  /// dilation); 0 where unknown.
+  float idepthAt(int level, int x, int y) const;
+  /// Bytes of the cells and lists.
+  std::size_t bytes() const;
+
+ private:
+  friend class DepthMapPyramid;
+
+  std::vector<std::pair<int, int>> sizes_;  ///< per level, width and height
+  /// The weighted sums, sum = sum(w * idepth), weight = sum(w); 0 weight or no cell = unknown.
+  /// Level 0's cells also say whether the pixel's surface came from map keyframes' points
+  /// (DepthPoint::from_map).
+  PixelSums level0_;
+  std::vector<DensePixelSums> coarse_;  ///< levels 1, 2, ...
   /// Per level, the pixels (y * width + x) of non-zero weight: a window's points cover a few
-  /// percent of the image, so clearing, downsampling, dilating and extracting visit only these
-  /// and their neighbours, never the whole level. The next build clears them, whichever pyramid
-  /// made them.
+  /// percent of the image, so downsampling, dilating and extracting visit only these and their
+  /// neighbours, never the whole level.
   std::vector<std::vector<int>> known_;
   std::vector<Fill> fills_;  ///< scratch of dilate()
-  /// Level 0: 1 where the pixel's surface came from map keyframes' points (DepthPoint::from_map).
-  std::vector<unsigned char> from_map_;
 };
 
 class DepthMapPyramid {
  public:
   /// Sizes the point lists' levels for width x height images and `levels` levels (the sizes of
-  /// ImagePyramid); the dense planes are a DepthMapCanvas, the caller's or, when build() is given
+  /// ImagePyramid); the sums are a DepthMapCanvas, the caller's or, when build() is given
   /// none, one this pyramid allocates at its first such build. Throws InputError/ConfigError like
   /// ImagePyramid for bad sizes. Dilation leaves a pixel empty when its known neighbours' inverse
   /// depths differ by more than the factor `max_idepth_ratio` (a depth discontinuity), and

@@ -1,0 +1,52 @@
+// PixelSums: cells by pixel index, absent pixels read as zero, growth keeps the cells, clear()
+// forgets them.
+#include "frontend/pixel_sums.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+#include <unordered_map>
+
+namespace ldsm {
+namespace {
+
+TEST(PixelSums, CellsByPixelAcrossGrowthAndClear) {
+  PixelSums table(4);
+  EXPECT_EQ(table.find(7), nullptr);
+  EXPECT_EQ(table.weight(7), 0.f);
+  EXPECT_EQ(table.sum(7), 0.f);
+  std::unordered_map<int, PixelSums::Cell> expected;
+  std::mt19937 rng(1);
+  std::uniform_int_distribution<int> pixel(0, 450000);
+  for (int i = 0; i < 20000; ++i) {
+    const int p = pixel(rng);
+    PixelSums::Cell& c = table.insert(p);
+    c.sum += 1.5f;
+    c.weight += 1.f;
+    c.from_map = static_cast<unsigned char>(p % 2);
+    PixelSums::Cell& e = expected[p];
+    e.sum += 1.5f;
+    e.weight += 1.f;
+    e.from_map = static_cast<unsigned char>(p % 2);
+  }
+  EXPECT_EQ(table.size(), expected.size());
+  for (const auto& [p, e] : expected) {
+    const PixelSums::Cell* c = table.find(p);
+    ASSERT_NE(c, nullptr) << p;
+    EXPECT_EQ(c->sum, e.sum);
+    EXPECT_EQ(c->weight, e.weight);
+    EXPECT_EQ(c->from_map, e.from_map);
+  }
+  for (int p = 450001; p < 451000; ++p) EXPECT_EQ(table.find(p), nullptr);
+  const std::size_t bytes = table.bytes();
+  EXPECT_LE(bytes, 64u * 1024 * (sizeof(int) + sizeof(PixelSums::Cell) + 4));  // at most half empty
+  table.clear();
+  EXPECT_EQ(table.size(), 0u);
+  EXPECT_EQ(table.bytes(), bytes);  // the memory stays for the next build
+  for (const auto& [p, e] : expected) ASSERT_EQ(table.find(p), nullptr) << p;
+  EXPECT_EQ(table.insert(12).weight, 0.f);  // a new cell is zero
+  EXPECT_EQ(table.get(13).sum, 0.f);
+}
+
+}  // namespace
+}  // namespace ldsm
