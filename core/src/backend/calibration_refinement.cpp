@@ -75,11 +75,21 @@ bool calibrationEnvelopeStep(const Eigen::MatrixXd& H, const Eigen::VectorXd& b,
       for (int q : active) hcc(p, q) -= terms.H_dc[u][p] * wc(i, q);
     }
   }
+  const EliminatedDepthTerms& other = terms.other_depths;
+  const bool others = other.A.rows() == dim && other.g.size() == dim && other.h.rows() == dim;
+  if (others) {
+    hcc -= other.hcc;
+    bc -= other.bc;
+  }
   Eigen::MatrixXd A = H;
   Eigen::MatrixXd local_scratch;
   subtractDepthSchur(A, coupling, inv_d, schur_scratch ? *schur_scratch : local_scratch);
   Eigen::VectorXd g = b;
   g.noalias() -= coupling * wb;
+  if (others) {
+    A -= other.A;
+    g -= other.g;
+  }
   // Eliminate the frames. Monocular scale is a null direction of A that c does not touch (the
   // residuals do not depend on it): a tiny relative damping keeps the solve defined.
   double max_diag = 0.0;
@@ -92,6 +102,7 @@ bool calibrationEnvelopeStep(const Eigen::MatrixXd& H, const Eigen::VectorXd& b,
   for (size_t j = 0; j < active.size(); ++j) {
     h[j] = terms.H_fc.col(active[j]);
     h[j].noalias() -= coupling * wc.col(active[j]);
+    if (others) h[j] -= other.h.col(active[j]);
     Ah[j] = ldlt.solve(h[j]);
   }
   Eigen::MatrixXd S(m, m);

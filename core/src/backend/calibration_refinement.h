@@ -42,17 +42,43 @@ std::vector<int> refinedParams(const CalibMask& mask);
 PinholeIntrinsics correctedIntrinsics(const PinholeIntrinsics& base, const CalibVector& c);
 
 /// The calibration rows of the window's Gauss-Newton system, beside the frame block and depths.
+/// The depth elimination of points that have no column in the window's coupling matrix (the
+/// fixed points of reactivated map keyframes, whose depths the window solve does not move),
+/// summed point by point: with a point's frame coupling c, depth curvature H_dd, gradient b_d
+/// and calibration coupling H_dc, and d = 1 / H_dd (0 when H_dd <= 1e-10),
+///   A = sum c c^T d, g = sum c b_d d, h = sum c H_dc^T d, hcc = sum H_dc H_dc^T d,
+///   bc = sum H_dc b_d d.
+struct EliminatedDepthTerms {
+  Eigen::MatrixXd A;  ///< frames x frames
+  Eigen::VectorXd g;
+  Eigen::MatrixXd h;  ///< frames x 4
+  CalibMatrix hcc = CalibMatrix::Zero();
+  CalibVector bc = CalibVector::Zero();
+
+  void reset(Eigen::Index frame_dim) {
+    A.setZero(frame_dim, frame_dim);
+    g.setZero(frame_dim);
+    h.setZero(frame_dim, kCalibParams);
+    hcc.setZero();
+    bc.setZero();
+  }
+};
+
 struct CalibrationTerms {
   Eigen::MatrixXd H_fc;  ///< sum w J_frames^T J_c (frames x 4)
-  std::vector<CalibVector, Eigen::aligned_allocator<CalibVector>> H_dc;  ///< per point
-  CalibMatrix H_cc = CalibMatrix::Zero();                                ///< sum w J_c^T J_c
-  CalibVector b_c = CalibVector::Zero();                                 ///< sum w J_c^T r
+  /// Per column of the coupling matrix (the points whose depths the solve moves).
+  std::vector<CalibVector, Eigen::aligned_allocator<CalibVector>> H_dc;
+  CalibMatrix H_cc = CalibMatrix::Zero();  ///< sum w J_c^T J_c
+  CalibVector b_c = CalibVector::Zero();   ///< sum w J_c^T r
+  /// The points without a column, eliminated as well.
+  EliminatedDepthTerms other_depths;
 
   void reset(Eigen::Index frame_dim) {
     H_fc.setZero(frame_dim, kCalibParams);
     H_dc.clear();
     H_cc.setZero();
     b_c.setZero();
+    other_depths.reset(frame_dim);
   }
 };
 
@@ -60,7 +86,9 @@ struct CalibrationTerms {
 /// and depths eliminated: with the full system [[H, C, h_fc], [C^T, D, h_dc], [., ., H_cc]] and
 /// gradient [b, b_d, b_c],
 ///   curvature S = H_cc - h^T A^-1 h,  step = -S^-1 (b_c - h^T A^-1 g)
-/// over the depth-reduced frame block A, restricted to the parameters of `mask` (the others:
+/// over the depth-reduced frame block A (every depth eliminated: the coupling matrix's columns
+/// and terms.other_depths when it has the frames' size), restricted to the parameters of `mask`
+/// (the others:
 /// zero step, zero rows and columns). False (step and curvature 0) when S is not positive
 /// definite or not finite. `schur_scratch` (optional) is the depth elimination's scratch
 /// (subtractDepthSchur), kept by the caller between calls.

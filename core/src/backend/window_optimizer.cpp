@@ -192,29 +192,34 @@ void WindowOptimizer::linearize(const std::vector<WindowKeyframe*>& window,
   resetPairAccumulators(static_cast<size_t>(n) * n, pair_acc_);
 
   size_t num_points = 0;
-  for (const auto* kf : window) num_points += kf->points.size();
-  sys.resetCoupling(dim, static_cast<Eigen::Index>(num_points));
+  Eigen::Index num_columns = 0;
+  host_terms_.resize(static_cast<size_t>(n));
+  for (int h = 0; h < n; ++h) {
+    HostTerms& ht = host_terms_[static_cast<size_t>(h)];
+    ht.first_point = num_points;
+    ht.first_column = num_columns;
+    for (const auto& pt : window[static_cast<size_t>(h)]->points) num_columns += pt->fixed ? 0 : 1;
+    num_points += window[static_cast<size_t>(h)]->points.size();
+  }
+  sys.resetCoupling(dim, num_columns);
 
   // The hosts' points are independent (each writes its own points, its own pair blocks and its
   // own coupling columns), so they are linearised as parallel tasks, one per host; the energies
   // are then summed in the one-thread order (host, point, residual) from what the tasks kept.
   sys.points.resize(num_points);
+  sys.column.resize(num_points);
   sys.H_dd.resize(num_points);
   sys.b_d.resize(num_points);
-  host_terms_.resize(static_cast<size_t>(n));
-  size_t first = 0;
-  for (int h = 0; h < n; ++h) {
-    host_terms_[static_cast<size_t>(h)].first_point = first;
-    first += window[static_cast<size_t>(h)]->points.size();
-  }
   const auto linearizeHost = [&](int h) {
     HostTerms& ht = host_terms_[static_cast<size_t>(h)];
     ht.energies.clear();
     ht.inlier.clear();
     ht.outliers = 0;
-    Eigen::Index col = static_cast<Eigen::Index>(ht.first_point);
+    size_t index = ht.first_point;
+    Eigen::Index next_column = ht.first_column;
     for (auto& pt : window[static_cast<size_t>(h)]->points) {
       ActivePoint& p = *pt;
+      const Eigen::Index col = p.fixed ? -1 : next_column++;
       double H_dd = 0.0, b_d = 0.0;
       int inl = 0;
       for (auto& res : p.residuals) {
@@ -229,7 +234,7 @@ void WindowOptimizer::linearize(const std::vector<WindowKeyframe*>& window,
           ++inl;
           H_dd += acc.H_dd;
           b_d += acc.b_d;
-          addCoupling(adjoints_[pi], acc.coupling, h, t, sys.coupling().col(col));
+          if (col >= 0) addCoupling(adjoints_[pi], acc.coupling, h, t, sys.coupling().col(col));
         } else {
           ht.energies.push_back(outlierEnergy(pairs_[pi], settings_.residual));
           ht.inlier.push_back(0);
@@ -239,10 +244,11 @@ void WindowOptimizer::linearize(const std::vector<WindowKeyframe*>& window,
       p.hessian_idepth = static_cast<float>(H_dd);
       p.gradient_idepth = static_cast<float>(b_d);
       p.inlier_residuals = inl;
-      sys.points[static_cast<size_t>(col)] = &p;
-      sys.H_dd[static_cast<size_t>(col)] = H_dd;
-      sys.b_d[static_cast<size_t>(col)] = b_d;
-      ++col;
+      sys.points[index] = &p;
+      sys.column[index] = col;
+      sys.H_dd[index] = H_dd;
+      sys.b_d[index] = b_d;
+      ++index;
     }
   };
   concurrency::runTasks(tasks_, n, linearizeHost);
@@ -270,23 +276,66 @@ void WindowOptimizer::linearizeCalibration(const std::vector<WindowKeyframe*>& w
   CalibrationResidualTerms rt;
   rt.params = settings_.estimate_calibration;
   const std::vector<int> refined = refinedParams(rt.params);
+  const int dim = kFrameParams * n;
+  EliminatedDepthTerms& other = sys.calibration.other_depths;
+  Eigen::VectorXd c(dim);
+  std::vector<char> touched(static_cast<size_t>(n));
   for (int h = 0; h < n; ++h)
     for (auto& pt : window[h]->points) {
+      // A fixed point has no coupling column: its frame coupling is made here, with its
+      // calibration terms, and its depth eliminated into sys.calibration.other_depths.
+      const bool fixed = pt->fixed;
+      if (fixed) {
+        c.setZero();
+        std::fill(touched.begin(), touched.end(), 0);
+        touched[static_cast<size_t>(h)] = 1;
+      }
       CalibVector H_dc = CalibVector::Zero();
+      double H_dd = 0.0, b_d = 0.0;
       for (auto& res : pt->residuals) {
-        const size_t pi = static_cast<size_t>(h) * n + res.target->window_index;
+        const int t = res.target->window_index;
+        const size_t pi = static_cast<size_t>(h) * n + t;
         ResidualAccumulator acc;
         acc.calibration = &rt;
-        acc.calibration_only = true;
+        acc.calibration_only = !fixed;
+        acc.pair = &pair_acc_[pi];  // (a fixed point's pair sums: discarded)
         evaluateResidual(*pt, res, pairs_[pi], settings_.residual, &acc);
         if (res.state != ResidualState::Inlier) continue;
         calibration_pair_[pi] += rt.coupling;
         sys.calibration.H_cc += rt.H_cc;
         sys.calibration.b_c += rt.b_c;
         H_dc += rt.H_dc;
+        if (fixed) {
+          addCoupling(adjoints_[pi], acc.coupling, h, t, c);
+          touched[static_cast<size_t>(t)] = 1;
+          H_dd += acc.H_dd;
+          b_d += acc.b_d;
+        }
       }
-      sys.calibration.H_dc.push_back(H_dc);
+      if (!fixed) {
+        sys.calibration.H_dc.push_back(H_dc);
+        continue;
+      }
+      if (!(H_dd > 1e-10)) continue;
+      const double d = 1.0 / H_dd;
+      // c is non-zero only in the host's and the inlier targets' blocks: only their products
+      // (the lower ones; mirrored below).
+      constexpr int k = kFrameParams;
+      for (int j = 0; j < n; ++j) {
+        if (!touched[static_cast<size_t>(j)]) continue;
+        for (int i = j; i < n; ++i)
+          if (touched[static_cast<size_t>(i)])
+            other.A.block<k, k>(k * i, k * j).noalias() +=
+                c.segment<k>(k * i) * (c.segment<k>(k * j).transpose() * d);
+      }
+      other.g += c * (b_d * d);
+      for (int p : refined) other.h.col(p) += c * (H_dc[p] * d);
+      for (int p : refined) {
+        other.bc[p] += H_dc[p] * (b_d * d);
+        for (int q : refined) other.hcc(p, q) += H_dc[p] * (H_dc[q] * d);
+      }
     }
+  other.A.triangularView<Eigen::StrictlyUpper>() = other.A.transpose();
   for (size_t pi = 0; pi < calibration_pair_.size(); ++pi) {
     const int h = static_cast<int>(pi) / n, t = static_cast<int>(pi) % n;
     if (h == t) continue;
@@ -298,18 +347,24 @@ void WindowOptimizer::linearizeCalibration(const std::vector<WindowKeyframe*>& w
 void WindowOptimizer::solve(const System& sys, double lambda, Eigen::VectorXd& frame_step,
                             std::vector<double>& point_step) const {
   const Eigen::Index dim = sys.H.rows();
-  const Eigen::Index np = static_cast<Eigen::Index>(sys.points.size());
-  Eigen::VectorXd inv_dd(np);
-  for (Eigen::Index i = 0; i < np; ++i) {
+  const size_t np = sys.points.size();
+  // Per coupling column (the points whose depths move; a fixed point takes no step and adds no
+  // Schur term).
+  Eigen::VectorXd inv_dd(sys.num_points);
+  for (size_t i = 0; i < np; ++i) {
+    const Eigen::Index c = sys.column[i];
+    if (c < 0) continue;
     const double hdd = sys.H_dd[i] * (1.0 + lambda);
-    // A fixed point (reactivated map keyframe) keeps its depth: no step, no Schur term.
-    inv_dd[i] = hdd > 1e-10 && !sys.points[i]->fixed ? 1.0 / hdd : 0.0;
+    inv_dd[c] = hdd > 1e-10 ? 1.0 / hdd : 0.0;
   }
   Eigen::MatrixXd Hs = sys.H;
   const auto coupling = sys.coupling();
   subtractDepthSchur(Hs, coupling, inv_dd, schur_scratch_);
   Eigen::VectorXd bs = sys.b;
-  for (Eigen::Index i = 0; i < np; ++i) bs -= coupling.col(i) * (sys.b_d[i] * inv_dd[i]);
+  for (size_t i = 0; i < np; ++i) {
+    const Eigen::Index c = sys.column[i];
+    if (c >= 0) bs -= coupling.col(c) * (sys.b_d[i] * inv_dd[c]);
+  }
 
   // Jacobi scaling makes poses, affine parameters and depths comparable; LM damping on top.
   Eigen::VectorXd s(dim);
@@ -320,9 +375,11 @@ void WindowOptimizer::solve(const System& sys, double lambda, Eigen::VectorXd& f
   frame_step = s.asDiagonal() * y;
   if (!frame_step.allFinite()) frame_step.setZero(dim);
 
-  point_step.assign(static_cast<size_t>(np), 0.0);
-  for (Eigen::Index i = 0; i < np; ++i)
-    point_step[i] = -(sys.b_d[i] + coupling.col(i).dot(frame_step)) * inv_dd[i];
+  point_step.assign(np, 0.0);
+  for (size_t i = 0; i < np; ++i) {
+    const Eigen::Index c = sys.column[i];
+    if (c >= 0) point_step[i] = -(sys.b_d[i] + coupling.col(c).dot(frame_step)) * inv_dd[c];
+  }
 }
 
 void WindowOptimizer::saveResidualStates(const std::vector<ActivePoint*>& points) {
@@ -427,8 +484,16 @@ WindowOptimizationResult WindowOptimizer::optimize(const std::vector<WindowKeyfr
     Eigen::MatrixXd H = sys.H;
     Eigen::VectorXd b = sys.b;
     addMarginalizationPrior(window, prior, -1.0, &H, &b);
+    std::vector<double> H_dd, b_d;  // per coupling column
+    H_dd.reserve(static_cast<size_t>(sys.num_points));
+    b_d.reserve(static_cast<size_t>(sys.num_points));
+    for (size_t i = 0; i < sys.points.size(); ++i)
+      if (sys.column[i] >= 0) {
+        H_dd.push_back(sys.H_dd[i]);
+        b_d.push_back(sys.b_d[i]);
+      }
     result.calibration_valid = calibrationEnvelopeStep(
-        H, b, sys.coupling(), sys.H_dd, sys.b_d, sys.calibration, mask, &result.calibration_step,
+        H, b, sys.coupling(), H_dd, b_d, sys.calibration, mask, &result.calibration_step,
         &result.calibration_curvature, &schur_scratch_);
   }
   return result;

@@ -105,9 +105,12 @@ class WindowOptimizer {
   struct System {
     Eigen::MatrixXd H;  ///< frames (8n x 8n), residuals + priors
     Eigen::VectorXd b;
-    /// 8n x points: sum w J_frame^T J_d per point. The first columns of coupling_buffer, which
-    /// keeps its memory from one linearisation to the next: the points change with every
-    /// keyframe, and a matrix of their exact size (about 1 MB) was allocated each time.
+    /// 8n x columns: sum w J_frame^T J_d per point whose depth the solve moves (column[i] of
+    /// point i; the fixed points of reactivated map keyframes have none: their depths take no
+    /// step and no Schur term, and a window back on the map can hold more of them than of its
+    /// own). The first columns of coupling_buffer, which keeps its memory from one
+    /// linearisation to the next: the points change with every keyframe, and a matrix of their
+    /// exact size (about 1 MB) was allocated each time.
     Eigen::MatrixXd::ColsBlockXpr coupling() { return coupling_buffer.leftCols(num_points); }
     Eigen::MatrixXd::ConstColsBlockXpr coupling() const {
       return coupling_buffer.leftCols(num_points);
@@ -118,10 +121,11 @@ class WindowOptimizer {
       num_points = points;
     }
     Eigen::MatrixXd coupling_buffer;
-    Eigen::Index num_points = 0;
-    std::vector<double> H_dd;  ///< per point
-    std::vector<double> b_d;   ///< per point
+    Eigen::Index num_points = 0;  ///< columns of coupling()
+    std::vector<double> H_dd;     ///< per point
+    std::vector<double> b_d;      ///< per point
     std::vector<ActivePoint*> points;
+    std::vector<Eigen::Index> column;  ///< per point: its coupling column, -1 for a fixed point
     double energy = 0.0;
     int inliers = 0, outliers = 0;
     double inlier_energy = 0.0;
@@ -170,8 +174,9 @@ class WindowOptimizer {
   std::vector<PairAccumulator> pair_acc_;  ///< n x n, the pairs' blocks during a linearisation
   /// What a host's linearisation task keeps for the energy sums made afterwards in order.
   struct HostTerms {
-    size_t first_point = 0;       ///< its first point's column in the system
-    std::vector<float> energies;  ///< per residual: the energy it adds (outliers: the cap)
+    size_t first_point = 0;         ///< its first point's index in the system
+    Eigen::Index first_column = 0;  ///< its first moving point's coupling column
+    std::vector<float> energies;    ///< per residual: the energy it adds (outliers: the cap)
     std::vector<unsigned char> inlier;
     int outliers = 0;
   };

@@ -114,6 +114,46 @@ TEST(CalibrationEnvelope, StepIsTheCalibrationPartOfTheFullSolve) {
     }
   }
 
+  // Depths eliminated outside the coupling matrix (other_depths: the window's fixed points) give
+  // the step and curvature of the same depths as columns.
+  {
+    const int kept = 3;  // depths 0-2 stay columns, 3 and 4 are summed into other_depths
+    CalibrationTerms split;
+    split.reset(nf);
+    split.H_fc = terms.H_fc;
+    split.H_cc = terms.H_cc;
+    split.b_c = terms.b_c;
+    std::vector<double> H_dd_kept(H_dd.begin(), H_dd.begin() + kept);
+    std::vector<double> b_d_kept(b_d.begin(), b_d.begin() + kept);
+    for (int i = 0; i < kept; ++i) split.H_dc.push_back(terms.H_dc[static_cast<size_t>(i)]);
+    EliminatedDepthTerms& o = split.other_depths;
+    for (int i = kept; i < nd; ++i) {
+      const auto u = static_cast<size_t>(i);
+      const Eigen::VectorXd c = Hd.block(0, nf + i, nf, 1);
+      const double d = 1.0 / H_dd[u];
+      o.A += c * c.transpose() * d;
+      o.g += c * (b_d[u] * d);
+      o.h += c * terms.H_dc[u].transpose() * d;
+      o.hcc += terms.H_dc[u] * terms.H_dc[u].transpose() * d;
+      o.bc += terms.H_dc[u] * (b_d[u] * d);
+    }
+    const CalibMask all{true, true, true, true};
+    CalibVector step_all, step_split;
+    CalibMatrix curvature_all, curvature_split;
+    ASSERT_TRUE(calibrationEnvelopeStep(Hd.topLeftCorner(nf, nf), g.head(nf),
+                                        Hd.block(0, nf, nf, nd), H_dd, b_d, terms, all, &step_all,
+                                        &curvature_all));
+    ASSERT_TRUE(calibrationEnvelopeStep(Hd.topLeftCorner(nf, nf), g.head(nf),
+                                        Hd.block(0, nf, nf, kept), H_dd_kept, b_d_kept, split, all,
+                                        &step_split, &curvature_split));
+    for (int p = 0; p < nc; ++p) {
+      EXPECT_NEAR(step_split[p], step_all[p], 1e-9 * (1.0 + std::abs(step_all[p])));
+      for (int q = 0; q < nc; ++q)
+        EXPECT_NEAR(curvature_split(p, q), curvature_all(p, q),
+                    1e-9 * (1.0 + std::abs(curvature_all(p, q))));
+    }
+  }
+
   // Mismatched sizes, no parameter and an undefined curvature are refused.
   const CalibMask all{true, true, true, true};
   CalibVector step;

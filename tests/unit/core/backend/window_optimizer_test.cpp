@@ -216,6 +216,49 @@ TEST(WindowOptimizer, ParallelLinearisationIsBitIdentical) {
   }
 }
 
+// The points of a reactivated map keyframe are fixed: no coupling column, no step; they still
+// constrain the poses, and the calibration envelope eliminates their depths too. Parallel
+// linearisation numbers the moving points' columns per host as the one-thread run does.
+TEST(WindowOptimizer, FixedPointsKeepTheirDepthsAndConstrainThePoses) {
+  WindowOptimizerSettings s;
+  s.max_iterations = 10;
+  s.estimate_calibration = {true, false, false, false};
+  const auto fixFirstHost = [](TestWindow& tw) {
+    std::vector<float> depths;
+    for (auto& p : tw.frames[0]->points) {
+      p->fixed = true;
+      p->idepth = tw.idepths[0](static_cast<int>(p->u), static_cast<int>(p->v));
+      depths.push_back(p->idepth);
+    }
+    return depths;
+  };
+  TestWindow tw = makeWindow(4, 0.005, 0.10, 3);
+  const std::vector<float> fixed_depths = fixFirstHost(tw);
+  ASSERT_GT(fixed_depths.size(), 50u);
+  const double rot_before = rotationError(tw);
+  WindowOptimizer opt(s, camera());
+  MarginalizationPrior prior;
+  const WindowOptimizationResult r = opt.optimize(tw.window(), prior);
+  for (std::size_t i = 0; i < fixed_depths.size(); ++i)
+    ASSERT_EQ(tw.frames[0]->points[i]->idepth, fixed_depths[i]) << i;
+  EXPECT_LT(r.final_energy, r.initial_energy);
+  EXPECT_LT(rotationError(tw), 0.002) << "before: " << rot_before;
+  EXPECT_LT(depthError(tw), 0.02);
+  EXPECT_TRUE(r.calibration_valid);
+  EXPECT_TRUE(r.calibration_step.allFinite());
+  for (int threads : {2, 3}) {
+    TestWindow parallel = makeWindow(4, 0.005, 0.10, 3);
+    fixFirstHost(parallel);
+    concurrency::ParallelTasks tasks(threads);
+    WindowOptimizer many(s, camera());
+    many.setParallelTasks(&tasks);
+    MarginalizationPrior prior_many;
+    const WindowOptimizationResult q = many.optimize(parallel.window(), prior_many);
+    SCOPED_TRACE(std::to_string(threads) + " threads");
+    expectSameOptimisation(q, parallel, r, tw);
+  }
+}
+
 TEST(WindowOptimizer, AnchorKeyframeHoldsTheBrightnessGauge) {
   // Equal exposures and no affine prior: moving every keyframe's offset b by the same amount
   // leaves the photometric cost unchanged, so only the anchor keyframe fixes b. Shift them all
