@@ -187,7 +187,7 @@ int main(int argc, char** argv) {
     judge("RSS", rss, s.target.rss_mb);
     const auto ins = instructions.find(s.name);
     const double minstr = ins != instructions.end() ? ins->second / 1e6 : NAN;
-    std::printf("%-20s %6lld %6lld %5lld %10s %7s %8s %8s %8s %8s %8.0f %9s  %s\n", s.name.c_str(),
+    std::printf("%-20s %6lld %6lld %5lld %10s %7s %8s %8s %8s %8s %8.1f %9s  %s\n", s.name.c_str(),
                 r.frames, r.tracked, r.keyframes, cell(r.ate, "%.4f").c_str(),
                 cell(100.0 * r.ate / r.path, "%.2f").c_str(), cell(r.ms_mean, "%.1f").c_str(),
                 cell(r.ms_p99, "%.1f").c_str(), cell(r.wall_ms, "%.1f").c_str(),
