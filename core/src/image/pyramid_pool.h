@@ -7,9 +7,8 @@
 // several keyframes, and a whole spare pyramid (7.7 MB at 1232x368) is worth keeping only if a
 // frame will take it. One thread (deterministic mode) takes one pyramid per frame and gives it
 // back before the next, so one spare is enough (kitti00_200: 9 pyramids made in 200 frames
-// instead of 8, and the peak heap 3.4 MB lower), and a keyframe's pyramid that comes back
-// compacted gets its planes when the next frame takes it (Expand); the threaded pipeline keeps
-// as many as frames can wait for the mapping thread, whole.
+// instead of 8, and the peak heap 3.4 MB lower); the threaded pipeline keeps as many as frames
+// can wait for the mapping thread.
 #pragma once
 
 #include <algorithm>
@@ -24,35 +23,23 @@ namespace ldsm {
 
 class PyramidPool {
  public:
-  /// When a compacted keyframe's pyramid gets its planes back: when it is released (on the
-  /// mapping side, so that acquire() stays free of allocations: the threaded pipeline, where
-  /// tracking must not wait), or when it is acquired (one thread: the planes are not held while
-  /// the window is optimised and its new points made, 5.9 MB at 1232x368).
-  enum class Expand { kOnRelease, kOnAcquire };
-
   /// Pyramids of width x height and `levels` levels; at most `max_free` (at least 1) are kept
   /// for reuse.
-  PyramidPool(int width, int height, int levels, std::size_t max_free = 1,
-              Expand expand = Expand::kOnRelease)
+  PyramidPool(int width, int height, int levels, std::size_t max_free = 1)
       : width_(width),
         height_(height),
         levels_(levels),
-        max_free_(std::max<std::size_t>(max_free, 1)),
-        expand_(expand) {}
+        max_free_(std::max<std::size_t>(max_free, 1)) {}
 
-  /// A whole pyramid from the pool, or a new one when none is free.
+  /// A pyramid from the pool, or a new one when none is free.
   std::unique_ptr<ImagePyramid> acquire() {
-    std::unique_ptr<ImagePyramid> p;
     {
       std::lock_guard<std::mutex> lock(mutex_);
       if (!free_.empty()) {
-        p = std::move(free_.back());
+        auto p = std::move(free_.back());
         free_.pop_back();
+        return p;
       }
-    }
-    if (p) {
-      p->expand();  // (a no-op unless kOnAcquire kept it compacted)
-      return p;
     }
     // Nothing in the pipeline reads |grad I|^2 from the pyramid: leave that plane out (4 of 20
     // bytes per pixel of every keyframe).
@@ -60,15 +47,15 @@ class PyramidPool {
   }
 
   /// Gives a pyramid back (null is ignored); it is freed when max_free are kept already. A
-  /// compacted keyframe's pyramid gets its planes back here with Expand::kOnRelease, else in
-  /// acquire().
+  /// compacted keyframe's pyramid gets its planes back here, on the releasing (mapping) side, so
+  /// that acquire() stays free of allocations.
   void release(std::unique_ptr<ImagePyramid> pyramid) {
     if (!pyramid) return;
     {
       std::lock_guard<std::mutex> lock(mutex_);
       if (free_.size() >= max_free_) return;  // freed on return, after the lock
     }
-    if (expand_ == Expand::kOnRelease) pyramid->expand();
+    pyramid->expand();
     std::lock_guard<std::mutex> lock(mutex_);
     if (free_.size() < max_free_) free_.push_back(std::move(pyramid));
   }
@@ -82,7 +69,6 @@ class PyramidPool {
  private:
   int width_, height_, levels_;
   std::size_t max_free_;
-  Expand expand_;
   std::mutex mutex_;
   std::vector<std::unique_ptr<ImagePyramid>> free_;
 };

@@ -34,16 +34,12 @@ SlamPipeline::SlamPipeline(const Config& config, const GeometricCalibration& geo
     : preprocessor_(geometric, photometric, config.photometric),
       camera_(preprocessor_.output(),
               usableLevels(preprocessor_.output(), config.tracking.pyramid_levels)),
-      // One spare pyramid in deterministic mode, made whole when a frame takes it; threaded, as
-      // many as frames can queue for the mapping thread and the one it works on (they come back
-      // together when it catches up), made whole on the mapping side.
+      // One spare pyramid in deterministic mode; threaded, as many as frames can queue for the
+      // mapping thread and the one it works on (they come back together when it catches up).
       pyramids_(camera_[0].width, camera_[0].height, camera_.levels(),
                 stageMode(config) == concurrency::TaskMode::kInline
                     ? 1
-                    : static_cast<std::size_t>(std::max(config.system.mapping_queue, 0)) + 1,
-                stageMode(config) == concurrency::TaskMode::kInline
-                    ? PyramidPool::Expand::kOnAcquire
-                    : PyramidPool::Expand::kOnRelease),
+                    : static_cast<std::size_t>(std::max(config.system.mapping_queue, 0)) + 1),
       loop_closer_(makeLoopCloser(config, camera_)),
       mapping_(mappingStageSettings(config, photometryKnown(preprocessor_, config)), camera_,
                pyramids_, store_, events_, loop_closer_.get(),

@@ -20,10 +20,13 @@ void StageTimer::record(int stage, double ms) {
   Stage& s = *stages_[static_cast<std::size_t>(stage)];
   // One recording thread per stage: plain read-modify-write through the atomics.
   const std::int64_t n = s.count.load(std::memory_order_relaxed);
-  s.samples[static_cast<std::size_t>(n) % capacity_].store(static_cast<float>(ms),
-                                                           std::memory_order_relaxed);
-  s.sum.store(s.sum.load(std::memory_order_relaxed) + ms, std::memory_order_relaxed);
-  if (ms > s.max.load(std::memory_order_relaxed)) s.max.store(ms, std::memory_order_relaxed);
+  // Every figure from the sample as kept (in float), so that the percentiles never exceed the
+  // maximum.
+  const float sample = static_cast<float>(ms);
+  s.samples[static_cast<std::size_t>(n) % capacity_].store(sample, std::memory_order_relaxed);
+  const double kept = static_cast<double>(sample);
+  s.sum.store(s.sum.load(std::memory_order_relaxed) + kept, std::memory_order_relaxed);
+  if (kept > s.max.load(std::memory_order_relaxed)) s.max.store(kept, std::memory_order_relaxed);
   s.count.store(n + 1, std::memory_order_release);
 }
 

@@ -556,23 +556,6 @@ TEST(PyramidPool, KeepsAtMostMaxFreePyramids) {
   EXPECT_EQ(pool.freeCount(), 0u);
 }
 
-TEST(PyramidPool, ExpandedOnAcquireAKeyframesPyramidWaitsCompacted) {
-  PyramidPool pool(32, 24, 3, /*max_free=*/1, PyramidPool::Expand::kOnAcquire);
-  std::unique_ptr<ImagePyramid> p = pool.acquire();
-  const ImagePyramid* address = p.get();
-  p->compact();
-  const std::size_t compact_bytes = p->bytes();
-  pool.release(std::move(p));
-  ASSERT_EQ(pool.freeCount(), 1u);
-  EXPECT_TRUE(address->compacted());  // no planes while it waits
-  EXPECT_EQ(address->bytes(), compact_bytes);
-  std::unique_ptr<ImagePyramid> again = pool.acquire();
-  EXPECT_EQ(again.get(), address);
-  EXPECT_FALSE(again->compacted());
-  EXPECT_GT(again->bytes(), compact_bytes);
-  EXPECT_EQ(again->gradients(2).width, 8);
-}
-
 TEST(PyramidPool, KeepsAtLeastOnePyramid) {
   PyramidPool pool(16, 16, 2, /*max_free=*/0);
   std::unique_ptr<ImagePyramid> p = pool.acquire();
