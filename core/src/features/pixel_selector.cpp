@@ -56,7 +56,8 @@ PixelSelector::PixelSelector(int width, int height, const PointSelectionConfig& 
       corner_detector_(width, height) {
   blocked_.resize(width, height);
   magnitude_sq_.assign(static_cast<std::size_t>(std::max(width, 0)), 0.f);
-  near_clipped_row_.resize(width, height);
+  near_clipped_rows_.resize(static_cast<std::size_t>(2 * std::max(config_.clipped_margin, 0) + 1) *
+                            static_cast<std::size_t>(std::max(width, 0)));
   near_clipped_.resize(width, height);
   last_clipped_.resize(static_cast<std::size_t>(std::max(height, 0)));
   for (int i = 0; i < kDirections; ++i) {
@@ -185,28 +186,37 @@ void PixelSelector::markNearClipped(ImageView<const std::uint8_t> clipped) {
   int* last_clipped = last_clipped_.data();
   // A pixel is near when a clipped pixel lies within r in x and in y: the union of the shifted
   // masks, first along the rows, then along the columns (byte loops the compiler vectorises).
-  // Most rows have no clipped pixel at all (last_clipped[y] < 0 marks them).
+  // Most rows have no clipped pixel at all (last_clipped[y] < 0 marks them). The rows' union is
+  // made for row y + r just before row y needs it, into a ring of 2r + 1 rows.
   for (int y = 0; y < h; ++y) {
     const std::uint8_t* in = clipped.row(y);
-    std::uint8_t* out = near_clipped_row_.row(y);
     std::uint8_t any = 0;
     for (int x = 0; x < w; ++x) any |= in[x];
     last_clipped[y] = any != 0 ? y : -1;
-    std::memset(out, 0, row_bytes);
-    if (any == 0) continue;
-    for (int d = -r; d <= r; ++d) {
-      const int x0 = std::max(0, -d), x1 = std::min(w, w - d);
-      for (int x = x0; x < x1; ++x) out[x] |= in[x + d];
-    }
   }
+  const int ring = 2 * r + 1;
+  const auto ringRow = [&](int yy) {
+    return near_clipped_rows_.data() + static_cast<std::size_t>(yy % ring) * row_bytes;
+  };
+  int next = 0;  // the first row whose union is not made yet
   for (int y = 0; y < h; ++y) {
+    for (; next <= std::min(h - 1, y + r); ++next) {
+      if (last_clipped[next] < 0) continue;  // never read
+      const std::uint8_t* in = clipped.row(next);
+      std::uint8_t* out = ringRow(next);
+      std::memset(out, 0, row_bytes);
+      for (int d = -r; d <= r; ++d) {
+        const int x0 = std::max(0, -d), x1 = std::min(w, w - d);
+        for (int x = x0; x < x1; ++x) out[x] |= in[x + d];
+      }
+    }
     std::uint8_t* out = near_clipped_.row(y);
     std::memset(out, 0, row_bytes);
     bool near = false;
     for (int yy = std::max(0, y - r); yy <= std::min(h - 1, y + r); ++yy) {
       if (last_clipped[yy] < 0) continue;
       near = true;
-      const std::uint8_t* in = near_clipped_row_.row(yy);
+      const std::uint8_t* in = ringRow(yy);
       for (int x = 0; x < w; ++x) out[x] |= in[x];
     }
     if (!near) continue;  // all zero already

@@ -123,8 +123,9 @@ class PixelSelector {
   /// 1 near a clipped pixel: a grid cell whose best pixel lies there gives no point, since its
   /// gradient comes from the clipping (the next best one in the cell mostly too).
   Image<std::uint8_t> near_clipped_;
-  Image<std::uint8_t> near_clipped_row_;  ///< horizontal pass of blockNearClipped()
-  std::vector<int> last_clipped_;         ///< per row: -1 when it has no clipped pixel
+  /// The horizontal pass of markNearClipped(): a ring of 2 clipped_margin + 1 rows.
+  std::vector<std::uint8_t> near_clipped_rows_;
+  std::vector<int> last_clipped_;  ///< per row: -1 when it has no clipped pixel
   std::array<LevelGrid, 3> levels_{};
   int num_levels_ = 0;
   std::array<float, 16> dir_x_{};  ///< the fixed set of score directions
