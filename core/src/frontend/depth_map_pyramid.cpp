@@ -28,10 +28,6 @@ void checkSizes(int width, int height, int levels) {
   }
 }
 
-}  // namespace
-
-namespace {
-
 template <typename Src>
 void downsampleLevel(const Src& src, int src_width, const std::vector<int>& src_known,
                      DensePixelSums& dst, int w, int h, std::vector<int>& known) {
