@@ -141,6 +141,8 @@ DepthMapCanvas::DepthMapCanvas(int width, int height, int levels) {
     width /= 2;
     height /= 2;
   }
+  level0_ = PixelSums(
+      1024, static_cast<std::size_t>(sizes_[0].first) * static_cast<std::size_t>(sizes_[0].second));
   for (int l = 1; l < levels; ++l)
     coarse_.emplace_back(static_cast<std::size_t>(sizes_[l].first) *
                          static_cast<std::size_t>(sizes_[l].second));

@@ -3,7 +3,8 @@
 // - PixelSums, for the few pixels of a level that have any: a window's points cover a few
 //   percent of an image, and dilation adds their neighbours (some 14 000 cells at level 0 of a
 //   1232x368 image where a dense plane holds 453 000). An open-addressing hash table, linear
-//   probing, at most half full; a pixel without a cell reads as zero sums.
+//   probing, at most half full; a pixel without a cell reads as zero sums. Bounded by the plane
+//   it replaces: past as many slots as the level has pixels it becomes that plane.
 // - DensePixelSums, a plane of every pixel, for the coarse levels that dilation makes dense.
 #pragma once
 
@@ -21,8 +22,13 @@ class PixelSums {
     unsigned char from_map = 0;
   };
 
-  /// An empty table with room for `cells` cells before it grows.
-  explicit PixelSums(std::size_t cells = 1024) { reserve(cells); }
+  /// An empty table with room for `cells` cells before it grows. With `pixels` (the level's
+  /// pixel count, > 0) it never takes more slots than that: a table that would becomes a plane of
+  /// one slot per pixel, indexed by the pixel (a window so dense that its points and their
+  /// neighbours cover a quarter of the image and more).
+  explicit PixelSums(std::size_t cells = 1024, std::size_t pixels = 0) : pixels_(pixels) {
+    reserve(cells);
+  }
 
   /// Forgets every cell; keeps the memory.
   void clear() {
@@ -57,7 +63,7 @@ class PixelSums {
   /// The cell of `pixel` (>= 0), a zero one when it had none. Growing the table (when it would
   /// be more than half full; it then allocates) invalidates earlier cell pointers.
   Cell& insert(int pixel) {
-    if (2 * (used_.size() + 1) > slots_.size()) reserve(2 * slots_.size());
+    if (!direct_ && 2 * (used_.size() + 1) > slots_.size()) reserve(2 * slots_.size());
     std::size_t s = slotOf(pixel);
     for (; slots_[s].pixel != kEmpty; s = (s + 1) & mask_)
       if (slots_[s].pixel == pixel) return slots_[s].cell;
@@ -80,6 +86,7 @@ class PixelSums {
   };
 
   std::size_t slotOf(int pixel) const {
+    if (direct_) return static_cast<std::size_t>(pixel);  // never probes further
     // Fibonacci hashing: neighbouring pixels land far apart.
     return (static_cast<std::uint32_t>(pixel) * 2654435761u >> shift_) & mask_;
   }
@@ -92,13 +99,17 @@ class PixelSums {
       n *= 2;
       ++bits;
     }
-    if (n <= slots_.size()) return;
+    if (direct_ || n <= slots_.size()) return;
     std::vector<Slot> old;
     old.swap(slots_);
     std::vector<std::uint32_t> old_used;
     old_used.swap(used_);
+    if (pixels_ > 0 && n >= pixels_) {
+      direct_ = true;  // slot = pixel
+      n = pixels_;
+    }
     slots_.assign(n, Slot());
-    used_.reserve(n / 2);
+    used_.reserve(direct_ ? n / 4 : n / 2);
     mask_ = n - 1;
     shift_ = 32 - bits;
     for (const std::uint32_t s : old_used) insert(old[s].pixel) = old[s].cell;
@@ -108,6 +119,8 @@ class PixelSums {
   std::vector<std::uint32_t> used_;  ///< the slots in use, in insertion order
   std::size_t mask_ = 0;
   int shift_ = 32;
+  std::size_t pixels_ = 0;  ///< 0: no bound
+  bool direct_ = false;     ///< one slot per pixel
 };
 
 /// Every pixel's sums (8 bytes per pixel), with PixelSums' interface.

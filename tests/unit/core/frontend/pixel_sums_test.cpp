@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <random>
 #include <unordered_map>
 
@@ -46,6 +47,42 @@ TEST(PixelSums, CellsByPixelAcrossGrowthAndClear) {
   for (const auto& [p, e] : expected) ASSERT_EQ(table.find(p), nullptr) << p;
   EXPECT_EQ(table.insert(12).weight, 0.f);  // a new cell is zero
   EXPECT_EQ(table.get(13).sum, 0.f);
+}
+
+// A table bounded by its level's pixels becomes a plane of one slot per pixel instead of growing
+// past it, and reads and clears as before.
+TEST(PixelSums, ADenseLevelBecomesAPlaneOfItsPixels) {
+  constexpr int kPixels = 5000;
+  PixelSums table(16, kPixels);
+  std::mt19937 rng(2);
+  std::uniform_int_distribution<int> pixel(0, kPixels - 1);
+  std::unordered_map<int, float> expected;
+  for (int i = 0; i < 20000; ++i) {
+    const int p = pixel(rng);
+    table.insert(p).sum += 1.f;
+    expected[p] += 1.f;
+  }
+  EXPECT_EQ(table.size(), expected.size());
+  EXPECT_GT(table.size(), 4000u);
+  // One slot per pixel at most (a hash table this full would take 8192 slots).
+  EXPECT_LE(table.bytes(),
+            kPixels * (sizeof(int) + sizeof(PixelSums::Cell)) + kPixels * sizeof(std::uint32_t));
+  for (int p = 0; p < kPixels; ++p) {
+    const auto it = expected.find(p);
+    if (it == expected.end()) {
+      EXPECT_EQ(table.find(p), nullptr) << p;
+    } else {
+      const PixelSums::Cell* c = table.find(p);
+      ASSERT_NE(c, nullptr) << p;
+      EXPECT_EQ(table.sum(p), it->second);
+    }
+  }
+  table.clear();
+  EXPECT_EQ(table.size(), 0u);
+  for (int p = 0; p < kPixels; ++p) ASSERT_EQ(table.find(p), nullptr) << p;
+  table.insert(4999).weight = 2.f;
+  EXPECT_EQ(table.weight(4999), 2.f);
+  EXPECT_EQ(table.weight(4998), 0.f);
 }
 
 }  // namespace
