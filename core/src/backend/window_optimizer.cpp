@@ -9,6 +9,19 @@
 namespace ldsm {
 namespace {
 
+/// f(i, j) for every pair of touched frame blocks with i >= j, j outer: the lower blocks of
+/// c c^T for a point's frame coupling c, which is non-zero only in its host's and its inlier
+/// targets' blocks (the upper triangle is mirrored once afterwards).
+template <typename F>
+void forTouchedLowerBlocks(const std::vector<char>& touched, F&& f) {
+  const int n = static_cast<int>(touched.size());
+  for (int j = 0; j < n; ++j) {
+    if (!touched[static_cast<size_t>(j)]) continue;
+    for (int i = j; i < n; ++i)
+      if (touched[static_cast<size_t>(i)]) f(i, j);
+  }
+}
+
 using Mat16 = Eigen::Matrix<double, 16, 16>;
 using Vec16 = Eigen::Matrix<double, 16, 1>;
 using Map10x16 = Eigen::Matrix<double, kRelParams, 16>;
@@ -321,13 +334,10 @@ void WindowOptimizer::linearizeCalibration(const std::vector<WindowKeyframe*>& w
       // c is non-zero only in the host's and the inlier targets' blocks: only their products
       // (the lower ones; mirrored below).
       constexpr int k = kFrameParams;
-      for (int j = 0; j < n; ++j) {
-        if (!touched[static_cast<size_t>(j)]) continue;
-        for (int i = j; i < n; ++i)
-          if (touched[static_cast<size_t>(i)])
-            other.A.block<k, k>(k * i, k * j).noalias() +=
-                c.segment<k>(k * i) * (c.segment<k>(k * j).transpose() * d);
-      }
+      forTouchedLowerBlocks(touched, [&](int i, int j) {
+        other.A.block<k, k>(k * i, k * j).noalias() +=
+            c.segment<k>(k * i) * (c.segment<k>(k * j).transpose() * d);
+      });
       other.g += c * (b_d * d);
       for (int p : refined) other.h.col(p) += c * (H_dc[p] * d);
       for (int p : refined) {
@@ -555,13 +565,10 @@ void WindowOptimizer::marginalizePoints(const std::vector<WindowKeyframe*>& wind
     }
     if (H_dd < 1e-10) continue;
     constexpr int k = kFrameParams;
-    for (int j = 0; j < n; ++j) {
-      if (!touched[static_cast<size_t>(j)]) continue;
-      for (int i = j; i < n; ++i)
-        if (touched[static_cast<size_t>(i)])
-          H.block<k, k>(k * i, k * j).noalias() -=
-              c.segment<k>(k * i) * c.segment<k>(k * j).transpose() / H_dd;
-    }
+    forTouchedLowerBlocks(touched, [&](int i, int j) {
+      H.block<k, k>(k * i, k * j).noalias() -=
+          c.segment<k>(k * i) * c.segment<k>(k * j).transpose() / H_dd;
+    });
     b -= c * (b_d / H_dd);
   }
   H.triangularView<Eigen::StrictlyUpper>() = H.transpose();

@@ -147,6 +147,24 @@ void expectSameOptimisation(const WindowOptimizationResult& r, const TestWindow&
   }
 }
 
+/// The window of makeWindow(4, 0.005, 0.10, 3), `prepare`d, optimised with two and three
+/// threads (system.parallel_threads) must give the one-thread result `r` of `serial` exactly.
+template <typename Prepare>
+void expectParallelRunsMatch(const WindowOptimizerSettings& s, Prepare prepare,
+                             const WindowOptimizationResult& r, const TestWindow& serial) {
+  for (int threads : {2, 3}) {
+    TestWindow parallel = makeWindow(4, 0.005, 0.10, 3);
+    prepare(parallel);
+    concurrency::ParallelTasks tasks(threads);
+    WindowOptimizer many(s, camera());
+    many.setParallelTasks(&tasks);
+    MarginalizationPrior prior_many;
+    const WindowOptimizationResult q = many.optimize(parallel.window(), prior_many);
+    SCOPED_TRACE(std::to_string(threads) + " threads");
+    expectSameOptimisation(q, parallel, r, serial);
+  }
+}
+
 TEST(WindowOptimizer, FrameGradientMatchesNumericDifferentiation) {
   // Plain least squares (no Huber, unit gradient weights) so that the gradient is exact.
   TestWindow tw = makeWindow(3, 0.004, 0.03, 7, 1e6);
@@ -204,16 +222,8 @@ TEST(WindowOptimizer, ParallelLinearisationIsBitIdentical) {
   WindowOptimizer one(s, camera());
   MarginalizationPrior prior_one;
   const auto r1 = one.optimize(serial.window(), prior_one);
-  for (int threads : {2, 3}) {
-    TestWindow parallel = makeWindow(4, 0.005, 0.10, 3);
-    concurrency::ParallelTasks tasks(threads);
-    WindowOptimizer many(s, camera());
-    many.setParallelTasks(&tasks);
-    MarginalizationPrior prior_many;
-    const auto r2 = many.optimize(parallel.window(), prior_many);
-    SCOPED_TRACE(std::to_string(threads) + " threads");
-    expectSameOptimisation(r2, parallel, r1, serial);
-  }
+  expectParallelRunsMatch(
+      s, [](TestWindow&) {}, r1, serial);
 }
 
 // The points of a reactivated map keyframe are fixed: no coupling column, no step; they still
@@ -246,17 +256,7 @@ TEST(WindowOptimizer, FixedPointsKeepTheirDepthsAndConstrainThePoses) {
   EXPECT_LT(depthError(tw), 0.02);
   EXPECT_TRUE(r.calibration_valid);
   EXPECT_TRUE(r.calibration_step.allFinite());
-  for (int threads : {2, 3}) {
-    TestWindow parallel = makeWindow(4, 0.005, 0.10, 3);
-    fixFirstHost(parallel);
-    concurrency::ParallelTasks tasks(threads);
-    WindowOptimizer many(s, camera());
-    many.setParallelTasks(&tasks);
-    MarginalizationPrior prior_many;
-    const WindowOptimizationResult q = many.optimize(parallel.window(), prior_many);
-    SCOPED_TRACE(std::to_string(threads) + " threads");
-    expectSameOptimisation(q, parallel, r, tw);
-  }
+  expectParallelRunsMatch(s, fixFirstHost, r, tw);
 }
 
 TEST(WindowOptimizer, AnchorKeyframeHoldsTheBrightnessGauge) {
