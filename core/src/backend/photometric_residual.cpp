@@ -70,20 +70,47 @@ Eigen::Matrix2f radialJacobian(float k, float x, float y) {
   return J;
 }
 
+/// The same in pixels: K J_D K^-1 (a pinhole pixel's displacement to the image's).
+Eigen::Matrix2f pixelRadialJacobian(const LevelCamera& cam, float k, float x, float y) {
+  Eigen::Matrix2f J = radialJacobian(k, x, y);
+  J(0, 1) *= cam.fx * cam.fyi;
+  J(1, 0) *= cam.fy * cam.fxi;
+  return J;
+}
+
 using CalibJacobian = Eigen::Matrix<float, 2, kCalibParams>;
 
 /// d(pixel) / d(eps) and d(pixel) / d(inverse depth) of the point's centre at the linearisation
 /// point (first estimates), for the host ray through pinhole pixel (u, v).
 /// With `dpx_dc`, also d(pixel) / d(calibration correction c) at the pair's camera (the columns
 /// of `params`; the others 0): the host ray's move through the projection (the host pixel stays,
-/// its ray turns) plus the change of the target's projection itself.
+/// its ray turns) plus the change of the target's projection itself. With `depth_only`, only
+/// d(pixel) / d(inverse depth), by the same operations (dpx_dc must be null).
 void centreJacobian(float u, float v, float d, const FramePairPrecalc& pair,
-                    simd::PatternJacobian& jac, CalibJacobian* dpx_dc, const CalibMask& params) {
+                    simd::PatternJacobian& jac, CalibJacobian* dpx_dc, const CalibMask& params,
+                    bool depth_only = false) {
   const LevelCamera& cam = pair.cam;
   const Eigen::Vector3f ray = cam.unproject(u, v);
   const Eigen::Vector3f R_ray = pair.R0 * ray;
   const Eigen::Vector3f p = R_ray / d + pair.t0;  // point in the target, metric
   const float zi = 1.f / p.z();
+  // dpx/dp * dp/dd with dp/dd = -(p - t0) / d, in the form without cancellation: with
+  // q = d p = R0 ray + d t0, dpx/dd = (f / q_z) (t0 - (q / q_z) t0_z).
+  const Eigen::Vector3f q = R_ray + pair.t0 * d;
+  const float qzi = 1.f / q.z();
+  jac.dpx_didepth[0] = cam.fx * qzi * (pair.t0.x() - q.x() * qzi * pair.t0.z());
+  jac.dpx_didepth[1] = cam.fy * qzi * (pair.t0.y() - q.y() * qzi * pair.t0.z());
+  const float k = pair.radial_k;
+  const float xt = p.x() * zi, yt = p.y() * zi;
+  if (depth_only) {
+    if (k != 0.f) {
+      const Eigen::Matrix2f J = pixelRadialJacobian(cam, k, xt, yt);
+      const float d0 = jac.dpx_didepth[0], d1 = jac.dpx_didepth[1];
+      jac.dpx_didepth[0] = J(0, 0) * d0 + J(0, 1) * d1;
+      jac.dpx_didepth[1] = J(1, 0) * d0 + J(1, 1) * d1;
+    }
+    return;
+  }
   // dpx/dp = [[a, 0, -b], [0, c, -e]]; dp/deps = [I | -[p]x].
   const float a = cam.fx * zi, b = cam.fx * p.x() * zi * zi;
   const float c = cam.fy * zi, e = cam.fy * p.y() * zi * zi;
@@ -101,13 +128,6 @@ void centreJacobian(float u, float v, float d, const FramePairPrecalc& pair,
   r1[3] = -c * p.z() - e * p.y();
   r1[4] = e * p.x();
   r1[5] = c * p.x();
-  // dpx/dp * dp/dd with dp/dd = -(p - t0) / d, in the form without cancellation: with
-  // q = d p = R0 ray + d t0, dpx/dd = (f / q_z) (t0 - (q / q_z) t0_z).
-  const Eigen::Vector3f q = R_ray + pair.t0 * d;
-  const float qzi = 1.f / q.z();
-  jac.dpx_didepth[0] = cam.fx * qzi * (pair.t0.x() - q.x() * qzi * pair.t0.z());
-  jac.dpx_didepth[1] = cam.fy * qzi * (pair.t0.y() - q.y() * qzi * pair.t0.z());
-  const float k = pair.radial_k;
   CalibJacobian host_move = CalibJacobian::Zero();
   if (dpx_dc != nullptr) {
     // The pinhole ray x_h moves by dx (z fixed): p moves by R0 (dx, 0) / d.
@@ -136,12 +156,9 @@ void centreJacobian(float u, float v, float d, const FramePairPrecalc& pair,
       if (params[kCalibCy]) host_move.col(kCalibCy) = through(dcy.x(), dcy.y());
     }
   }
-  const float xt = p.x() * zi, yt = p.y() * zi;
   if (k != 0.f) {
     // Through the radial correction at the target: pixel = K D(x), dpx = K J_D K^-1 dpx_pinhole.
-    Eigen::Matrix2f J = radialJacobian(k, xt, yt);
-    J(0, 1) *= cam.fx * cam.fyi;
-    J(1, 0) *= cam.fy * cam.fxi;
+    const Eigen::Matrix2f J = pixelRadialJacobian(cam, k, xt, yt);
     for (int j = 0; j < 6; ++j) {
       const float a0 = r0[j], a1 = r1[j];
       r0[j] = J(0, 0) * a0 + J(0, 1) * a1;
@@ -270,7 +287,7 @@ float evaluateResidual(const ActivePoint& point, PointResidual& res, const Frame
   CalibJacobian dpx_dc;
   const bool calibration = acc->calibration != nullptr && !acc->depth_only;
   centreJacobian(host.x(), host.y(), d, pair, jac, calibration ? &dpx_dc : nullptr,
-                 calibration ? acc->calibration->params : CalibMask{});
+                 calibration ? acc->calibration->params : CalibMask{}, acc->depth_only);
   if (acc->depth_only) {
     float H_dd, b_d;
     simd::accumulateDepthOnly<simd::Vec4>(samples, jac.dpx_didepth, &H_dd, &b_d);

@@ -31,6 +31,9 @@ bool Mapper::optimizeNewPointDepth(ActivePoint& point, const std::vector<FramePa
   double H = 0, b = 0;
   double energy = evaluate(true, &H, &b);
   double lambda = 0.1;
+  // Whether the residuals' states (and H) are those of the current depth: after a rejected step
+  // they are the trial's, and the depth's are evaluated once more at the end.
+  bool evaluated_here = true;
   for (int it = 0; it < 5 && H > 1e-10; ++it) {
     const float old = point.idepth;
     const double step = -b / (H * (1.0 + lambda));
@@ -42,14 +45,16 @@ bool Mapper::optimizeNewPointDepth(ActivePoint& point, const std::vector<FramePa
       H = H2;
       b = b2;
       lambda *= 0.5;
+      evaluated_here = true;
       if (std::fabs(point.idepth - old) < 1e-4f * old) break;
     } else {
       point.idepth = old;
       lambda *= 5.0;
+      evaluated_here = false;
     }
   }
-  double Hf = 0, bf = 0;
-  evaluate(true, &Hf, &bf);
+  double Hf = H, bf = b;
+  if (!evaluated_here) evaluate(true, &Hf, &bf);
   int inliers = 0;
   for (const auto& r : point.residuals) inliers += r.state == ResidualState::Inlier ? 1 : 0;
   point.hessian_idepth = static_cast<float>(Hf);
