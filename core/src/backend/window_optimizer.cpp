@@ -278,7 +278,8 @@ void WindowOptimizer::linearize(const std::vector<WindowKeyframe*>& window,
     sys.outliers += ht.outliers;
   }
   addPairAccumulators(n, pair_acc_, pairs_, adjoints_, sys.H, sys.b);
-  sys.energy = 0.5 * residual_energy + addPriors(window, prior, &sys.H, &sys.b);
+  sys.photometric_energy = 0.5 * residual_energy;
+  sys.energy = sys.photometric_energy + addPriors(window, prior, &sys.H, &sys.b);
 }
 
 void WindowOptimizer::linearizeCalibration(const std::vector<WindowKeyframe*>& window,
@@ -462,7 +463,10 @@ WindowOptimizationResult WindowOptimizer::optimize(const std::vector<WindowKeyfr
     precalcPairs(window);
     linearize(window, prior, trial);
     ++result.iterations;
-    const double change = (sys.energy - trial.energy) / std::max(sys.energy, 1e-12);
+    // Relative to the residuals' energy: the marginalisation prior's has no constant term and
+    // is often negative and larger (kitti00_200: -1.7e6 against 1.6e6), and relative to the sum
+    // a step's change said nothing (the sum near 0 or below it: no step ever looked converged).
+    const double change = (sys.energy - trial.energy) / std::max(sys.photometric_energy, 1e-12);
     if (trial.energy <= sys.energy) {
       std::swap(sys, trial);
       lambda = std::max(lambda * 0.5, 1e-8);

@@ -126,7 +126,8 @@ class WindowOptimizer {
     std::vector<double> b_d;      ///< per point
     std::vector<ActivePoint*> points;
     std::vector<Eigen::Index> column;  ///< per point: its coupling column, -1 for a fixed point
-    double energy = 0.0;
+    double energy = 0.0;               ///< residuals and priors
+    double photometric_energy = 0.0;   ///< the residuals' part of energy
     int inliers = 0, outliers = 0;
     double inlier_energy = 0.0;
     CalibrationTerms calibration;  ///< calibration terms (linearizeCalibration() only)
