@@ -21,7 +21,8 @@ namespace ldsm {
 struct WindowOptimizerSettings {
   int max_iterations = 6;
   double initial_lambda = 1e-4;
-  /// Stop when a step changes the energy by less than this fraction (either way).
+  /// Stop when an accepted step lowers the energy by less than this fraction of the residuals'
+  /// energy (a step that raises it always ends the optimisation).
   double min_relative_decrease = 3e-4;
   double affine_prior_a = 1e-3;  ///< prior weight on a (towards 0)
   double affine_prior_b = 1e-3;  ///< prior weight on b (towards 0)
