@@ -22,8 +22,11 @@ struct WindowOptimizerSettings {
   int max_iterations = 6;
   double initial_lambda = 1e-4;
   /// Stop when an accepted step lowers the energy by less than this fraction of the residuals'
-  /// energy (a step that raises it always ends the optimisation).
+  /// energy.
   double min_relative_decrease = 3e-4;
+  /// A rejected step is retried with more damping only when it raised the energy by more than
+  /// this fraction of the residuals' energy (an overshoot); otherwise the optimisation stops.
+  double retry_increase = 1e-2;
   double affine_prior_a = 1e-3;  ///< prior weight on a (towards 0)
   double affine_prior_b = 1e-3;  ///< prior weight on b (towards 0)
   /// Weight anchoring the gauge keyframe (pose and affine brightness) to its first estimate.
