@@ -102,15 +102,15 @@ void centreJacobian(float u, float v, float d, const FramePairPrecalc& pair,
   jac.dpx_didepth[1] = cam.fy * qzi * (pair.t0.y() - q.y() * qzi * pair.t0.z());
   const float k = pair.radial_k;
   const float xt = p.x() * zi, yt = p.y() * zi;
-  if (depth_only) {
-    if (k != 0.f) {
-      const Eigen::Matrix2f J = pixelRadialJacobian(cam, k, xt, yt);
-      const float d0 = jac.dpx_didepth[0], d1 = jac.dpx_didepth[1];
-      jac.dpx_didepth[0] = J(0, 0) * d0 + J(0, 1) * d1;
-      jac.dpx_didepth[1] = J(1, 0) * d0 + J(1, 1) * d1;
-    }
-    return;
+  // Through the radial correction at the target: pixel = K D(x), dpx = K J_D K^-1 dpx_pinhole.
+  Eigen::Matrix2f J = Eigen::Matrix2f::Identity();
+  if (k != 0.f) {
+    J = pixelRadialJacobian(cam, k, xt, yt);
+    const float d0 = jac.dpx_didepth[0], d1 = jac.dpx_didepth[1];
+    jac.dpx_didepth[0] = J(0, 0) * d0 + J(0, 1) * d1;
+    jac.dpx_didepth[1] = J(1, 0) * d0 + J(1, 1) * d1;
   }
+  if (depth_only) return;
   // dpx/dp = [[a, 0, -b], [0, c, -e]]; dp/deps = [I | -[p]x].
   const float a = cam.fx * zi, b = cam.fx * p.x() * zi * zi;
   const float c = cam.fy * zi, e = cam.fy * p.y() * zi * zi;
@@ -157,16 +157,11 @@ void centreJacobian(float u, float v, float d, const FramePairPrecalc& pair,
     }
   }
   if (k != 0.f) {
-    // Through the radial correction at the target: pixel = K D(x), dpx = K J_D K^-1 dpx_pinhole.
-    const Eigen::Matrix2f J = pixelRadialJacobian(cam, k, xt, yt);
     for (int j = 0; j < 6; ++j) {
       const float a0 = r0[j], a1 = r1[j];
       r0[j] = J(0, 0) * a0 + J(0, 1) * a1;
       r1[j] = J(1, 0) * a0 + J(1, 1) * a1;
     }
-    const float d0 = jac.dpx_didepth[0], d1 = jac.dpx_didepth[1];
-    jac.dpx_didepth[0] = J(0, 0) * d0 + J(0, 1) * d1;
-    jac.dpx_didepth[1] = J(1, 0) * d0 + J(1, 1) * d1;
     if (dpx_dc != nullptr) host_move = J * host_move;
   }
   if (dpx_dc != nullptr) {
