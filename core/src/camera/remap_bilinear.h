@@ -62,15 +62,13 @@ namespace detail {
 /// same one row down, top + ay (bottom - top).
 template <class V, typename T>
 inline V blendBlocks(const T* const* blocks, std::ptrdiff_t dx1, std::ptrdiff_t dy1, V ax, V ay) {
-  alignas(16) float p00[4], p10[4], p01[4], p11[4];
-  for (int k = 0; k < 4; ++k) {
-    const T* p = blocks[k];
-    p00[k] = static_cast<float>(p[0]);
-    p10[k] = static_cast<float>(p[dx1]);
-    p01[k] = static_cast<float>(p[dy1]);
-    p11[k] = static_cast<float>(p[dy1 + dx1]);
-  }
-  const V a = V::load(p00), b = V::load(p10), c = V::load(p01), d = V::load(p11);
+  // Lanes from registers (V::setLanes), not through an array: its vector loads would wait for
+  // the four scalar stores each to forward.
+  const auto lanes = [&](std::ptrdiff_t o) {
+    return V::setLanes(static_cast<float>(blocks[0][o]), static_cast<float>(blocks[1][o]),
+                       static_cast<float>(blocks[2][o]), static_cast<float>(blocks[3][o]));
+  };
+  const V a = lanes(0), b = lanes(dx1), c = lanes(dy1), d = lanes(dy1 + dx1);
   const V top = a + ax * (b - a);
   const V bottom = c + ax * (d - c);
   return top + ay * (bottom - top);

@@ -1,10 +1,12 @@
 #include "image/image_pyramid.h"
 
 #include <cstring>
+#include <limits>
 #include <string>
 #include <utility>
 
 #include "image/gradient_row.h"
+#include "image/threshold_row.h"
 #include "ldsm/error.h"
 
 namespace ldsm {
@@ -159,6 +161,10 @@ void ImagePyramid::build(ImageView<const float> image) {
 }
 
 void ImagePyramid::build(ImageRows& rows) {
+  build(rows, std::numeric_limits<float>::infinity());
+}
+
+void ImagePyramid::build(ImageRows& rows, float clipped_level) {
   expand();
   const int w0 = width(0);
   const int h0 = height(0);
@@ -170,9 +176,12 @@ void ImagePyramid::build(ImageRows& rows) {
     const bool inner = y > 0 && y < h0 - 1;
     simd::gradientRow<simd::Vec4>(inner ? in[(y + 2) % 3] : nullptr, in[y % 3],
                                   inner ? in[(y + 1) % 3] : nullptr, w0, gradients_[0].row(y));
+    if (clipped_level < std::numeric_limits<float>::infinity())
+      simd::markAtLeastRow<simd::Vec4>(in[y % 3], w0, clipped_level, clipped_.row(y));
+    else
+      std::memset(clipped_.row(y), 0, static_cast<std::size_t>(w0));
   }
   computeGradMagSq(0);
-  for (int y = 0; y < h0; ++y) std::memset(clipped_.row(y), 0, static_cast<std::size_t>(w0));
   // Coarser levels: each row's intensities are made once into a ring of three rows (the row, the
   // one above and the one below), from the packed plane of the level before.
   for (int l = 1; l < levels(); ++l) {
@@ -198,19 +207,15 @@ void ImagePyramid::markClipped(ImageView<const float> raw, float level) {
                      ", expected " + sizeString(width(0), height(0)));
   }
   for (int y = 0; y < raw.height; ++y) {
-    const float* in = raw.row(y);
-    std::uint8_t* out = clipped_.row(y);
-    for (int x = 0; x < raw.width; ++x) out[x] = in[x] >= level ? 1 : 0;
+    simd::markAtLeastRow<simd::Vec4>(raw.row(y), raw.width, level, clipped_.row(y));
   }
 }
 
 void ImagePyramid::markClipped(ImageRows& raw, float level) {
   requireFull("clipping mask", 0);
-  for (int y = 0; y < height(0); ++y) {
-    const float* in = raw.row(y);
-    std::uint8_t* out = clipped_.row(y);
-    for (int x = 0; x < width(0); ++x) out[x] = in[x] >= level ? 1 : 0;
-  }
+  const int w = width(0), h = height(0);
+  for (int y = 0; y < h; ++y)
+    simd::markAtLeastRow<simd::Vec4>(raw.row(y), w, level, clipped_.row(y));
 }
 
 void ImagePyramid::markClippedFromIntensity(float level) {

@@ -55,6 +55,10 @@ class ImagePyramid {
   /// The same from the image's rows (of the size given at construction), every float as
   /// build(ImageView) makes it from the whole image.
   void build(ImageRows& rows);
+  /// build(rows) and markClippedFromIntensity(clipped_level) in one pass over the rows: the mask
+  /// from each row while it is at hand (the same mask). An infinite level marks nothing (as
+  /// build(rows), which leaves the mask all 0).
+  void build(ImageRows& rows, float clipped_level);
 
   int levels() const { return static_cast<int>(sizes_.size()); }
   int width(int level) const { return sizes_[level].first; }

@@ -1,5 +1,6 @@
 #include "pipeline/frame_preprocessor.h"
 
+#include <limits>
 #include <string>
 
 #include "ldsm/error.h"
@@ -69,16 +70,15 @@ void FramePreprocessor::process(ImageView<const std::uint8_t> image, ImagePyrami
     RectifiedRows<float> rows(rectifier_, corrected_.view(), row_ring_);
     pyramid.build(rows);
   } else {
+    // The rectified raw values themselves give the clipping mask, made while each row is at hand.
     RectifiedRows<std::uint8_t> rows(rectifier_, image, row_ring_);
-    pyramid.build(rows);
+    pyramid.build(rows,
+                  clipped_level_ > 255.f ? std::numeric_limits<float>::infinity() : clipped_level_);
+    return;
   }
   if (clipped_level_ > 255.f) return;
-  if (photometric_) {
-    RectifiedRows<std::uint8_t> raw(rectifier_, image, row_ring_);
-    pyramid.markClipped(raw, clipped_level_);
-  } else {
-    pyramid.markClippedFromIntensity(clipped_level_);  // the rectified raw values themselves
-  }
+  RectifiedRows<std::uint8_t> raw(rectifier_, image, row_ring_);
+  pyramid.markClipped(raw, clipped_level_);
 }
 
 }  // namespace ldsm

@@ -4,8 +4,9 @@
 // Kernels are templates over the vector type, so tests can run the plain-C++ version next to
 // the selected one. Every type V provides:
 //   V::load(p) (16-byte aligned), V::loadu(p), V::loadInt16(p) (four int16 as floats), V::set1(x),
-//   V::zero(), v.store(p), v.storeu(p), v.storeInt16(p) (lanes holding integers within the int16
-//   range, stored as four int16);
+//   V::setLanes(a, b, c, d) (lane 0 = a; for values loaded one by one: writing them to an array
+//   and loading that stalls on store forwarding), V::zero(), v.store(p), v.storeu(p),
+//   v.storeInt16(p) (lanes holding integers within the int16 range, stored as four int16);
 //   + - * / ; comparisons < > >= giving V::Mask, Mask & Mask, allOf(mask), laneBits(mask) (bit i
 //   set when lane i is true), select(mask, a, b); squareRoot, absolute, maximum (of lanes that are
 //   not NaN), truncate(v, ints) (towards zero, also stored as int32), shiftDown1 (a1 a2 a3 0),

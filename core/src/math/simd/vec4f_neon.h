@@ -26,6 +26,10 @@ struct Vec4Neon {
     return {vcvtq_f32_s32(vmovl_s16(vld1_s16(p)))};
   }
   static Vec4Neon set1(float x) { return {vdupq_n_f32(x)}; }
+  /// Lanes (a, b, c, d) from registers (lane inserts), not through memory.
+  static Vec4Neon setLanes(float a, float b, float c, float d) {
+    return {vcombine_f32(vset_lane_f32(b, vdup_n_f32(a), 1), vset_lane_f32(d, vdup_n_f32(c), 1))};
+  }
   static Vec4Neon zero() { return {vdupq_n_f32(0.f)}; }
   void store(float* p) const { vst1q_f32(p, n); }
   void storeu(float* p) const { vst1q_f32(p, n); }

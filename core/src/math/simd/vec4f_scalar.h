@@ -24,6 +24,7 @@ struct alignas(16) Vec4Scalar {
              static_cast<float>(p[3])}};
   }
   static Vec4Scalar set1(float x) { return {{x, x, x, x}}; }
+  static Vec4Scalar setLanes(float a, float b, float c, float d) { return {{a, b, c, d}}; }
   static Vec4Scalar zero() { return {{0.f, 0.f, 0.f, 0.f}}; }
   void store(float* p) const {
     for (int i = 0; i < 4; ++i) p[i] = v[i];

@@ -308,11 +308,31 @@ TEST(ImagePyramid, BuildingFromRowsGivesTheWholeImagesBits) {
     ImagePyramid own(w, h, levels);
     own.build(img.view());
     own.markClippedFromIntensity(128.f);
+    // Built and marked in one pass over the rows: the same planes and the same mask.
+    ImagePyramid fused(w, h, levels);
+    RingRows fused_rows(img);
+    fused.build(fused_rows, 128.f);
+    for (int l = 0; l < levels; ++l)
+      for (int y = 0; y < whole.height(l); ++y)
+        ASSERT_EQ(std::memcmp(whole.gradients(l).row(y), fused.gradients(l).row(y),
+                              sizeof(GradientPixel) * static_cast<std::size_t>(whole.width(l))),
+                  0);
+    int marked = 0;
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x) {
         EXPECT_EQ(rows.clipped()(x, y), whole.clipped()(x, y));
         EXPECT_EQ(own.clipped()(x, y), whole.clipped()(x, y));
+        EXPECT_EQ(fused.clipped()(x, y), whole.clipped()(x, y));
+        marked += whole.clipped()(x, y);
       }
+    if (w * h > 100) {
+      EXPECT_GT(marked, 0);
+    }
+    // An infinite level leaves the mask empty, also after a build that marked pixels.
+    RingRows again(img);
+    fused.build(again, std::numeric_limits<float>::infinity());
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) ASSERT_EQ(fused.clipped()(x, y), 0);
   }
 }
 

@@ -17,13 +17,23 @@ tests="$root/tests/unit/core/math/vec4f_test.cpp $root/tests/unit/core/kernels/p
   $root/tests/unit/core/kernels/coarse_warp_test.cpp
   $root/tests/unit/core/camera/remap_bilinear_test.cpp
   $root/tests/unit/core/kernels/evaluate_residual_test.cpp
-  $root/tests/unit/core/kernels/pattern_energy_test.cpp"
+  $root/tests/unit/core/kernels/pattern_energy_test.cpp
+  $root/tests/unit/core/image/threshold_row_test.cpp"
 sources="$root/core/src/backend/photometric_residual.cpp $root/core/src/backend/active_point.cpp
-  $root/core/src/image/image_pyramid.cpp $root/core/src/frontend/coarse_residuals.cpp"
+  $root/core/src/image/image_pyramid.cpp $root/core/src/image/compact_plane.cpp
+  $root/core/src/frontend/coarse_residuals.cpp"
 
 check() {  # name, compiler, SIMD, runner ("" = native), sysroot, extra flags
   name=$1 cxx=$2 simd=$3 runner=$4 sysroot=$5
   shift 5
+  if ! command -v "$cxx" >/dev/null; then
+    echo "== $name: SKIPPED, no $cxx"
+    return
+  fi
+  if [ -n "$runner" ] && ! command -v "$runner" >/dev/null; then
+    runner="$runner-static"  # Debian's qemu-user-static
+    command -v "$runner" >/dev/null || { echo "== $name: SKIPPED, no $runner (qemu-user)"; return; }
+  fi
   dir="$work/$name"
   mkdir -p "$dir"
   if [ ! -f "$dir/gtest.a" ]; then

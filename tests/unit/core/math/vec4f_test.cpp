@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 
 #include "math/simd/vec4f.h"
@@ -115,6 +116,20 @@ TYPED_TEST(Vec4fTest, LaneOperations) {
   toArray(broadcast<2>(V::load(a)), r);
   for (int i = 0; i < 4; ++i) EXPECT_EQ(r[i], a[2]);
   EXPECT_FLOAT_EQ(horizontalSum(V::load(a)), a[0] + a[1] + a[2] + a[3]);
+}
+
+TYPED_TEST(Vec4fTest, SetLanesPutsEachValueInItsLaneBitForBit) {
+  using V = TypeParam;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float values[4] = {-0.f, 3.5e-39f, 1e30f, -7.25f};  // a denormal among them
+  float r[4];
+  toArray(V::setLanes(values[0], values[1], values[2], values[3]), r);
+  EXPECT_EQ(std::memcmp(r, values, sizeof(values)), 0);
+  toArray(V::setLanes(1.f, nan, 2.f, 3.f), r);
+  EXPECT_EQ(r[0], 1.f);
+  EXPECT_TRUE(std::isnan(r[1]));
+  EXPECT_EQ(r[2], 2.f);
+  EXPECT_EQ(r[3], 3.f);
 }
 
 TYPED_TEST(Vec4fTest, TransposeAndSum4) {
