@@ -53,14 +53,13 @@ void PairAccumulator::reduce(const FramePairPrecalc& pair, RelMatrix& H, RelVect
   }
 }
 
-namespace {
-
-/// The pinhole pixel of the ray through image pixel (u, v).
 Eigen::Vector2f hostRayPixel(const LevelCamera& cam, float k, float u, float v) {
   if (k == 0.f) return {u, v};
   const Eigen::Vector2f x = removeRadial(k, cam.fxi * u + cam.cxi, cam.fyi * v + cam.cyi);
   return {cam.fx * x.x() + cam.cx, cam.fy * x.y() + cam.cy};
 }
+
+namespace {
 
 /// d(image normalized) / d(pinhole normalized) at x: (1 + k r^2) I + 2 k x x^T.
 Eigen::Matrix2f radialJacobian(float k, float x, float y) {
@@ -226,12 +225,18 @@ void calibrationTerms(const simd::PatternSamples& samples, const simd::PatternJa
 
 float evaluateResidual(const ActivePoint& point, PointResidual& res, const FramePairPrecalc& pair,
                        const ResidualSettings& settings, ResidualAccumulator* acc) {
+  return evaluateResidual(point, hostRayPixel(pair.cam, pair.radial_k, point.u, point.v), res, pair,
+                          settings, acc);
+}
+
+float evaluateResidual(const ActivePoint& point, const Eigen::Vector2f& host, PointResidual& res,
+                       const FramePairPrecalc& pair, const ResidualSettings& settings,
+                       ResidualAccumulator* acc) {
   const int w = pair.target_image.width;
   const int h = pair.target_image.height;
   const float d = point.idepth;
 
   // Centre projection at the current estimate (visibility, reported projection).
-  const Eigen::Vector2f host = hostRayPixel(pair.cam, pair.radial_k, point.u, point.v);
   const Eigen::Vector3f pc = pair.KRKi * Eigen::Vector3f(host.x(), host.y(), 1.f) + pair.Kt * d;
   if (!(pc.z() > 0.f)) {
     res.state = ResidualState::OutOfBounds;

@@ -118,6 +118,16 @@ struct ResidualAccumulator {
 /// adds its linearisation to it (pair block to acc->pair, point terms to acc's fields).
 float evaluateResidual(const ActivePoint& point, PointResidual& res, const FramePairPrecalc& pair,
                        const ResidualSettings& settings, ResidualAccumulator* acc);
+/// The same with the host ray's pinhole pixel given (hostRayPixel() of the pair's camera and
+/// radial correction): the same for every pair of a window, so a point's residuals share it
+/// instead of undistorting the host pixel once per residual (the same bits).
+float evaluateResidual(const ActivePoint& point, const Eigen::Vector2f& host_ray_pixel,
+                       PointResidual& res, const FramePairPrecalc& pair,
+                       const ResidualSettings& settings, ResidualAccumulator* acc);
+
+/// The pinhole pixel of the ray through image pixel (u, v) of `cam` with the radial correction
+/// k (the pixel itself when k = 0).
+Eigen::Vector2f hostRayPixel(const LevelCamera& cam, float k, float u, float v);
 
 /// Gradient weight c^2 / (c^2 + |g|^2), square-rooted (the weight on the residual itself).
 inline float gradientWeightSqrt(float dx, float dy, float c) {

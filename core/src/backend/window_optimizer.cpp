@@ -235,12 +235,13 @@ void WindowOptimizer::linearize(const std::vector<WindowKeyframe*>& window,
       const Eigen::Index col = p.fixed ? -1 : next_column++;
       double H_dd = 0.0, b_d = 0.0;
       int inl = 0;
+      const Eigen::Vector2f host = hostPixel(p);
       for (auto& res : p.residuals) {
         const int t = res.target->window_index;
         const size_t pi = static_cast<size_t>(h) * n + t;
         ResidualAccumulator acc;
         acc.pair = &pair_acc_[pi];
-        const float e = evaluateResidual(p, res, pairs_[pi], settings_.residual, &acc);
+        const float e = evaluateResidual(p, host, res, pairs_[pi], settings_.residual, &acc);
         if (res.state == ResidualState::Inlier) {
           ht.energies.push_back(e);
           ht.inlier.push_back(1);
@@ -306,6 +307,7 @@ void WindowOptimizer::linearizeCalibration(const std::vector<WindowKeyframe*>& w
       }
       CalibVector H_dc = CalibVector::Zero();
       double H_dd = 0.0, b_d = 0.0;
+      const Eigen::Vector2f host = hostPixel(*pt);
       for (auto& res : pt->residuals) {
         const int t = res.target->window_index;
         const size_t pi = static_cast<size_t>(h) * n + t;
@@ -313,7 +315,7 @@ void WindowOptimizer::linearizeCalibration(const std::vector<WindowKeyframe*>& w
         acc.calibration = &rt;
         acc.calibration_only = !fixed;
         acc.pair = &pair_acc_[pi];  // (a fixed point's pair sums: discarded)
-        evaluateResidual(*pt, res, pairs_[pi], settings_.residual, &acc);
+        evaluateResidual(*pt, host, res, pairs_[pi], settings_.residual, &acc);
         if (res.state != ResidualState::Inlier) continue;
         calibration_pair_[pi] += rt.coupling;
         sys.calibration.H_cc += rt.H_cc;
@@ -421,9 +423,10 @@ double WindowOptimizer::evaluate(const std::vector<WindowKeyframe*>& window,
   for (int h = 0; h < n; ++h)
     for (auto& pt : window[h]->points) {
       int inl = 0;
+      const Eigen::Vector2f host = hostPixel(*pt);
       for (auto& res : pt->residuals) {
         const size_t pi = static_cast<size_t>(h) * n + res.target->window_index;
-        const float r = evaluateResidual(*pt, res, pairs_[pi], settings_.residual, nullptr);
+        const float r = evaluateResidual(*pt, host, res, pairs_[pi], settings_.residual, nullptr);
         const bool inlier = res.state == ResidualState::Inlier;
         e += inlier ? r : outlierEnergy(pairs_[pi], settings_.residual);
         inl += inlier ? 1 : 0;
@@ -558,12 +561,13 @@ void WindowOptimizer::marginalizePoints(const std::vector<WindowKeyframe*>& wind
     double H_dd = 0.0, b_d = 0.0;
     // The evaluation updates residual states: copies, the point's own stay as they are.
     residual_scratch_.assign(point->residuals.begin(), point->residuals.end());
+    const Eigen::Vector2f host = hostPixel(*point);
     for (PointResidual& res : residual_scratch_) {
       const int t = res.target->window_index;
       const size_t pi = static_cast<size_t>(h) * n + t;
       ResidualAccumulator acc;
       acc.pair = &pair_acc_[pi];
-      evaluateResidual(*point, res, pairs_[pi], settings_.residual, &acc);
+      evaluateResidual(*point, host, res, pairs_[pi], settings_.residual, &acc);
       if (res.state != ResidualState::Inlier) continue;
       addCoupling(adjoints_[pi], acc.coupling, h, t, c);
       touched[static_cast<size_t>(t)] = 1;

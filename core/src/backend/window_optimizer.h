@@ -100,6 +100,11 @@ class WindowOptimizer {
   }
   double radialCorrection() const { return radial_k_; }
   const LevelCamera& camera() const { return camera_; }
+  /// The host ray's pinhole pixel of `p` with the window's camera and radial correction, as every
+  /// pair of the window evaluates it (precalcPairs()).
+  Eigen::Vector2f hostPixel(const ActivePoint& p) const {
+    return hostRayPixel(camera_, static_cast<float>(radial_k_), p.u, p.v);
+  }
 
   const WindowOptimizerSettings& settings() const { return settings_; }
 
