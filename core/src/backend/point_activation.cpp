@@ -107,10 +107,10 @@ int Mapper::activatePoints() {
   for (const auto& p : projected) dist.mark(p.u, p.v);
   dist.propagate();
 
-  std::vector<FramePairPrecalc> pairs(static_cast<size_t>(n) * n);
-  for (int h = 0; h < n; ++h)
-    for (int t = 0; t < n; ++t)
-      if (h != t) pairs[static_cast<size_t>(h) * n + t].set(*window_[h], *window_[t], cam);
+  // The residuals as the window optimisation evaluates them, radial correction included (until
+  // 2026-12-06 the activation's pairs left it at 0: the new depths fitted another camera).
+  std::vector<FramePairPrecalc> pairs;
+  optimizer_.framePairs(activeView(), pairs);
 
   // Never grow far beyond the target: the window's cost is linear in the points.
   const int budget = static_cast<int>(1.2 * settings_.window.active_points) - active;

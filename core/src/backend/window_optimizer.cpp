@@ -98,11 +98,23 @@ void resetPairAccumulators(size_t count, std::vector<PairAccumulator>& acc) {
 
 }  // namespace
 
+void WindowOptimizer::framePairs(const std::vector<WindowKeyframe*>& window,
+                                 std::vector<FramePairPrecalc>& pairs) const {
+  const size_t n = window.size();
+  pairs.resize(n * n);
+  for (size_t i = 0; i < n; ++i) window[i]->window_index = static_cast<int>(i);
+  for (size_t h = 0; h < n; ++h)
+    for (size_t t = 0; t < n; ++t) {
+      if (h == t || !window[t]->hasImage()) continue;
+      pairs[h * n + t].set(*window[h], *window[t], camera_);
+      pairs[h * n + t].radial_k = static_cast<float>(radial_k_);
+    }
+}
+
 void WindowOptimizer::precalcPairs(const std::vector<WindowKeyframe*>& window) {
   const size_t n = window.size();
-  pairs_.resize(n * n);
+  framePairs(window, pairs_);
   adjoints_.resize(n * n);
-  for (size_t i = 0; i < n; ++i) window[i]->window_index = static_cast<int>(i);
   for (size_t h = 0; h < n; ++h)
     for (size_t t = 0; t < n; ++t) {
       // Every pair's adjoint, also towards a keyframe without an image (a reactivated map
@@ -113,9 +125,6 @@ void WindowOptimizer::precalcPairs(const std::vector<WindowKeyframe*>& window) {
         continue;
       }
       adjoints_[h * n + t] = (window[t]->T_c_w_eval * window[h]->T_c_w_eval.inverse()).adjoint();
-      if (!window[t]->hasImage()) continue;
-      pairs_[h * n + t].set(*window[h], *window[t], camera_);
-      pairs_[h * n + t].radial_k = static_cast<float>(radial_k_);
     }
 }
 

@@ -99,6 +99,11 @@ class WindowOptimizer {
     radial_k_ = radial_k;
   }
   double radialCorrection() const { return radial_k_; }
+  /// Every (host h, target t) pair of `window` at index h * n + t, as the optimisation evaluates
+  /// residuals: with camera() and radialCorrection() (the diagonal and pairs towards a keyframe
+  /// without an image are left as they were). Numbers the keyframes (window_index).
+  void framePairs(const std::vector<WindowKeyframe*>& window,
+                  std::vector<FramePairPrecalc>& pairs) const;
   const LevelCamera& camera() const { return camera_; }
   /// The host ray's pinhole pixel of `p` with the window's camera and radial correction, as every
   /// pair of the window evaluates it (precalcPairs()).

@@ -448,6 +448,47 @@ TEST(WindowOptimizer, EstimatesTheImagesRadialDistortion) {
   EXPECT_NEAR(estimateRadial(plain, 8), 0.0, 0.0015);
 }
 
+TEST(WindowOptimizer, FramePairsEvaluateResidualsWithTheWindowsCameraAndRadialCorrection) {
+  // Images rendered through a radial distortion of 0.04, points at their true depths: through the
+  // pairs framePairs() makes after setCamera(camera, 0.04) (as point activation evaluates new
+  // points) the residuals fit; through pairs without the radial correction they do not.
+  constexpr float k = 0.04f;
+  TestWindow tw = makeWindow(3, 0.0, 0.0, 5, 50.0, k, 0.06);
+  WindowOptimizerSettings s;
+  WindowOptimizer opt(s, camera());
+  opt.setCamera(camera(), k);
+  const std::vector<WindowKeyframe*> window = tw.window();
+  std::vector<FramePairPrecalc> pairs;
+  opt.framePairs(window, pairs);
+  const std::size_t n = window.size();
+  ASSERT_EQ(pairs.size(), n * n);
+  for (std::size_t h = 0; h < n; ++h)
+    for (std::size_t t = 0; t < n; ++t) {
+      if (h != t) {
+        EXPECT_EQ(pairs[h * n + t].radial_k, k);
+      }
+    }
+  const auto rms = [&](const std::vector<FramePairPrecalc>& ps) {
+    double energy = 0.0;
+    int count = 0;
+    for (std::size_t h = 0; h < n; ++h)
+      for (const auto& p : window[h]->points)
+        for (PointResidual r : p->residuals) {
+          evaluateResidual(*p, r, ps[h * n + static_cast<std::size_t>(r.target->window_index)],
+                           s.residual, nullptr);
+          if (r.state == ResidualState::OutOfBounds) continue;
+          energy += r.energy;
+          ++count;
+        }
+    EXPECT_GT(count, 200);
+    return std::sqrt(energy / (count * kPatternSize));
+  };
+  std::vector<FramePairPrecalc> pinhole = pairs;
+  for (FramePairPrecalc& pair : pinhole) pair.radial_k = 0.f;
+  const double fitted = rms(pairs), unfitted = rms(pinhole);
+  EXPECT_LT(fitted, 0.5 * unfitted) << fitted << " against " << unfitted;
+}
+
 TEST(WindowOptimizer, AKeyframeWithoutAnImageUsesNothingLeftFromAnEarlierWindow) {
   // A map keyframe brought back into the window has no image: no residual targets it, but the
   // adjoints of its pairs still enter the sums (times their zero terms). They must be those of
