@@ -12,16 +12,16 @@ bool Mapper::optimizeNewPointDepth(ActivePoint& point, const std::vector<FramePa
   const int n = static_cast<int>(window_.size());
   const int h = point.host->window_index;
   const ResidualSettings& rs = optimizer_.settings().residual;
+  // The pairs are the optimiser's (framePairs()): the point's host ray is the same in all of them.
+  const Eigen::Vector2f host = optimizer_.hostPixel(point);
   auto evaluate = [&](bool linearize, double* H, double* b) {
     double energy = 0.0;
     *H = *b = 0.0;
     for (auto& r : point.residuals) {
       ResidualAccumulator acc;
       acc.depth_only = true;
-      const float e =
-          evaluateResidual(point, r, pairs[static_cast<size_t>(h) * n + r.target->window_index], rs,
-                           linearize ? &acc : nullptr);
       const FramePairPrecalc& pair = pairs[static_cast<size_t>(h) * n + r.target->window_index];
+      const float e = evaluateResidual(point, host, r, pair, rs, linearize ? &acc : nullptr);
       energy += r.state == ResidualState::Inlier ? e : outlierEnergy(pair, rs);
       *H += acc.H_dd;
       *b += acc.b_d;
