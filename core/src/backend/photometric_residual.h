@@ -39,10 +39,12 @@ struct ResidualSettings {
 
 /// Everything about a (host, target) keyframe pair that residuals share.
 struct FramePairPrecalc {
-  Eigen::Matrix3f KRKi;  ///< K R_th K^-1 at the current estimate
-  Eigen::Vector3f Kt;    ///< K t_th at the current estimate
-  Eigen::Matrix3f R0;    ///< R_th at the linearisation point
-  Eigen::Vector3f t0;    ///< t_th at the linearisation point
+  // Zero until set(): a pair never set (towards a keyframe without an image) reads as zeros, not
+  // as uninitialised memory.
+  Eigen::Matrix3f KRKi = Eigen::Matrix3f::Zero();  ///< K R_th K^-1 at the current estimate
+  Eigen::Vector3f Kt = Eigen::Vector3f::Zero();    ///< K t_th at the current estimate
+  Eigen::Matrix3f R0 = Eigen::Matrix3f::Zero();    ///< R_th at the linearisation point
+  Eigen::Vector3f t0 = Eigen::Vector3f::Zero();    ///< t_th at the linearisation point
   float scale = 1.f, offset = 0.f, host_b = 0.f;
   LevelCamera cam;
   Level0View target_image;               ///< float, or 16-bit once the target is compacted

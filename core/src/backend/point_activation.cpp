@@ -34,8 +34,8 @@ bool Mapper::optimizeNewPointDepth(ActivePoint& point, const std::vector<FramePa
   // Whether the residuals' states (and H) are those of the current depth: after a rejected step
   // they are the trial's, and the depth's are evaluated once more at the end.
   bool evaluated_here = true;
-  // Five Gauss-Newton steps. DSO's three cost 30 % less of the activation (kitti00_200: 308 ->
-  // 304 M instructions per frame) at about the same ATE on the real sequences, but the rendered
+  // Five Gauss-Newton steps. DSO's three cost 30 % less of the activation (the whole of
+  // kitti00_200: -1.3 %) at about the same ATE on the real sequences, but the rendered
   // corridor's clean run went 0.0037 -> 0.0054 m and after two seconds without images it no
   // longer resumed in its map (MapReuse.AfterTwoSeconds...: 1.31 m; docs/engine.md, 2026-12-06).
   constexpr int kMaxIterations = 5;

@@ -62,8 +62,8 @@ namespace detail {
 /// same one row down, top + ay (bottom - top).
 template <class V, typename T>
 inline V blendBlocks(const T* const* blocks, std::ptrdiff_t dx1, std::ptrdiff_t dy1, V ax, V ay) {
-  // Lanes from registers (V::setLanes), not through an array: its vector loads would wait for
-  // the four scalar stores each to forward.
+  // Lanes from registers (V::setLanes), not through an array: a vector load of it cannot take
+  // its value from the four scalar stores and waits until they are written.
   const auto lanes = [&](std::ptrdiff_t o) {
     return V::setLanes(static_cast<float>(blocks[0][o]), static_cast<float>(blocks[1][o]),
                        static_cast<float>(blocks[2][o]), static_cast<float>(blocks[3][o]));

@@ -56,8 +56,8 @@ class ImagePyramid {
   /// build(ImageView) makes it from the whole image.
   void build(ImageRows& rows);
   /// build(rows) and markClippedFromIntensity(clipped_level) in one pass over the rows: the mask
-  /// from each row while it is at hand (the same mask). An infinite level marks nothing (as
-  /// build(rows), which leaves the mask all 0).
+  /// from each row while it is at hand (the same mask). A level of +infinity (or NaN) marks
+  /// nothing (as build(rows), which leaves the mask all 0).
   void build(ImageRows& rows, float clipped_level);
 
   int levels() const { return static_cast<int>(sizes_.size()); }
@@ -100,7 +100,8 @@ class ImagePyramid {
   /// The same from the raw values' rows (of the level-0 size).
   void markClipped(ImageRows& raw, float level);
   /// markClipped() where the raw values are the intensities build() was given (no photometric
-  /// correction): from level 0's own intensities.
+  /// correction): from level 0's own intensities. The reference of build(rows, level), which the
+  /// frames take (tests).
   void markClippedFromIntensity(float level);
   /// Level-0 clipping mask: 1 where the raw value was saturated, else 0. Throws std::logic_error
   /// once compacted.

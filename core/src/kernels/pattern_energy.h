@@ -49,12 +49,13 @@ inline float patternEnergy(const PatternEnergyParams& m, float x, float y) {
     const V fx = px - truncate(px, ix);  // positive coordinates: truncation is the floor
     const V fy = py - truncate(py, iy);
     // The corners go into lanes from registers (V::setLanes): written to arrays and loaded as
-    // vectors, each load waited for four stores to forward (a call at random positions: 47 ->
-    // 28 ns on an AMD EPYC; in the tracing, whose neighbouring calls overlap, much less).
-    const GradientPixel* p[4];
+    // vectors, each load could not take its value from the four stores and waited until they
+    // were written (a call at random positions: 47 -> 28 ns on an AMD EPYC; in the tracing,
+    // whose neighbouring calls overlap, much less).
+    const GradientPixel* p[4];  // the top-left corner of each lane's 2x2 block
     for (int k = 0; k < 4; ++k)
       p[k] = m.image.data + static_cast<std::ptrdiff_t>(iy[k]) * m.image.stride + ix[k];
-    const std::ptrdiff_t s = m.image.stride;
+    const std::ptrdiff_t s = m.image.stride;  // the corner below
     const V tl =
         V::setLanes(p[0][0].intensity, p[1][0].intensity, p[2][0].intensity, p[3][0].intensity);
     const V tr =

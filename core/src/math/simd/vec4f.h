@@ -5,7 +5,8 @@
 // the selected one. Every type V provides:
 //   V::load(p) (16-byte aligned), V::loadu(p), V::loadInt16(p) (four int16 as floats), V::set1(x),
 //   V::setLanes(a, b, c, d) (lane 0 = a; for values loaded one by one: writing them to an array
-//   and loading that stalls on store forwarding), V::zero(), v.store(p), v.storeu(p),
+//   and loading that as a vector cannot take the stores' values and waits until they are
+//   written), V::zero(), v.store(p), v.storeu(p),
 //   v.storeInt16(p) (lanes holding integers within the int16 range, stored as four int16);
 //   + - * / ; comparisons < > >= giving V::Mask, Mask & Mask, allOf(mask), laneBits(mask) (bit i
 //   set when lane i is true), select(mask, a, b); squareRoot, absolute, maximum (of lanes that are

@@ -25,8 +25,8 @@ struct Vec4Sse {
     return {_mm_cvtepi32_ps(_mm_srai_epi32(_mm_unpacklo_epi16(x, x), 16))};
   }
   static Vec4Sse set1(float x) { return {_mm_set1_ps(x)}; }
-  /// Lanes (a, b, c, d) from registers (shuffles): no store to memory and reload, whose
-  /// forwarding of four narrow stores into one wide load stalls the pipeline.
+  /// Lanes (a, b, c, d) from registers (shuffles): no store to memory and reload (a wide load
+  /// cannot be forwarded from four narrow stores and waits until they are written).
   static Vec4Sse setLanes(float a, float b, float c, float d) { return {_mm_setr_ps(a, b, c, d)}; }
   static Vec4Sse zero() { return {_mm_setzero_ps()}; }
   void store(float* p) const { _mm_store_ps(p, n); }

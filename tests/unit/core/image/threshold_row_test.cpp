@@ -3,6 +3,7 @@
 // infinities, and with the byte after the row untouched.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <limits>
 #include <random>
 #include <vector>

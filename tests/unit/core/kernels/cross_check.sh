@@ -49,14 +49,25 @@ check() {  # name, compiler, SIMD, runner ("" = native), sysroot, extra flags
     -isystem /usr/include/eigen3 -isystem "$gtest/include" $tests $sources "$dir/gtest.a" \
     -lpthread -o "$dir/test_simd"
   echo "== $name"
+  status=0
   if [ -n "$runner" ]; then
-    $runner -L "$sysroot" "$dir/test_simd" | tail -n 3
+    $runner -L "$sysroot" "$dir/test_simd" > "$dir/log" 2>&1 || status=$?
   else
-    "$dir/test_simd" | tail -n 3
+    "$dir/test_simd" > "$dir/log" 2>&1 || status=$?
+  fi
+  tail -n 3 "$dir/log"
+  if [ "$status" -ne 0 ]; then
+    echo "== $name: FAILED (exit status $status, log in $dir/log)"
+    failed="$failed $name"
   fi
 }
+failed=""
 
 check scalar g++ SCALAR "" ""
 check aarch64 aarch64-linux-gnu-g++ NEON qemu-aarch64 /usr/aarch64-linux-gnu
 check armv7 arm-linux-gnueabihf-g++ NEON qemu-arm /usr/arm-linux-gnueabihf \
   -march=armv7-a -mfpu=neon -mfloat-abi=hard -Wno-psabi
+if [ -n "$failed" ]; then
+  echo "FAILED:$failed"
+  exit 1
+fi
