@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "camera/radial_distortion.h"
 #include "features/orb_matching.h"
@@ -219,39 +220,60 @@ AffineLight Relocalizer::frameBrightness(const DirectAlignmentResult& direct,
 
 void Relocalizer::refineFromNearer(const ImagePyramid& frame, double exposure, const MapStore& map,
                                    double median_depth, RelocalizationResult& best) const {
-  constexpr int kTriedNearer = 3;
-  const Eigen::Vector3d centre = best.T_c_w.inverse().translation();
-  const auto distance = [&](const KeyframeRecord& r) {
-    return (r.T_w_c.translation() - centre).norm();
-  };
   const KeyframeRecord found = map.keyframe(best.keyframe_id);
-  const double found_distance = distance(found);
-  std::vector<std::pair<double, int>> nearer;  // (distance, id)
-  for (const int id : candidates(map, best.T_c_w, {best.keyframe_id}, median_depth)) {
-    if (id == best.keyframe_id) continue;
+  const double found_distance =
+      (found.T_w_c.translation() - best.T_c_w.inverse().translation()).norm();
+  const int found_id = best.keyframe_id;
+  if (alignNearest(frame, exposure, map, best.T_c_w, median_depth, found_id, found_distance, best))
+    spdlog::debug("relocalisation: refined against keyframe {} (keyframe {}: {:.3f} away)",
+                  best.keyframe_id, found_id, found_distance);
+}
+
+RelocalizationResult Relocalizer::confirm(const ImagePyramid& frame, double exposure,
+                                          const MapStore& map, const SE3d& T_c_w,
+                                          double median_depth) const {
+  RelocalizationResult out;
+  if (alignNearest(frame, exposure, map, T_c_w, median_depth, -1,
+                   std::numeric_limits<double>::infinity(), out)) {
+    out.success = true;
+    return out;
+  }
+  out.failure = "no map keyframe near the pose aligns to the frame";
+  return out;
+}
+
+bool Relocalizer::alignNearest(const ImagePyramid& frame, double exposure, const MapStore& map,
+                               const SE3d& T_c_w, double median_depth, int skip_id,
+                               double max_distance, RelocalizationResult& out) const {
+  constexpr int kTriedNearest = 3;
+  const Eigen::Vector3d centre = T_c_w.inverse().translation();
+  std::vector<std::pair<double, int>> nearest;  // (distance, id)
+  for (const int id :
+       candidates(map, T_c_w, skip_id >= 0 ? std::vector<int>{skip_id} : std::vector<int>{},
+                  median_depth)) {
+    if (id == skip_id) continue;
     const KeyframeRecord r = map.keyframe(id);
     const std::shared_ptr<const MarginalizedKeyframe> kf = map.keyframeData(id);
     if (r.id < 0 || !kf || kf->points.empty()) continue;
-    const double d = distance(r);
-    if (d < found_distance) nearer.emplace_back(d, id);
+    const double d = (r.T_w_c.translation() - centre).norm();
+    if (d < max_distance) nearest.emplace_back(d, id);
   }
-  std::sort(nearer.begin(), nearer.end());
-  for (int k = 0; k < kTriedNearer && k < static_cast<int>(nearer.size()); ++k) {
-    const int id = nearer[static_cast<std::size_t>(k)].second;
+  std::sort(nearest.begin(), nearest.end());
+  for (int k = 0; k < kTriedNearest && k < static_cast<int>(nearest.size()); ++k) {
+    const int id = nearest[static_cast<std::size_t>(k)].second;
     const std::shared_ptr<const MarginalizedKeyframe> kf = map.keyframeData(id);
     const KeyframeRecord pose = map.keyframe(id);
     const DirectAlignmentResult direct =
-        alignDirectly(*kf, pose, frame, exposure, best.T_c_w * pose.T_w_c);
+        alignDirectly(*kf, pose, frame, exposure, T_c_w * pose.T_w_c);
     if (!direct.success) continue;
-    spdlog::debug("relocalisation: refined against keyframe {} ({:.3f} away, keyframe {}: {:.3f})",
-                  id, nearer[static_cast<std::size_t>(k)].first, best.keyframe_id, found_distance);
-    best.keyframe_id = id;
-    best.direct_inliers = direct.inliers;
-    best.direct_points = direct.in_image;
-    best.T_c_w = direct.T_target_host * pose.T_w_c.inverse();
-    best.aff = frameBrightness(direct, *kf, exposure);
-    return;
+    out.keyframe_id = id;
+    out.direct_inliers = direct.inliers;
+    out.direct_points = direct.in_image;
+    out.T_c_w = direct.T_target_host * pose.T_w_c.inverse();
+    out.aff = frameBrightness(direct, *kf, exposure);
+    return true;
   }
+  return false;
 }
 
 }  // namespace ldsm

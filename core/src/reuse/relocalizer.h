@@ -55,6 +55,15 @@ class Relocalizer {
                                   const SE3d& last_T_c_w, const std::vector<int>& recent_ids,
                                   double median_depth, const PlaceQuery& places = {});
 
+  /// Checks a pose found another way (the kept window's track after a loss) against the map:
+  /// direct alignment, from `T_c_w`, of the map keyframes nearest to it (within the search radius
+  /// of `median_depth`); the first of them that holds gives the result (its keyframe and the pose
+  /// it aligned to), none: failure with the reason. No ORB, no PnP: the frame's corners may be too
+  /// few to match (vamr_desk_loop after a gap: 17-22 matches, 4-7 PnP inliers) where the direct
+  /// fit of the map's points still holds.
+  RelocalizationResult confirm(const ImagePyramid& frame, double exposure, const MapStore& map,
+                               const SE3d& T_c_w, double median_depth) const;
+
  private:
   /// 1. The frame's corners and ORB descriptors; false (and why) when too few.
   bool describeFrame(const ImagePyramid& frame, std::string& failure);
@@ -78,6 +87,12 @@ class Relocalizer {
   /// a far view is the least accurate one (on vamr_desk_loop 1.6 cm off from 12 cm away).
   void refineFromNearer(const ImagePyramid& frame, double exposure, const MapStore& map,
                         double median_depth, RelocalizationResult& best) const;
+  /// Direct alignment from `T_c_w` of the map keyframes (with points) nearest to that pose,
+  /// nearer than `max_distance` and other than `skip_id`, at most three, nearest first; the first
+  /// that holds sets `out` (keyframe, pose, brightness, direct counts) and returns true.
+  bool alignNearest(const ImagePyramid& frame, double exposure, const MapStore& map,
+                    const SE3d& T_c_w, double median_depth, int skip_id, double max_distance,
+                    RelocalizationResult& out) const;
   /// The frame's affine brightness from a direct fit to `kf`.
   static AffineLight frameBrightness(const DirectAlignmentResult& direct,
                                      const MarginalizedKeyframe& kf, double exposure);

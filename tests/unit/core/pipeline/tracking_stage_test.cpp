@@ -1,5 +1,5 @@
 // When a frame tracked against the kept window after a loss resumes tracking there
-// (TrackingStage::resumesAfterLoss).
+// (TrackingStage::resumesAfterLoss, resumesWhereTheMapFoundIt, plausibleAfterLoss, posesAgree).
 #include "pipeline/tracking_stage.h"
 
 #include <gtest/gtest.h>
@@ -50,6 +50,36 @@ TEST(TrackingStageResume, WhereTheMapFoundItSixtyPercentInliersWithinTwiceTheRes
   FrameTrackingOutcome failed = tracked(1.0, 1.0);
   failed.success = false;
   EXPECT_FALSE(TrackingStage::resumesWhereTheMapFoundIt(failed, 2.5));
+}
+
+TEST(TrackingStageResume, WhenTheMapConfirmsTheTrackHalfTheInliersWithinThreeTimesTheResidual) {
+  // vamr_desk_loop after 40 black frames: 2.1 times the residual before at 62 % inliers; after
+  // 80, 55-59 %.
+  EXPECT_TRUE(TrackingStage::plausibleAfterLoss(tracked(11.71, 0.62), 5.55));
+  EXPECT_TRUE(TrackingStage::plausibleAfterLoss(tracked(12.4, 0.55), 5.55));
+  EXPECT_TRUE(TrackingStage::plausibleAfterLoss(tracked(7.5, 0.5), 2.5));
+  EXPECT_FALSE(TrackingStage::plausibleAfterLoss(tracked(7.6, 0.9), 2.5));
+  EXPECT_FALSE(TrackingStage::plausibleAfterLoss(tracked(5.0, 0.49), 2.5));
+  EXPECT_TRUE(TrackingStage::plausibleAfterLoss(tracked(50.0, 0.5), 0.0));
+  FrameTrackingOutcome failed = tracked(1.0, 1.0);
+  failed.success = false;
+  EXPECT_FALSE(TrackingStage::plausibleAfterLoss(failed, 2.5));
+}
+
+TEST(TrackingStageResume, TwoPosesAgreeWithinTwoHundredthsOfTheMedianDepthAndOneDegree) {
+  const SE3d a(SO3d::exp(Eigen::Vector3d(0.1, -0.2, 0.3)), Eigen::Vector3d(1.0, 2.0, 3.0));
+  const auto moved = [&](double dx, double deg) {
+    return SE3d(SO3d::exp(Eigen::Vector3d(0.0, deg * 3.14159265358979323846 / 180.0, 0.0)),
+                Eigen::Vector3d(dx, 0.0, 0.0)) *
+           a;
+  };
+  EXPECT_TRUE(TrackingStage::posesAgree(a, a, 2.0));
+  EXPECT_TRUE(TrackingStage::posesAgree(moved(0.039, 0.0), a, 2.0));
+  EXPECT_FALSE(TrackingStage::posesAgree(moved(0.041, 0.0), a, 2.0));
+  EXPECT_TRUE(TrackingStage::posesAgree(a, moved(0.0, 0.99), 2.0));
+  // The map's pose 3.55 degrees from the window's track (a worse minimum of its fit): no agreement.
+  EXPECT_FALSE(TrackingStage::posesAgree(moved(0.0, 3.55), a, 2.0));
+  EXPECT_FALSE(TrackingStage::posesAgree(moved(0.0, 1.01), a, 2.0));
 }
 
 TEST(TrackingStageResume, AFailedTrackNeverResumes) {

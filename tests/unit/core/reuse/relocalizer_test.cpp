@@ -224,6 +224,38 @@ TEST_F(RelocalizerTest, DirectAlignmentRejectsUnrelatedIntensitiesOfALowContrast
   EXPECT_NE(r.failure.find("correlate"), std::string::npos) << r.failure;
 }
 
+// Confirming a pose found another way (the kept window's track after a loss): the nearest map
+// keyframe aligns directly from it, with no ORB or PnP, and lands on the true pose; a frame the
+// map never saw, or no map keyframe near the pose, confirms nothing.
+TEST_F(RelocalizerTest, ConfirmsAPoseFromTheWindowByADirectFitOfTheNearestMapKeyframe) {
+  addPath();
+  const SE3d T_w_frame = cameraAt({0.6, -0.05, 0.35}, 7.0);
+  // The window's guess: 1 cm and half a degree off.
+  const SE3d guess =
+      (T_w_frame * SE3d(SO3d::exp(Eigen::Vector3d(0.0, 0.0087, 0.0)), {0.01, 0.0, 0.0})).inverse();
+  Relocalizer relocalizer(config_, camera_);
+  const RelocalizationResult r = relocalizer.confirm(frameAt(T_w_frame), 1.0, map_, guess, 3.0);
+  ASSERT_TRUE(r.success) << r.failure;
+  EXPECT_EQ(r.keyframe_id, 1);  // the nearest: keyframe 1 is 0.18 away, keyframe 0 0.70
+  const SE3d err = r.T_c_w * T_w_frame;
+  EXPECT_LT(err.so3().log().norm(), 1e-3);
+  EXPECT_LT(err.translation().norm(), 0.005);
+  EXPECT_GE(r.direct_inliers, 0.9 * r.direct_points);
+  EXPECT_EQ(r.pnp_inliers, 0);  // no PnP was solved
+
+  const RelocalizationResult unseen =
+      relocalizer.confirm(frameAt(cameraAt({30.0, 0, 0.3}, 4.0)), 1.0, map_,
+                          cameraAt({30.0, 0, 0.3}, 4.0).inverse(), 3.0);
+  EXPECT_FALSE(unseen.success);
+  EXPECT_FALSE(unseen.failure.empty());
+  const ImageF other =
+      test::renderImage(kW, kH, [](double x, double y) { return test::texture(x, y, 12.0, 99); });
+  const RelocalizationResult unrelated =
+      relocalizer.confirm(test::makePyramid(other, kLevels), 1.0, map_, guess, 3.0);
+  EXPECT_FALSE(unrelated.success);
+  EXPECT_EQ(unrelated.keyframe_id, -1);
+}
+
 TEST_F(RelocalizerTest, FailsCleanlyOnAnEmptyMap) {
   const RelocalizationResult r = relocalize(frameAt(cameraAt({0.5, 0, 0.25})));
   EXPECT_FALSE(r.success);
