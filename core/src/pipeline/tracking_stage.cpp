@@ -434,7 +434,10 @@ void TrackingStage::relocalizeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent
       // window's pose.
       RelocalizationResult c = r;
       if (!r.success || !posesAgree(outcome.T_c_w, r.T_c_w, snap->median_depth))
-        c = relocalizer_->confirm(*pyr, exposure, store_, outcome.T_c_w, snap->median_depth);
+        c = relocalizer_->confirm(*pyr, exposure, store_, outcome.T_c_w, snap->median_depth,
+                                  [&](const SE3d& T_c_w) {
+                                    return posesAgree(outcome.T_c_w, T_c_w, snap->median_depth);
+                                  });
       if (c.success && posesAgree(outcome.T_c_w, c.T_c_w, snap->median_depth)) {
         good_fit = true;
         confirming_keyframe = c.keyframe_id;

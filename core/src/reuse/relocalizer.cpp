@@ -224,27 +224,30 @@ void Relocalizer::refineFromNearer(const ImagePyramid& frame, double exposure, c
   const double found_distance =
       (found.T_w_c.translation() - best.T_c_w.inverse().translation()).norm();
   const int found_id = best.keyframe_id;
-  if (alignNearest(frame, exposure, map, best.T_c_w, median_depth, found_id, found_distance, best))
+  if (alignNearest(frame, exposure, map, best.T_c_w, median_depth, found_id, found_distance, {},
+                   best))
     spdlog::debug("relocalisation: refined against keyframe {} (keyframe {}: {:.3f} away)",
                   best.keyframe_id, found_id, found_distance);
 }
 
 RelocalizationResult Relocalizer::confirm(const ImagePyramid& frame, double exposure,
                                           const MapStore& map, const SE3d& T_c_w,
-                                          double median_depth) const {
+                                          double median_depth,
+                                          const std::function<bool(const SE3d&)>& agrees) const {
   RelocalizationResult out;
   if (alignNearest(frame, exposure, map, T_c_w, median_depth, -1,
-                   std::numeric_limits<double>::infinity(), out)) {
+                   std::numeric_limits<double>::infinity(), agrees, out)) {
     out.success = true;
     return out;
   }
-  out.failure = "no map keyframe near the pose aligns to the frame";
+  out.failure = "no map keyframe near the pose aligns to the frame there";
   return out;
 }
 
 bool Relocalizer::alignNearest(const ImagePyramid& frame, double exposure, const MapStore& map,
                                const SE3d& T_c_w, double median_depth, int skip_id,
-                               double max_distance, RelocalizationResult& out) const {
+                               double max_distance, const std::function<bool(const SE3d&)>& accept,
+                               RelocalizationResult& out) const {
   constexpr int kTriedNearest = 3;
   const Eigen::Vector3d centre = T_c_w.inverse().translation();
   std::vector<std::pair<double, int>> nearest;  // (distance, id)
@@ -266,10 +269,17 @@ bool Relocalizer::alignNearest(const ImagePyramid& frame, double exposure, const
     const DirectAlignmentResult direct =
         alignDirectly(*kf, pose, frame, exposure, T_c_w * pose.T_w_c);
     if (!direct.success) continue;
+    const SE3d T_found = direct.T_target_host * pose.T_w_c.inverse();
+    if (accept && !accept(T_found)) {
+      const SE3d d = T_found * T_c_w.inverse();
+      spdlog::debug("relocalisation: keyframe {} aligns {:.4f} and {:.2f} degrees away", id,
+                    d.translation().norm(), d.so3().log().norm() * 180.0 / 3.14159265358979323846);
+      continue;
+    }
     out.keyframe_id = id;
     out.direct_inliers = direct.inliers;
     out.direct_points = direct.in_image;
-    out.T_c_w = direct.T_target_host * pose.T_w_c.inverse();
+    out.T_c_w = T_found;
     out.aff = frameBrightness(direct, *kf, exposure);
     return true;
   }

@@ -57,12 +57,15 @@ class Relocalizer {
 
   /// Checks a pose found another way (the kept window's track after a loss) against the map:
   /// direct alignment, from `T_c_w`, of the map keyframes nearest to it (within the search radius
-  /// of `median_depth`); the first of them that holds gives the result (its keyframe and the pose
-  /// it aligned to), none: failure with the reason. No ORB, no PnP: the frame's corners may be too
-  /// few to match (vamr_desk_loop after a gap: 17-22 matches, 4-7 PnP inliers) where the direct
-  /// fit of the map's points still holds.
+  /// of `median_depth`, at most three, nearest first); the first that holds at a pose `agrees`
+  /// accepts gives the result (its keyframe and the pose it aligned to), none: failure with the
+  /// reason. One keyframe's fit can end at a wrong minimum (a repeated texture: vamr_desk_loop's
+  /// checkerboard, 3.1 degrees off with 79 % inliers), which the next one's does not share. No ORB,
+  /// no PnP: the frame's corners may be too few to match (vamr_desk_loop after a gap: 17-22
+  /// matches, 4-7 PnP inliers) where the direct fit of the map's points still holds.
   RelocalizationResult confirm(const ImagePyramid& frame, double exposure, const MapStore& map,
-                               const SE3d& T_c_w, double median_depth) const;
+                               const SE3d& T_c_w, double median_depth,
+                               const std::function<bool(const SE3d&)>& agrees) const;
 
  private:
   /// 1. The frame's corners and ORB descriptors; false (and why) when too few.
@@ -89,9 +92,11 @@ class Relocalizer {
                         double median_depth, RelocalizationResult& best) const;
   /// Direct alignment from `T_c_w` of the map keyframes (with points) nearest to that pose,
   /// nearer than `max_distance` and other than `skip_id`, at most three, nearest first; the first
-  /// that holds sets `out` (keyframe, pose, brightness, direct counts) and returns true.
+  /// that holds (at a pose `accept` accepts, when given) sets `out` (keyframe, pose, brightness,
+  /// direct counts) and returns true.
   bool alignNearest(const ImagePyramid& frame, double exposure, const MapStore& map,
                     const SE3d& T_c_w, double median_depth, int skip_id, double max_distance,
+                    const std::function<bool(const SE3d&)>& accept,
                     RelocalizationResult& out) const;
   /// The frame's affine brightness from a direct fit to `kf`.
   static AffineLight frameBrightness(const DirectAlignmentResult& direct,

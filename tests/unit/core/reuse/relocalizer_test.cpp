@@ -234,7 +234,7 @@ TEST_F(RelocalizerTest, ConfirmsAPoseFromTheWindowByADirectFitOfTheNearestMapKey
   const SE3d guess =
       (T_w_frame * SE3d(SO3d::exp(Eigen::Vector3d(0.0, 0.0087, 0.0)), {0.01, 0.0, 0.0})).inverse();
   Relocalizer relocalizer(config_, camera_);
-  const RelocalizationResult r = relocalizer.confirm(frameAt(T_w_frame), 1.0, map_, guess, 3.0);
+  const RelocalizationResult r = relocalizer.confirm(frameAt(T_w_frame), 1.0, map_, guess, 3.0, {});
   ASSERT_TRUE(r.success) << r.failure;
   EXPECT_EQ(r.keyframe_id, 1);  // the nearest: keyframe 1 is 0.18 away, keyframe 0 0.70
   const SE3d err = r.T_c_w * T_w_frame;
@@ -245,15 +245,38 @@ TEST_F(RelocalizerTest, ConfirmsAPoseFromTheWindowByADirectFitOfTheNearestMapKey
 
   const RelocalizationResult unseen =
       relocalizer.confirm(frameAt(cameraAt({30.0, 0, 0.3}, 4.0)), 1.0, map_,
-                          cameraAt({30.0, 0, 0.3}, 4.0).inverse(), 3.0);
+                          cameraAt({30.0, 0, 0.3}, 4.0).inverse(), 3.0, {});
   EXPECT_FALSE(unseen.success);
   EXPECT_FALSE(unseen.failure.empty());
   const ImageF other =
       test::renderImage(kW, kH, [](double x, double y) { return test::texture(x, y, 12.0, 99); });
   const RelocalizationResult unrelated =
-      relocalizer.confirm(test::makePyramid(other, kLevels), 1.0, map_, guess, 3.0);
+      relocalizer.confirm(test::makePyramid(other, kLevels), 1.0, map_, guess, 3.0, {});
   EXPECT_FALSE(unrelated.success);
   EXPECT_EQ(unrelated.keyframe_id, -1);
+}
+
+// A keyframe whose fit ends where the caller's check refuses (a wrong minimum on a repeated
+// texture) does not decide: the next nearest is tried; none accepted is a failure.
+TEST_F(RelocalizerTest, ConfirmationTriesTheNextNearestKeyframeWhenAFitIsRefused) {
+  addPath();
+  const SE3d T_w_frame = cameraAt({0.6, -0.05, 0.35}, 7.0);
+  Relocalizer relocalizer(config_, camera_);
+  int asked = 0;
+  const RelocalizationResult second =
+      relocalizer.confirm(frameAt(T_w_frame), 1.0, map_, T_w_frame.inverse(), 3.0,
+                          [&](const SE3d&) { return ++asked > 1; });
+  ASSERT_TRUE(second.success) << second.failure;
+  EXPECT_EQ(asked, 2);
+  EXPECT_EQ(second.keyframe_id, 2);  // 0.43 away; keyframe 1 (0.15) was refused
+  EXPECT_LT((second.T_c_w * T_w_frame).translation().norm(), 0.005);
+  asked = 0;
+  const RelocalizationResult none =
+      relocalizer.confirm(frameAt(T_w_frame), 1.0, map_, T_w_frame.inverse(), 3.0,
+                          [&](const SE3d&) { return ++asked < 0; });
+  EXPECT_FALSE(none.success);
+  EXPECT_EQ(none.keyframe_id, -1);
+  EXPECT_EQ(asked, 3);  // every keyframe of the map held and was asked about
 }
 
 TEST_F(RelocalizerTest, FailsCleanlyOnAnEmptyMap) {
