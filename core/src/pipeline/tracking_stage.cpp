@@ -400,7 +400,8 @@ void TrackingStage::relocalizeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent
         *pyr, exposure, frame.timestamp,
         r.success ? FrameTracker::Search::kNoRotations : FrameTracker::Search::kWide);
     // After a loss the frame may show somewhere else entirely (the camera was carried, or the
-    // map found it far from the window): only a fit as good as before the loss resumes here.
+    // map found it far from the window): only a fit as good as before the loss, or one the map
+    // confirms, resumes here.
     const bool near_window = [&] {
       if (!r.success) return true;
       const KeyframeRecord found = store_.keyframe(r.keyframe_id);
@@ -430,8 +431,8 @@ void TrackingStage::relocalizeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent
     // at 62 % inliers, the map's pose 0.001 median depths and 0.06 degrees away).
     int confirming_keyframe = r.success ? r.keyframe_id : -1;
     if (!good_fit && near_window && plausibleAfterLoss(outcome, rmse_before_loss_)) {
-      // The map's own pose, else (not found, or found elsewhere) a direct fit of the map from the
-      // window's pose.
+      // The map's own pose, else (not found, or found at a disagreeing pose) a direct fit of the
+      // map keyframes nearest to the window's pose from it.
       RelocalizationResult c = r;
       if (!r.success || !posesAgree(outcome.T_c_w, r.T_c_w, snap->median_depth))
         c = relocalizer_->confirm(*pyr, exposure, store_, outcome.T_c_w, snap->median_depth,

@@ -190,7 +190,8 @@ class TrackingStage {
   /// A relocalised frame resumes in the kept window only when the map keyframe it was found in
   /// is within this many median depths of the last pose (reuse.relocalization_search_radius)...
   double resume_radius_ = 0.0;
-  /// ...and its tracking against the window fits as well as before the loss (resumesAfterLoss).
+  /// ...and its tracking against the window fits as well as before the loss (resumesAfterLoss,
+  /// resumesWhereTheMapFoundIt), or plausibly with the map's confirmation (plausibleAfterLoss).
   static constexpr double kResumeMinInliers = 0.7;
   static constexpr double kResumeMaxRmseGrowth = 2.0;
   /// A frame far from where the reference was taken (moved on during a gap) has larger residuals
@@ -200,12 +201,14 @@ class TrackingStage {
   /// A frame the map found near the window resumes there with this many inliers (the first
   /// frames after 40 frames of noise on vamr_desk_loop, live: 66-82 %, their poses right).
   static constexpr double kResumeConfirmedMinInliers = 0.6;
-  /// The window's track and the map's direct fit agree within this: the map's pose off by 3.1-3.6
-  /// degrees (see resumesWhereTheMapFoundIt) is not agreement.
-  static constexpr double kAgreeMedianDepths = 0.02;
   /// A track the map confirms resumes with this many inliers (vamr_desk_loop after 80 black
   /// frames: 55-59 %, the camera 2.7 s on from the window's reference).
   static constexpr double kPlausibleMinInliers = 0.5;
+  /// The window's track and the map's direct fit agree within this many median depths between
+  /// the camera centres...
+  static constexpr double kAgreeMedianDepths = 0.02;
+  /// ...and this many degrees: the map's pose off by 3.1-3.6 degrees (see
+  /// resumesWhereTheMapFoundIt) is not agreement.
   static constexpr double kAgreeDegrees = 1.0;
   bool wait_for_keyframes_ = false;  ///< TrackingStageSettings::wait_for_keyframes
   bool relocalizing_ = false;

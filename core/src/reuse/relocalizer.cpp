@@ -245,35 +245,46 @@ RelocalizationResult Relocalizer::confirm(const ImagePyramid& frame, double expo
 }
 
 bool Relocalizer::alignNearest(const ImagePyramid& frame, double exposure, const MapStore& map,
-                               const SE3d& T_c_w, double median_depth, int skip_id,
+                               const SE3d T_c_w, double median_depth, int skip_id,
                                double max_distance, const std::function<bool(const SE3d&)>& accept,
                                RelocalizationResult& out) const {
   constexpr int kTriedNearest = 3;
   const Eigen::Vector3d centre = T_c_w.inverse().translation();
-  std::vector<std::pair<double, int>> nearest;  // (distance, id)
+  struct Near {
+    double distance;
+    int id;
+    KeyframeRecord pose;
+    std::shared_ptr<const MarginalizedKeyframe> kf;  // held: the mapping thread may cull it
+  };
+  std::vector<Near> nearest;
   for (const int id :
        candidates(map, T_c_w, skip_id >= 0 ? std::vector<int>{skip_id} : std::vector<int>{},
                   median_depth)) {
     if (id == skip_id) continue;
     const KeyframeRecord r = map.keyframe(id);
-    const std::shared_ptr<const MarginalizedKeyframe> kf = map.keyframeData(id);
+    std::shared_ptr<const MarginalizedKeyframe> kf = map.keyframeData(id);
     if (r.id < 0 || !kf || kf->points.empty()) continue;
     const double d = (r.T_w_c.translation() - centre).norm();
-    if (d < max_distance) nearest.emplace_back(d, id);
+    if (d < max_distance) nearest.push_back({d, id, r, std::move(kf)});
   }
-  std::sort(nearest.begin(), nearest.end());
+  std::sort(nearest.begin(), nearest.end(), [](const Near& a, const Near& b) {
+    return a.distance < b.distance || (a.distance == b.distance && a.id < b.id);
+  });
   for (int k = 0; k < kTriedNearest && k < static_cast<int>(nearest.size()); ++k) {
-    const int id = nearest[static_cast<std::size_t>(k)].second;
-    const std::shared_ptr<const MarginalizedKeyframe> kf = map.keyframeData(id);
-    const KeyframeRecord pose = map.keyframe(id);
+    const Near& n = nearest[static_cast<std::size_t>(k)];
+    const int id = n.id;
+    const MarginalizedKeyframe* kf = n.kf.get();
+    const KeyframeRecord& pose = n.pose;
     const DirectAlignmentResult direct =
         alignDirectly(*kf, pose, frame, exposure, T_c_w * pose.T_w_c);
     if (!direct.success) continue;
     const SE3d T_found = direct.T_target_host * pose.T_w_c.inverse();
     if (accept && !accept(T_found)) {
       const SE3d d = T_found * T_c_w.inverse();
-      spdlog::debug("relocalisation: keyframe {} aligns {:.4f} and {:.2f} degrees away", id,
-                    d.translation().norm(), d.so3().log().norm() * 180.0 / 3.14159265358979323846);
+      spdlog::debug(
+          "relocalisation: keyframe {} aligns {:.3f} median depths and {:.2f} degrees away", id,
+          d.translation().norm() / std::max(median_depth, 1e-9),
+          d.so3().log().norm() * 180.0 / 3.14159265358979323846);
       continue;
     }
     out.keyframe_id = id;

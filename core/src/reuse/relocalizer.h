@@ -8,6 +8,7 @@
 //   4. RANSAC PnP of the candidate's 3D corners against the frame's corners;
 //   5. direct (photometric) alignment of the candidate's points to the frame from the PnP pose,
 //      which must hold (enough inliers) for the relocalisation to count.
+// confirm() checks a pose found another way (the kept window's track) with step 5 alone.
 // Runs on the tracking thread while tracking is lost; reads the map store.
 #pragma once
 
@@ -58,11 +59,11 @@ class Relocalizer {
   /// Checks a pose found another way (the kept window's track after a loss) against the map:
   /// direct alignment, from `T_c_w`, of the map keyframes nearest to it (within the search radius
   /// of `median_depth`, at most three, nearest first); the first that holds at a pose `agrees`
-  /// accepts gives the result (its keyframe and the pose it aligned to), none: failure with the
-  /// reason. One keyframe's fit can end at a wrong minimum (a repeated texture: vamr_desk_loop's
-  /// checkerboard, 3.1 degrees off with 79 % inliers), which the next one's does not share. No ORB,
-  /// no PnP: the frame's corners may be too few to match (vamr_desk_loop after a gap: 17-22
-  /// matches, 4-7 PnP inliers) where the direct fit of the map's points still holds.
+  /// accepts (any, when empty) gives the result (its keyframe and the pose it aligned to), none:
+  /// failure with the reason. One keyframe's fit can end at a wrong minimum (a repeated texture:
+  /// vamr_desk_loop's checkerboard, 3.1 degrees off with 79 % inliers), which the next one's does
+  /// not share. No ORB, no PnP: the frame's corners may be too few to match (vamr_desk_loop after a
+  /// gap: 17-22 matches, 4-7 PnP inliers) where the direct fit of the map's points still holds.
   RelocalizationResult confirm(const ImagePyramid& frame, double exposure, const MapStore& map,
                                const SE3d& T_c_w, double median_depth,
                                const std::function<bool(const SE3d&)>& agrees) const;
@@ -90,12 +91,13 @@ class Relocalizer {
   /// a far view is the least accurate one (on vamr_desk_loop 1.6 cm off from 12 cm away).
   void refineFromNearer(const ImagePyramid& frame, double exposure, const MapStore& map,
                         double median_depth, RelocalizationResult& best) const;
-  /// Direct alignment from `T_c_w` of the map keyframes (with points) nearest to that pose,
+  /// Direct alignment from `T_c_w` (a copy: `out` may hold it) of the map keyframes with points
+  /// among candidates() around that pose (with `skip_id`'s covisible neighbours, when >= 0),
   /// nearer than `max_distance` and other than `skip_id`, at most three, nearest first; the first
   /// that holds (at a pose `accept` accepts, when given) sets `out` (keyframe, pose, brightness,
   /// direct counts) and returns true.
-  bool alignNearest(const ImagePyramid& frame, double exposure, const MapStore& map,
-                    const SE3d& T_c_w, double median_depth, int skip_id, double max_distance,
+  bool alignNearest(const ImagePyramid& frame, double exposure, const MapStore& map, SE3d T_c_w,
+                    double median_depth, int skip_id, double max_distance,
                     const std::function<bool(const SE3d&)>& accept,
                     RelocalizationResult& out) const;
   /// The frame's affine brightness from a direct fit to `kf`.
