@@ -9,6 +9,11 @@
 #include "reuse/drift_consensus.h"
 
 namespace ldsm {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+}  // namespace
 
 TrackingStage::TrackingStage(const TrackingStageSettings& settings, const PyramidCamera& camera,
                              FramePreprocessor& preprocessor, PyramidPool& pyramids,
@@ -426,23 +431,22 @@ void TrackingStage::relocalizeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent
         resumesAfterLoss(outcome, rmse_before_loss_) ||
         (r.success && near_window && resumesWhereTheMapFoundIt(outcome, rmse_before_loss_));
     // A fit short of those (the view moved on during the gap: residuals grow with the distance to
-    // the reference) resumes when the map puts the frame where the window does: two fits of
-    // different points agree (vamr_desk_loop after 40 black frames, 2.1 times the residual before
-    // at 62 % inliers, the map's pose 0.001 median depths and 0.06 degrees away).
+    // the reference) resumes when the map puts the frame where the window does: its own pose, or
+    // else a direct fit of the map keyframes nearest to the window's pose (vamr_desk_loop after 40
+    // black frames: 2.1 times the residual before at 62 % inliers, the map's pose 0.001 median
+    // depths and 0.06 degrees away). Only for a frame the map found near the window: in live runs
+    // a track the map had not found, confirmed this way, resumed and went wrong (3 of 7 runs at
+    // 0.024-0.036 m; 0 of 4 without the confirmation).
     int confirming_keyframe = r.success ? r.keyframe_id : -1;
-    // Only when the map found the frame near the window: in live runs a track the map had not
-    // found, confirmed this way, resumed and went wrong (vamr_desk_loop, 40 black frames, 3 of 7
-    // runs at 0.024-0.036 m; 0 of 4 without the confirmation).
     if (!good_fit && r.success && near_window && plausibleAfterLoss(outcome, rmse_before_loss_)) {
-      // The map's own pose, else (found at a disagreeing pose) a direct fit of the map keyframes
-      // nearest to the window's pose from it.
-      RelocalizationResult c = r;
-      if (!posesAgree(outcome.T_c_w, r.T_c_w, snap->median_depth))
-        c = relocalizer_->confirm(*pyr, exposure, store_, outcome.T_c_w, snap->median_depth,
-                                  [&](const SE3d& T_c_w) {
-                                    return posesAgree(outcome.T_c_w, T_c_w, snap->median_depth);
-                                  });
-      if (c.success && posesAgree(outcome.T_c_w, c.T_c_w, snap->median_depth)) {
+      const auto agrees = [&](const SE3d& T_c_w) {
+        return posesAgree(outcome.T_c_w, T_c_w, snap->median_depth);
+      };
+      const RelocalizationResult c =
+          agrees(r.T_c_w) ? r
+                          : relocalizer_->confirm(*pyr, exposure, store_, outcome.T_c_w,
+                                                  snap->median_depth, agrees);
+      if (c.success) {
         good_fit = true;
         confirming_keyframe = c.keyframe_id;
         spdlog::debug("frame {}: the map (keyframe {}) confirms the window's pose",
@@ -454,7 +458,7 @@ void TrackingStage::relocalizeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent
       if (r.success) {
         const SE3d d = outcome.T_c_w * r.T_c_w.inverse();
         moved_depths = d.translation().norm() / std::max(1e-9, snap->median_depth);
-        turned_deg = d.so3().log().norm() * 180.0 / 3.14159265358979323846;
+        turned_deg = d.so3().log().norm() * 180.0 / kPi;
       }
       spdlog::debug(
           "frame {}: {}resumed in the window (rmse {:.2f}, before the loss {:.2f}, {:.0f} % "
@@ -501,7 +505,7 @@ bool TrackingStage::plausibleAfterLoss(const FrameTrackingOutcome& o, double rms
 bool TrackingStage::posesAgree(const SE3d& a_T_c_w, const SE3d& b_T_c_w, double median_depth) {
   const SE3d d = a_T_c_w * b_T_c_w.inverse();
   return d.translation().norm() <= kAgreeMedianDepths * std::max(median_depth, 1e-9) &&
-         d.so3().log().norm() <= kAgreeDegrees * 3.14159265358979323846 / 180.0;
+         d.so3().log().norm() <= kAgreeDegrees * kPi / 180.0;
 }
 
 RelocalizationResult TrackingStage::findInMap(const ImagePyramid& pyr, double exposure,

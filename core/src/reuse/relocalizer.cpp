@@ -12,6 +12,7 @@
 namespace ldsm {
 namespace {
 
+constexpr double kPi = 3.14159265358979323846;
 constexpr int kMaxCorners = 500;
 constexpr float kCornerMinScore = 9.f;  // as loop closure describes keyframes
 constexpr int kTriedCandidates = 5;     // best by ORB matches, through PnP and direct alignment
@@ -284,7 +285,7 @@ bool Relocalizer::alignNearest(const ImagePyramid& frame, double exposure, const
       spdlog::debug(
           "relocalisation: keyframe {} aligns {:.3f} median depths and {:.2f} degrees away", id,
           d.translation().norm() / std::max(median_depth, 1e-9),
-          d.so3().log().norm() * 180.0 / 3.14159265358979323846);
+          d.so3().log().norm() * 180.0 / kPi);
       continue;
     }
     out.keyframe_id = id;
