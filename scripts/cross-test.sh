@@ -33,17 +33,18 @@ case $arch in
 esac
 
 # Not run under emulation, on every ARM target (see docs/arm.md):
-#  * RealtimeReplay.{OneTimesRealTime,FasterThanRealTime}..., RunLiveCli.RealtimeReplayReports... and the two
-#    RunFaults tests that signal a real-time replay once it tracks: real-time
-#    replay needs the machine's real speed (qemu is ~10x slower: most frames are dropped, as they
-#    should be, and a 2-second clip never initialises). They run natively on a board.
+#  * RealtimeReplay.{OneTimesRealTime,FasterThanRealTime}..., RunLiveCli.RealtimeReplayReports...,
+#    LiveRelocalisation.* and the two RunFaults tests that signal a real-time replay once it
+#    tracks: real-time replay needs the machine's real speed (qemu is ~10x slower: most frames are
+#    dropped, as they should be, and a 2-second clip never initialises). They run natively on a
+#    board.
 #  * Long whole-SLAM and real-data runs (LoopClosure.*, the other SimOdometry runs, the EuRoC
 #    standing-still initialiser tests, the allocation run over a whole sequence, ...): 15-95 s
 #    natively, 3-35 minutes each under qemu (the drifting-loop test hit ctest's 30-minute limit on
 #    CI). They would push the CI job past its time limit and test nothing ARM-specific that
 #    SimOdometry.ForwardCorridorIsAccurate (the end-to-end run kept under qemu), the SIMD agreement
 #    tests and the PoseGraph tests do not; they run in the native suite.
-known_arm_failures='RealtimeReplay\.(OneTimesRealTime|FasterThanRealTime)MatchesOffline|RunLiveCli\.RealtimeReplayReportsDropsAndLatencyInStatsJson|RunFaults\.(SigtermStopsLikeCtrlCAndKeepsTheResults|AKilledRunLeavesTheTrajectoryOfItsLastFlushWhole)'
+known_arm_failures='RealtimeReplay\.(OneTimesRealTime|FasterThanRealTime)MatchesOffline|LiveRelocalisation\..*|RunLiveCli\.RealtimeReplayReportsDropsAndLatencyInStatsJson|RunFaults\.(SigtermStopsLikeCtrlCAndKeepsTheResults|AKilledRunLeavesTheTrajectoryOfItsLastFlushWhole)'
 too_slow_under_emulation='LoopClosure\..*|SimOdometry\.(LoopSceneFirstCornerTracks|DeterministicModeIsBitIdentical|ThreadedModeTracksLikeDeterministic|RadialRefinementRepairsAWrongDistortion)|Initializer(Hypotheses|Refusal)\.EurocDroneStandingStillNeverInitialises|SystemAllocation\.TrackingNonKeyframesAllocatesNothingInSteadyState|RunCommand\.UnreadableFrameMidSequenceKeepsTheTrajectorySoFar|SystemPipeline\.LatestPoseIsTheLastTrackedPoseInBothModes'
 # Map reuse's two-lap and noise runs (107 s and 29 s natively; the two-lap run hit the 30-minute
 # limit under qemu on CI) join them; MapReuse.ForwardCorridorReactivatesNothing (8 s) stays.

@@ -1,0 +1,104 @@
+// Relocalisation in the live pipeline (tracking and mapping on their own threads, frames paced at
+// the recorded rate and dropped when tracking falls behind), on real images: vamr_desk_loop's
+// first 450 frames with frames 350-389 (1.3 s) black, as `ldsm run --dataset DIR --realtime` runs
+// it. The deterministic run of the same frames is MapReuse.VamrDeskLoopResumesInItsMapAfterForty-
+// BlackFrames (tests/system); this one covers what only the threads show: the mapping thread
+// still integrating the keyframe before the loss while tracking looks for the frame, the map's
+// keyframes changing under the relocaliser, frames dropped around the gap. A version of the
+// resume rule that deterministic runs passed made 3 of 7 such live runs end at 0.024-0.036 m
+// (docs/map-reuse.md, "The map confirms the window's track"). Measured on a 2-core AMD EPYC:
+// 0.0008-0.0009 m in 5 of 5 runs; the bar is twice DSO's figure for the sequence
+// (0.0008-0.0009 m), as in the deterministic test. About 16 s (real time).
+#include <gtest/gtest.h>
+#include <spdlog/spdlog.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <string>
+
+#include "ldsm/drivers/dataset_calibration.h"
+#include "ldsm/drivers/dataset_description.h"
+#include "ldsm/drivers/dataset_source.h"
+#include "ldsm/drivers/realtime_replay_source.h"
+#include "ldsm/drivers/trajectory_io.h"
+#include "ldsm/eval/ate.h"
+#include "ldsm/system.h"
+#include "test_paths.h"
+
+namespace ldsm {
+namespace {
+
+constexpr std::int64_t kFrames = 450;
+constexpr std::int64_t kBlackFirst = 350, kBlackEnd = 390;
+
+/// The dataset's first kFrames frames, those in [kBlackFirst, kBlackEnd) black (a covered lens).
+class BlackedOutSource : public drivers::FrameSource {
+ public:
+  explicit BlackedOutSource(std::unique_ptr<drivers::FrameSource> source)
+      : source_(std::move(source)) {}
+  drivers::SourceInfo info() const override { return source_->info(); }
+  bool next(drivers::Frame& frame) override {
+    if (!source_->next(frame) || frame.index >= kFrames) return false;
+    if (frame.index >= kBlackFirst && frame.index < kBlackEnd) frame.image.fill(0);
+    return true;
+  }
+
+ private:
+  std::unique_ptr<drivers::FrameSource> source_;
+};
+
+class LossListener : public SystemListener {
+ public:
+  void onTrackingLost(const TrackingLostEvent&) override { ++lost; }
+  int lost = 0;
+};
+
+TEST(LiveRelocalisation, VamrDeskLoopResumesInItsMapAfterFortyBlackFramesInRealTime) {
+  const std::string folder = test::sharedData("vamr_desk_loop");
+  if (folder.empty())
+    GTEST_SKIP() << "../shared/data/vamr_desk_loop is absent: real-data test skipped";
+  spdlog::set_level(std::getenv("LDSM_DEBUG") ? spdlog::level::debug : spdlog::level::warn);
+  const auto desc = drivers::describeDataset(folder);
+  const auto calib = drivers::loadDatasetCalibration(desc);
+  const Trajectory gt =
+      drivers::readTrajectory(desc.groundtruth_file, desc.groundtruth_format, &desc.timestamps);
+  Config config;  // the defaults, as `ldsm run --realtime` (map reuse and loop closure on)
+  config.system.live = true;
+  System system(config, calib.geometric, calib.photometric);
+  LossListener listener;
+  system.setListener(&listener);
+  drivers::RealtimeReplaySource source(
+      std::make_unique<BlackedOutSource>(drivers::openDataset(desc)), 1.0);
+  drivers::Frame frame;
+  std::int64_t submitted = 0;
+  while (source.next(frame)) {
+    system.submit({frame.image.view(), frame.timestamp, frame.exposure_ms});
+    ++submitted;
+  }
+  system.finish();
+  const SystemStats s = system.stats();
+  const Trajectory trajectory = system.trajectory();
+  const eval::AteResult ate = eval::computeAte(gt, trajectory);
+  int other_map = 0;
+  for (const StampedPose& p : trajectory) other_map += p.map != 0 ? 1 : 0;
+  std::printf(
+      "live vamr, 40 black frames: %lld submitted, %lld dropped, %lld lost, %lld relocalised, "
+      "%lld new maps, ATE %.5f m over %zu poses, replay %.1f ms late at most\n",
+      static_cast<long long>(submitted), static_cast<long long>(s.dropped_frames),
+      static_cast<long long>(s.tracking_losses), static_cast<long long>(s.reuse.relocalizations),
+      static_cast<long long>(s.reuse.new_maps), ate.rmse, ate.matched, source.maxLatenessMs());
+  EXPECT_EQ(submitted, kFrames);
+  EXPECT_EQ(listener.lost, 1);
+  EXPECT_EQ(s.reuse.relocalizations, 1);
+  EXPECT_EQ(s.reuse.new_maps, 0);
+  EXPECT_EQ(other_map, 0) << "poses reported in a second map's frame";
+  // Every frame that tracking received and was not black has a pose (a few may be dropped, and
+  // the first ones come before the map exists).
+  EXPECT_GT(ate.matched,
+            static_cast<std::size_t>(kFrames - (kBlackEnd - kBlackFirst) - 20 - s.dropped_frames));
+  EXPECT_LT(ate.rmse, 2.0 * 0.0009);
+}
+
+}  // namespace
+}  // namespace ldsm
