@@ -5,10 +5,9 @@
 #include <algorithm>
 
 #include "ldsm/camera/camera_model.h"
+#include "math/constants.h"
 
 namespace ldsm::camera_detail {
-
-inline constexpr double kPi = 3.14159265358979323846;
 
 /// Points closer than this to the image plane (Z) cannot be projected by the perspective models.
 inline constexpr double kMinDepth = 1e-9;

@@ -87,7 +87,7 @@ void validateIntrinsics(const CameraIntrinsics& in) {
     finite(in.distortion[i], distortionName(in.model, i));
   if (in.model == CameraModelType::Fov) {
     const double omega = in.distortion[0];
-    if (omega < 0 || omega >= camera_detail::kPi)
+    if (omega < 0 || omega >= kPi)
       throw InputError(model + "omega must be in [0, pi) (got " + fmt(omega) + ")");
   }
 }

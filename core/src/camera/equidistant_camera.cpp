@@ -12,12 +12,12 @@ constexpr double kAxisEps = 1e-10;
 }  // namespace
 
 EquidistantCamera::EquidistantCamera(const CameraIntrinsics& intrinsics)
-    : CameraModel(intrinsics, CameraModelType::Equidistant), theta_max_(camera_detail::kPi) {
+    : CameraModel(intrinsics, CameraModelType::Equidistant), theta_max_(kPi) {
   // theta_d(theta) must increase: find the first angle where its derivative vanishes.
   constexpr int kSteps = 4000;
   double prev = 0.0;
   for (int i = 1; i <= kSteps; ++i) {
-    const double theta = camera_detail::kPi * i / kSteps;
+    const double theta = kPi * i / kSteps;
     double deriv = 0.0;
     distortTheta(theta, &deriv);
     if (!(deriv > 0.0)) {

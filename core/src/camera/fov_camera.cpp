@@ -62,7 +62,7 @@ bool FovCamera::unproject(const Eigen::Vector2d& px, Eigen::Vector3d* ray) const
   const double rd = xyd.norm();
   double ru_over_rd = 1.0;
   if (omega_ > kSmallOmega) {
-    if (!(rd * omega_ < 0.5 * camera_detail::kPi)) return false;  // beyond 90 degrees off-axis
+    if (!(rd * omega_ < 0.5 * kPi)) return false;  // beyond 90 degrees off-axis
     ru_over_rd = rd > 0.0 ? std::tan(rd * omega_) / (two_tan_half_omega_ * rd)
                           : omega_ / two_tan_half_omega_;
   }

@@ -10,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "ldsm/error.h"
+#include "math/constants.h"
 
 namespace ldsm {
 namespace {
@@ -44,7 +45,7 @@ float centroidAngle(const cv::Mat& image, int x, int y, const std::array<int, kR
     m01 += dy * row_sum;
   }
   float deg = static_cast<float>(std::atan2(static_cast<double>(m01), static_cast<double>(m10)) *
-                                 (180.0 / 3.14159265358979323846));
+                                 (180.0 / kPi));
   if (deg < 0.f) deg += 360.f;
   if (deg >= 360.f) deg -= 360.f;
   return deg;

@@ -7,6 +7,7 @@
 
 #include "image/gradient_magnitude.h"
 #include "ldsm/error.h"
+#include "math/constants.h"
 
 namespace ldsm {
 namespace {
@@ -62,7 +63,7 @@ PixelSelector::PixelSelector(int width, int height, const PointSelectionConfig& 
   last_clipped_.resize(static_cast<std::size_t>(std::max(height, 0)));
   for (int i = 0; i < kDirections; ++i) {
     // Half-turn is enough: the score uses the squared component.
-    const double angle = 3.14159265358979323846 * i / kDirections;
+    const double angle = kPi * i / kDirections;
     dir_x_[i] = static_cast<float>(std::cos(angle));
     dir_y_[i] = static_cast<float>(std::sin(angle));
   }

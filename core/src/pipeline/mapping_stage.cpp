@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include "concurrency/backoff.h"
+#include "math/constants.h"
 #include "reuse/redundancy.h"
 
 #include <algorithm>
@@ -316,7 +317,6 @@ std::vector<MarginalizedKeyframe> MappingStage::windowForMap() {
 }
 
 void MappingStage::keepMapBudget() {
-  constexpr double kPi = 3.14159265358979323846;
   const double angle = settings_.reuse.redundancy_angle_deg * kPi / 180.0;
   const std::vector<int> in_window = mapper_.reactivatedIds();
   while (static_cast<int>(store_.dataKeyframeCount()) > settings_.reuse.max_map_keyframes) {

@@ -6,14 +6,10 @@
 #include <cmath>
 #include <limits>
 
+#include "math/constants.h"
 #include "reuse/drift_consensus.h"
 
 namespace ldsm {
-namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-
-}  // namespace
 
 TrackingStage::TrackingStage(const TrackingStageSettings& settings, const PyramidCamera& camera,
                              FramePreprocessor& preprocessor, PyramidPool& pyramids,

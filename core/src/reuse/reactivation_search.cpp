@@ -9,11 +9,11 @@
 #include "alignment/direct_alignment.h"
 #include "camera/radial_distortion.h"
 #include "features/orb_matching.h"
+#include "math/constants.h"
 
 namespace ldsm {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr float kBorder = 4.f;
 
 /// The world point of a host pixel with inverse depth (in the host's original units) for a map

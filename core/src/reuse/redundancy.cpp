@@ -5,11 +5,11 @@
 #include <vector>
 
 #include "camera/radial_distortion.h"
+#include "math/constants.h"
 
 namespace ldsm {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr float kBorder = 4.f;
 
 }  // namespace

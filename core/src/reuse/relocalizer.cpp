@@ -8,11 +8,11 @@
 
 #include "camera/radial_distortion.h"
 #include "features/orb_matching.h"
+#include "math/constants.h"
 
 namespace ldsm {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr int kMaxCorners = 500;
 constexpr float kCornerMinScore = 9.f;  // as loop closure describes keyframes
 constexpr int kTriedCandidates = 5;     // best by ORB matches, through PnP and direct alignment
