@@ -11,6 +11,14 @@
 
 namespace ldsm {
 
+int pnpSamplesForInliers(int correspondences, int inliers, double confidence) {
+  if (correspondences <= 0 || inliers <= 0 || inliers > correspondences) return 0;
+  const double clean = std::pow(static_cast<double>(inliers) / correspondences, 4);
+  if (clean >= 1.0) return 1;
+  const double n = std::ceil(std::log(1.0 - confidence) / std::log(1.0 - clean));
+  return n < 1.0 ? 1 : n > 1e9 ? 1000000000 : static_cast<int>(n);
+}
+
 PnpRansacResult solvePnpRansac(const std::vector<Eigen::Vector3d>& points,
                                const std::vector<Eigen::Vector2d>& pixels,
                                const PinholeIntrinsics& camera, const PnpRansacSettings& settings) {
@@ -29,6 +37,19 @@ PnpRansacResult solvePnpRansac(const std::vector<Eigen::Vector3d>& points,
   PnpRansacResult result;
   constexpr std::size_t kMinCorrespondences = 6;
   if (points.size() < kMinCorrespondences) return result;
+  int iterations = settings.max_iterations;
+  if (settings.stop_when_hopeless) {
+    const int n = static_cast<int>(points.size());
+    if (n < settings.min_inliers) return result;
+    // The bound counts a clean sample as finding every inlier; with noisy corners its pose often
+    // keeps fewer, and a success with exactly min_inliers needs several clean samples: at the
+    // bound itself vamr_desk_loop's relocalisation after a gap found 14 of 39 where the full run
+    // found 15 (the minimum). Ten times the bound.
+    constexpr int kSafety = 10;
+    const int bound =
+        pnpSamplesForInliers(n, std::max(settings.min_inliers, 4), settings.confidence);
+    if (bound < iterations / kSafety) iterations = kSafety * bound;
+  }
 
   std::vector<cv::Point3d> object(points.size());
   std::vector<cv::Point2d> image(points.size());
@@ -48,8 +69,7 @@ PnpRansacResult solvePnpRansac(const std::vector<Eigen::Vector3d>& points,
     // solutions) rather than the five of EPnP: with 12 of 36 matches right one sample in 120 is
     // clean instead of one in 480, and each is cheaper. 300 five-point samples missed the pose
     // at such ratios in 6 of 43 synthetic scenes (docs/loop-closure.md).
-    ok = cv::solvePnPRansac(object, image, K, cv::noArray(), rvec, tvec, false,
-                            settings.max_iterations,
+    ok = cv::solvePnPRansac(object, image, K, cv::noArray(), rvec, tvec, false, iterations,
                             static_cast<float>(settings.inlier_threshold_px), settings.confidence,
                             inliers, cv::SOLVEPNP_AP3P);
   } catch (const cv::Exception&) {

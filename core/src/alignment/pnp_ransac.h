@@ -18,7 +18,19 @@ struct PnpRansacSettings {
   double inlier_threshold_px = 4.0;  ///< reprojection error of an inlier
   double confidence = 0.999;         ///< probability of drawing one outlier-free sample
   int min_inliers = 20;              ///< fewer inliers: failure
+  /// Draw at most ten times as many samples as find, with `confidence`, an outlier-free sample
+  /// when min_inliers of the correspondences are right (pnpSamplesForInliers): 190 for 20 with
+  /// min_inliers 15 instead of max_iterations, none when there are fewer correspondences than
+  /// min_inliers. A pose with fewer inliers (has_pose without success) may then be missed: for
+  /// callers that use successes only (relocalisation, which tries many frames and candidates).
+  bool stop_when_hopeless = false;
 };
+
+/// The samples of four correspondences (the minimal sample of solvePnpRansac) that find, with
+/// probability `confidence`, an outlier-free one among `correspondences` of which `inliers` are
+/// right: ceil(log(1 - confidence) / log(1 - ratio^4)), at least 1; 0 when inliers exceed
+/// correspondences, or the ratio is 0.
+int pnpSamplesForInliers(int correspondences, int inliers, double confidence);
 
 /// Result of solvePnpRansac(). `T_camera_points` maps the input 3D points into the camera.
 struct PnpRansacResult {

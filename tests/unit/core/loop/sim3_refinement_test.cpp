@@ -232,5 +232,76 @@ TEST(PnpRansac, FindsThePoseWhenAThirdOfTheCorrespondencesAreRight) {
   EXPECT_GE(tested, 15);
 }
 
+// The sample count that finds, with the given confidence, a clean four-point sample when a given
+// number of the correspondences are right: log(1 - p) / log(1 - ratio^4), rounded up.
+TEST(PnpRansac, SamplesForInliersFollowTheRansacBound) {
+  EXPECT_EQ(pnpSamplesForInliers(20, 15, 0.999), 19);   // ratio 0.75
+  EXPECT_EQ(pnpSamplesForInliers(39, 15, 0.999), 313);  // ratio 0.38
+  EXPECT_EQ(pnpSamplesForInliers(20, 20, 0.999), 1);
+  EXPECT_EQ(pnpSamplesForInliers(10, 15, 0.999), 0);  // more inliers asked than there are
+  EXPECT_EQ(pnpSamplesForInliers(20, 0, 0.999), 0);
+  EXPECT_EQ(pnpSamplesForInliers(0, 0, 0.999), 0);
+  for (int n = 16; n < 60; ++n)
+    EXPECT_LE(pnpSamplesForInliers(n, 15, 0.999), pnpSamplesForInliers(n + 1, 15, 0.999)) << n;
+  EXPECT_LT(pnpSamplesForInliers(30, 15, 0.99), pnpSamplesForInliers(30, 15, 0.999));
+}
+
+// Relocalisation tries many candidates with about 20 matches of which a few are right; it uses a
+// PnP pose only with min_inliers (15), so it stops after ten times the samples that would find
+// a clean one if 15 were right (190 for 20 instead of 1000). Where at least min_inliers + 1 are
+// right it finds the pose the full run finds; where fewer than min_inliers are right neither
+// succeeds; with fewer correspondences than min_inliers it draws nothing (no pose at all).
+TEST(PnpRansac, StoppingWhenHopelessKeepsEverySuccess) {
+  const PinholeIntrinsics cam = testCamera(500.0);
+  const SE3d T(SO3d::exp(Eigen::Vector3d(0.05, -0.1, 0.08)), Eigen::Vector3d(-0.2, 0.1, 0.3));
+  PnpRansacSettings full;
+  full.min_inliers = 15;
+  PnpRansacSettings capped = full;
+  capped.stop_when_hopeless = true;
+  int found = 0, hopeless = 0;
+  for (unsigned seed = 1; seed <= 40; ++seed) {
+    SCOPED_TRACE(seed);
+    const Correspondences data =
+        make(Sim3d(T), cam, 20 + static_cast<int>(seed % 5), 0.0, 0.25, 300 + seed);
+    std::vector<Eigen::Vector3d> pts;
+    std::vector<Eigen::Vector2d> px;
+    int right = 0;
+    for (std::size_t i = 0; i < data.c.size(); ++i) {
+      pts.push_back(data.c[i].point_candidate);
+      px.push_back(data.c[i].pixel_current);
+      right += !data.outlier[i];
+    }
+    const PnpRansacResult a = solvePnpRansac(pts, px, cam, full);
+    const PnpRansacResult b = solvePnpRansac(pts, px, cam, capped);
+    if (right >= full.min_inliers + 1) {
+      ++found;
+      ASSERT_TRUE(a.success);
+      ASSERT_TRUE(b.success);
+      // As accurate as 20 noisy correspondences allow (the full run's pose is as far off).
+      EXPECT_LT((b.T_camera_points.so3().inverse() * T.so3()).log().norm(), 1.0 * kDeg);
+      EXPECT_LT((b.T_camera_points.translation() - T.translation()).norm(), 0.05);
+      EXPECT_GE(b.inliers.size() + 1, a.inliers.size());
+    } else if (right < full.min_inliers) {
+      ++hopeless;
+      EXPECT_FALSE(a.success);
+      EXPECT_FALSE(b.success);
+    }
+  }
+  EXPECT_GE(found, 15);
+  EXPECT_GE(hopeless, 3);
+  // Fewer correspondences than min_inliers: nothing drawn, no pose (the full run reports one).
+  const Correspondences few = make(Sim3d(T), cam, 12, 0.0, 0.0, 7);
+  std::vector<Eigen::Vector3d> pts;
+  std::vector<Eigen::Vector2d> px;
+  for (const auto& c : few.c) {
+    pts.push_back(c.point_candidate);
+    px.push_back(c.pixel_current);
+  }
+  EXPECT_TRUE(solvePnpRansac(pts, px, cam, full).has_pose);
+  const PnpRansacResult none = solvePnpRansac(pts, px, cam, capped);
+  EXPECT_FALSE(none.success);
+  EXPECT_FALSE(none.has_pose);
+}
+
 }  // namespace
 }  // namespace ldsm::loop
