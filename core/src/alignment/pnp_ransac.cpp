@@ -10,13 +10,36 @@
 #include "ldsm/error.h"
 
 namespace ldsm {
+namespace {
+
+constexpr int kSampleSize = 4;  // AP3P: three correspondences solve, the fourth picks a solution
+// The bound of pnpSamplesForInliers counts a clean sample as finding every inlier; with noisy
+// corners its pose often keeps fewer, and a pose with exactly min_inliers needs several clean
+// samples: at the bound itself vamr_desk_loop's relocalisation after a gap found 14 inliers of
+// 39 where the full run found 15 (the minimum). Ten times the bound.
+constexpr int kBoundMultiple = 10;
+
+}  // namespace
 
 int pnpSamplesForInliers(int correspondences, int inliers, double confidence) {
+  if (!(confidence > 0.0 && confidence < 1.0))
+    throw InputError("PnP RANSAC: confidence must be in (0, 1)");
   if (correspondences <= 0 || inliers <= 0 || inliers > correspondences) return 0;
-  const double clean = std::pow(static_cast<double>(inliers) / correspondences, 4);
+  const double clean = std::pow(static_cast<double>(inliers) / correspondences, kSampleSize);
   if (clean >= 1.0) return 1;
-  const double n = std::ceil(std::log(1.0 - confidence) / std::log(1.0 - clean));
-  return n < 1.0 ? 1 : n > 1e9 ? 1000000000 : static_cast<int>(n);
+  // log1p: a tiny clean probability still gives a huge count (log(1 - 1e-17) rounds to 0).
+  const double n = std::ceil(std::log1p(-confidence) / std::log1p(-clean));
+  constexpr double kMostSamples = 1e9;
+  return !(n < kMostSamples) ? static_cast<int>(kMostSamples) : n < 1.0 ? 1 : static_cast<int>(n);
+}
+
+int pnpRansacSamples(const PnpRansacSettings& settings, int correspondences) {
+  if (!settings.cap_samples_for_min_inliers) return settings.max_iterations;
+  if (correspondences < settings.min_inliers) return 0;
+  const int bound = pnpSamplesForInliers(
+      correspondences, std::max(settings.min_inliers, kSampleSize), settings.confidence);
+  return bound < settings.max_iterations / kBoundMultiple ? kBoundMultiple * bound
+                                                          : settings.max_iterations;
 }
 
 PnpRansacResult solvePnpRansac(const std::vector<Eigen::Vector3d>& points,
@@ -37,19 +60,8 @@ PnpRansacResult solvePnpRansac(const std::vector<Eigen::Vector3d>& points,
   PnpRansacResult result;
   constexpr std::size_t kMinCorrespondences = 6;
   if (points.size() < kMinCorrespondences) return result;
-  int iterations = settings.max_iterations;
-  if (settings.stop_when_hopeless) {
-    const int n = static_cast<int>(points.size());
-    if (n < settings.min_inliers) return result;
-    // The bound counts a clean sample as finding every inlier; with noisy corners its pose often
-    // keeps fewer, and a success with exactly min_inliers needs several clean samples: at the
-    // bound itself vamr_desk_loop's relocalisation after a gap found 14 of 39 where the full run
-    // found 15 (the minimum). Ten times the bound.
-    constexpr int kSafety = 10;
-    const int bound =
-        pnpSamplesForInliers(n, std::max(settings.min_inliers, 4), settings.confidence);
-    if (bound < iterations / kSafety) iterations = kSafety * bound;
-  }
+  const int iterations = pnpRansacSamples(settings, static_cast<int>(points.size()));
+  if (iterations == 0) return result;
 
   std::vector<cv::Point3d> object(points.size());
   std::vector<cv::Point2d> image(points.size());

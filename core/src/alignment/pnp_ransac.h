@@ -18,19 +18,27 @@ struct PnpRansacSettings {
   double inlier_threshold_px = 4.0;  ///< reprojection error of an inlier
   double confidence = 0.999;         ///< probability of drawing one outlier-free sample
   int min_inliers = 20;              ///< fewer inliers: failure
-  /// Draw at most ten times as many samples as find, with `confidence`, an outlier-free sample
-  /// when min_inliers of the correspondences are right (pnpSamplesForInliers): 190 for 20 with
-  /// min_inliers 15 instead of max_iterations, none when there are fewer correspondences than
-  /// min_inliers. A pose with fewer inliers (has_pose without success) may then be missed: for
-  /// callers that use successes only (relocalisation, which tries many frames and candidates).
-  bool stop_when_hopeless = false;
+  /// A sample budget from min_inliers (pnpRansacSamples): at most ten times the samples that
+  /// find, with `confidence`, an outlier-free one if exactly min_inliers of the correspondences
+  /// are right (190 instead of max_iterations for 20 with min_inliers 15), none when there are
+  /// fewer correspondences than min_inliers. A success is then still found with high probability
+  /// but no longer with all of max_iterations' samples (a pose with exactly min_inliers whose
+  /// clean samples mostly keep fewer may be missed), and a pose with fewer inliers (has_pose
+  /// without success) often is: for callers that use successes only and try again (relocalisation
+  /// tries many frames and candidates).
+  bool cap_samples_for_min_inliers = false;
 };
 
 /// The samples of four correspondences (the minimal sample of solvePnpRansac) that find, with
-/// probability `confidence`, an outlier-free one among `correspondences` of which `inliers` are
-/// right: ceil(log(1 - confidence) / log(1 - ratio^4)), at least 1; 0 when inliers exceed
-/// correspondences, or the ratio is 0.
+/// probability `confidence` (in (0, 1); InputError otherwise), an outlier-free one among
+/// `correspondences` of which `inliers` are right: ceil(log(1 - confidence) / log(1 - ratio^4)),
+/// at least 1 and at most 1e9; 0 when inliers exceed correspondences or either is not positive.
 int pnpSamplesForInliers(int correspondences, int inliers, double confidence);
+
+/// The most samples solvePnpRansac draws for `correspondences` with `settings`: max_iterations,
+/// or with cap_samples_for_min_inliers ten times pnpSamplesForInliers(correspondences,
+/// min_inliers) when that is fewer (0 when there are fewer correspondences than min_inliers).
+int pnpRansacSamples(const PnpRansacSettings& settings, int correspondences);
 
 /// Result of solvePnpRansac(). `T_camera_points` maps the input 3D points into the camera.
 struct PnpRansacResult {

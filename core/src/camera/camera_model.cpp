@@ -7,6 +7,7 @@
 
 #include "camera/camera_models.h"
 #include "ldsm/error.h"
+#include "math/constants.h"
 
 namespace ldsm {
 namespace {

@@ -2,6 +2,7 @@
 
 #include "camera/camera_models.h"
 #include "camera_common.h"
+#include "math/constants.h"
 
 namespace ldsm {
 namespace {

@@ -10,6 +10,7 @@
 #include <Eigen/Cholesky>
 
 #include "ldsm/error.h"
+#include "math/constants.h"
 
 namespace ldsm::loop {
 namespace {
@@ -33,8 +34,8 @@ void packSim3(const Sim3d& S, double* p) {
   p[7] = std::log(S.scale());
 }
 
-constexpr double kMaxRotationStep = 3.14159265358979;  // radians per manifold step
-constexpr double kMaxLogScaleStep = 10.0;              // log scale per manifold step
+constexpr double kMaxRotationStep = kPi;   // radians per manifold step
+constexpr double kMaxLogScaleStep = 10.0;  // log scale per manifold step
 
 // Left perturbation S <- exp(d) * S on the 8-number storage. The Jacobians of the cost function
 // are given directly in the tangent space (7 columns, the 8th zero), so the plus Jacobian is the

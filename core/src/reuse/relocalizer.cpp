@@ -30,7 +30,7 @@ Relocalizer::Relocalizer(const ReuseConfig& config, const PyramidCamera& camera)
   // A relocalisation uses a PnP pose only with min_inliers: after a gap most candidates have a few
   // right matches of about 20 (vamr_desk_loop: 4-6), and the full 1000 samples on each of five
   // candidates were a third of a relocalisation attempt's instructions.
-  pnp_.stop_when_hopeless = true;
+  pnp_.cap_samples_for_min_inliers = true;
   direct_.min_inlier_fraction = config.relocalization_min_direct_inliers;
 }
 

@@ -3,7 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <random>
+#include <vector>
 
 #include <Eigen/Eigenvalues>
 
@@ -246,57 +249,91 @@ TEST(PnpRansac, SamplesForInliersFollowTheRansacBound) {
   EXPECT_LT(pnpSamplesForInliers(30, 15, 0.99), pnpSamplesForInliers(30, 15, 0.999));
 }
 
-// Relocalisation tries many candidates with about 20 matches of which a few are right; it uses a
-// PnP pose only with min_inliers (15), so it stops after ten times the samples that would find
-// a clean one if 15 were right (190 for 20 instead of 1000). Where at least min_inliers + 1 are
-// right it finds the pose the full run finds; where fewer than min_inliers are right neither
-// succeeds; with fewer correspondences than min_inliers it draws nothing (no pose at all).
-TEST(PnpRansac, StoppingWhenHopelessKeepsEverySuccess) {
+// The samples drawn at most: max_iterations, or with the cap ten times the bound for
+// min_inliers when that is fewer (the cap matters below 30 correspondences at min_inliers 15).
+TEST(PnpRansac, SampleBudgetFromTheMinimumInliers) {
+  PnpRansacSettings s;
+  s.min_inliers = 15;
+  EXPECT_EQ(pnpRansacSamples(s, 20), 1000);  // no cap asked for
+  s.cap_samples_for_min_inliers = true;
+  EXPECT_EQ(pnpRansacSamples(s, 20), 190);
+  EXPECT_EQ(pnpRansacSamples(s, 29), 940);  // ceil(93.01) samples
+  EXPECT_EQ(pnpRansacSamples(s, 30), 1000);
+  EXPECT_EQ(pnpRansacSamples(s, 15), 10);
+  EXPECT_EQ(pnpRansacSamples(s, 14), 0);  // no pose with 15 inliers possible: nothing drawn
+  s.max_iterations = 100;
+  EXPECT_EQ(pnpRansacSamples(s, 20), 100);  // never more than max_iterations
+  EXPECT_THROW(pnpSamplesForInliers(20, 15, 1.0), InputError);
+  EXPECT_THROW(pnpSamplesForInliers(20, 15, std::nan("")), InputError);
+  // A clean sample almost never drawn: the count saturates instead of collapsing to 1.
+  EXPECT_EQ(pnpSamplesForInliers(1000000, 1, 0.999), 1000000000);
+}
+
+/// Correspondences of a scene seen through T: `right` of `n` project with `pixel_sigma` noise,
+/// the others anywhere in the image.
+void makeWithRight(const SE3d& T, const PinholeIntrinsics& cam, int n, int right,
+                   double pixel_sigma, unsigned seed, std::vector<Eigen::Vector3d>& pts,
+                   std::vector<Eigen::Vector2d>& px) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  std::normal_distribution<double> N(0.0, 1.0);
+  pts.clear();
+  px.clear();
+  while (static_cast<int>(pts.size()) < n) {
+    const Eigen::Vector3d p(3 * U(rng), 2 * U(rng), 5 + 2 * U(rng));
+    const Eigen::Vector3d q = T * p;
+    Eigen::Vector2d u(cam.fx * q.x() / q.z() + cam.cx, cam.fy * q.y() / q.z() + cam.cy);
+    if (!test::inImage(cam, u)) continue;
+    if (static_cast<int>(pts.size()) < right)
+      u += pixel_sigma * Eigen::Vector2d(N(rng), N(rng));
+    else
+      u = Eigen::Vector2d(320 + 300 * U(rng), 240 + 220 * U(rng));
+    pts.push_back(p);
+    px.push_back(u);
+  }
+}
+
+// Relocalisation uses a PnP pose only with min_inliers (15) and tries many candidates with about
+// 20 matches of which a few are right, so its PnP draws at most ten times the samples that find a
+// clean one if 15 were right (190 for 20 instead of 1000). The hard case is a pose with exactly
+// min_inliers right and noisy corners (a clean sample's pose then often keeps fewer): between 20
+// and 29 correspondences, where the cap applies, it must succeed wherever the full run does
+// (measured: 34 of 40 in both; at the bound itself, without the factor ten, 30 of the 34).
+// With fewer correspondences than min_inliers nothing is drawn (no pose at all); with fewer right
+// than min_inliers neither succeeds.
+TEST(PnpRansac, CappedSamplesKeepTheSuccessesOfTheFullRun) {
   const PinholeIntrinsics cam = testCamera(500.0);
   const SE3d T(SO3d::exp(Eigen::Vector3d(0.05, -0.1, 0.08)), Eigen::Vector3d(-0.2, 0.1, 0.3));
   PnpRansacSettings full;
   full.min_inliers = 15;
   PnpRansacSettings capped = full;
-  capped.stop_when_hopeless = true;
-  int found = 0, hopeless = 0;
-  for (unsigned seed = 1; seed <= 40; ++seed) {
-    SCOPED_TRACE(seed);
-    const Correspondences data =
-        make(Sim3d(T), cam, 20 + static_cast<int>(seed % 5), 0.0, 0.25, 300 + seed);
-    std::vector<Eigen::Vector3d> pts;
-    std::vector<Eigen::Vector2d> px;
-    int right = 0;
-    for (std::size_t i = 0; i < data.c.size(); ++i) {
-      pts.push_back(data.c[i].point_candidate);
-      px.push_back(data.c[i].pixel_current);
-      right += !data.outlier[i];
-    }
-    const PnpRansacResult a = solvePnpRansac(pts, px, cam, full);
-    const PnpRansacResult b = solvePnpRansac(pts, px, cam, capped);
-    if (right >= full.min_inliers + 1) {
-      ++found;
-      ASSERT_TRUE(a.success);
-      ASSERT_TRUE(b.success);
-      // As accurate as 20 noisy correspondences allow (the full run's pose is as far off).
-      EXPECT_LT((b.T_camera_points.so3().inverse() * T.so3()).log().norm(), 1.0 * kDeg);
-      EXPECT_LT((b.T_camera_points.translation() - T.translation()).norm(), 0.05);
-      EXPECT_GE(b.inliers.size() + 1, a.inliers.size());
-    } else if (right < full.min_inliers) {
-      ++hopeless;
-      EXPECT_FALSE(a.success);
-      EXPECT_FALSE(b.success);
-    }
-  }
-  EXPECT_GE(found, 15);
-  EXPECT_GE(hopeless, 3);
-  // Fewer correspondences than min_inliers: nothing drawn, no pose (the full run reports one).
-  const Correspondences few = make(Sim3d(T), cam, 12, 0.0, 0.0, 7);
+  capped.cap_samples_for_min_inliers = true;
   std::vector<Eigen::Vector3d> pts;
   std::vector<Eigen::Vector2d> px;
-  for (const auto& c : few.c) {
-    pts.push_back(c.point_candidate);
-    px.push_back(c.pixel_current);
+  int full_successes = 0, capped_successes = 0;
+  for (unsigned seed = 1; seed <= 40; ++seed) {
+    SCOPED_TRACE(seed);
+    const int n = 20 + static_cast<int>(seed % 10);
+    makeWithRight(T, cam, n, full.min_inliers, 1.0, 500 + seed, pts, px);
+    const PnpRansacResult a = solvePnpRansac(pts, px, cam, full);
+    const PnpRansacResult b = solvePnpRansac(pts, px, cam, capped);
+    full_successes += a.success;
+    capped_successes += b.success;
+    if (a.success) {
+      EXPECT_TRUE(b.success) << n << " correspondences";
+    }
+    if (b.success) {
+      EXPECT_LT((b.T_camera_points.so3().inverse() * T.so3()).log().norm(), 1.0 * kDeg);
+      EXPECT_LT((b.T_camera_points.translation() - T.translation()).norm(), 0.05);
+    }
+    makeWithRight(T, cam, n, full.min_inliers - 2, 0.5, 900 + seed, pts, px);
+    EXPECT_FALSE(solvePnpRansac(pts, px, cam, capped).success);
   }
+  std::printf("exactly 15 right of 20-29 (1 px noise): %d of 40 found in full, %d capped\n",
+              full_successes, capped_successes);
+  EXPECT_GE(full_successes, 20);
+  // Fewer correspondences than min_inliers: nothing drawn, no pose (the full run reports one).
+  makeWithRight(T, cam, 12, 12, 0.5, 7, pts, px);
   EXPECT_TRUE(solvePnpRansac(pts, px, cam, full).has_pose);
   const PnpRansacResult none = solvePnpRansac(pts, px, cam, capped);
   EXPECT_FALSE(none.success);
