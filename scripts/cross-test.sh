@@ -33,9 +33,10 @@ case $arch in
 esac
 
 # Not run under emulation, on every ARM target (see docs/arm.md):
-#  * RealtimeReplay.{OneTimesRealTime,FasterThanRealTime}..., RunLiveCli.RealtimeReplayReports...,
-#    LiveRelocalisation.* and the two RunFaults tests that signal a real-time replay once it
-#    tracks: real-time replay needs the machine's real speed (qemu is ~10x slower: most frames are
+#  * The real-time tests of scripts/real-time-tests.sh (RealtimeReplay.{OneTimesRealTime,
+#    FasterThanRealTime}..., LiveRelocalisation.*, RunLiveCli.RealtimeReplayReports... and the two
+#    RunFaults tests that signal a real-time replay once it tracks; sanitize.sh leaves out the
+#    same): real-time replay needs the machine's real speed (qemu is ~10x slower: most frames are
 #    dropped, as they should be, and a 2-second clip never initialises). They run natively on a
 #    board.
 #  * Long whole-SLAM and real-data runs (LoopClosure.*, the other SimOdometry runs, the EuRoC
@@ -44,7 +45,7 @@ esac
 #    CI). They would push the CI job past its time limit and test nothing ARM-specific that
 #    SimOdometry.ForwardCorridorIsAccurate (the end-to-end run kept under qemu), the SIMD agreement
 #    tests and the PoseGraph tests do not; they run in the native suite.
-known_arm_failures='RealtimeReplay\.(OneTimesRealTime|FasterThanRealTime)MatchesOffline|LiveRelocalisation\..*|RunLiveCli\.RealtimeReplayReportsDropsAndLatencyInStatsJson|RunFaults\.(SigtermStopsLikeCtrlCAndKeepsTheResults|AKilledRunLeavesTheTrajectoryOfItsLastFlushWhole)'
+known_arm_failures=$(bash scripts/real-time-tests.sh)
 too_slow_under_emulation='LoopClosure\..*|SimOdometry\.(LoopSceneFirstCornerTracks|DeterministicModeIsBitIdentical|ThreadedModeTracksLikeDeterministic|RadialRefinementRepairsAWrongDistortion)|Initializer(Hypotheses|Refusal)\.EurocDroneStandingStillNeverInitialises|SystemAllocation\.TrackingNonKeyframesAllocatesNothingInSteadyState|RunCommand\.UnreadableFrameMidSequenceKeepsTheTrajectorySoFar|SystemPipeline\.LatestPoseIsTheLastTrackedPoseInBothModes'
 # Map reuse's two-lap and noise runs (107 s and 29 s natively; the two-lap run hit the 30-minute
 # limit under qemu on CI) join them; MapReuse.ForwardCorridorReactivatesNothing (8 s) stays.

@@ -33,8 +33,8 @@ root=${BUILD_ROOT:-build}
 start=$(date +%s)
 stamp() { echo "sanitize.sh ($kind): $1 ($(( $(date +%s) - start )) s)"; }
 
-# Timing-bound tests (see docs/arm.md for the same list under emulation).
-real_speed='RealtimeReplay\.(OneTimesRealTime|FasterThanRealTime)MatchesOffline|LiveRelocalisation\..*|RunLiveCli\.RealtimeReplayReportsDropsAndLatencyInStatsJson|RunFaults\.(SigtermStopsLikeCtrlCAndKeepsTheResults|AKilledRunLeavesTheTrajectoryOfItsLastFlushWhole)'
+# Timing-bound tests (scripts/real-time-tests.sh, the same list as under emulation).
+real_speed=$(bash scripts/real-time-tests.sh)
 # Whole-SLAM runs are 20-50x slower sanitized: the ones over LDSM_SANITIZE_MAX_NATIVE_SECONDS
 # (default 5) in the native suite's last run (build/, when it has run) are left to the native
 # suite; the shorter end-to-end runs (sim scenes, the real-data smoke tests) stay.

@@ -317,7 +317,7 @@ std::vector<MarginalizedKeyframe> MappingStage::windowForMap() {
 }
 
 void MappingStage::keepMapBudget() {
-  const double angle = settings_.reuse.redundancy_angle_deg * kPi / 180.0;
+  const double angle = radians(settings_.reuse.redundancy_angle_deg);
   const std::vector<int> in_window = mapper_.reactivatedIds();
   while (static_cast<int>(store_.dataKeyframeCount()) > settings_.reuse.max_map_keyframes) {
     const int victim = store_.mostRedundantKeyframe(angle, in_window);

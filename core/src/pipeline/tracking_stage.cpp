@@ -454,7 +454,7 @@ void TrackingStage::relocalizeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent
       if (r.success) {
         const SE3d d = outcome.T_c_w * r.T_c_w.inverse();
         moved_depths = d.translation().norm() / std::max(1e-9, snap->median_depth);
-        turned_deg = d.so3().log().norm() * 180.0 / kPi;
+        turned_deg = degrees(d.so3().log().norm());
       }
       spdlog::debug(
           "frame {}: {}resumed in the window (rmse {:.2f}, before the loss {:.2f}, {:.0f} % "
@@ -501,7 +501,7 @@ bool TrackingStage::plausibleAfterLoss(const FrameTrackingOutcome& o, double rms
 bool TrackingStage::posesAgree(const SE3d& a_T_c_w, const SE3d& b_T_c_w, double median_depth) {
   const SE3d d = a_T_c_w * b_T_c_w.inverse();
   return d.translation().norm() <= kAgreeMedianDepths * std::max(median_depth, 1e-9) &&
-         d.so3().log().norm() <= kAgreeDegrees * kPi / 180.0;
+         d.so3().log().norm() <= radians(kAgreeDegrees);
 }
 
 RelocalizationResult TrackingStage::findInMap(const ImagePyramid& pyr, double exposure,

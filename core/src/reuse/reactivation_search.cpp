@@ -109,7 +109,7 @@ ReuseCheck ReactivationSearch::check(const ReuseView& view, const MarginalizedKe
   // 1. Looking the same way.
   const Eigen::Vector3d axis_kf = pose.T_w_c.so3() * Eigen::Vector3d::UnitZ();
   const Eigen::Vector3d axis_view = view.T_c_w.inverse().so3() * Eigen::Vector3d::UnitZ();
-  const double angle = std::acos(std::clamp(axis_kf.dot(axis_view), -1.0, 1.0)) * 180.0 / kPi;
+  const double angle = degrees(std::acos(std::clamp(axis_kf.dot(axis_view), -1.0, 1.0)));
   if (angle > config_.max_view_angle_deg) {
     c.reason = "viewing angle " + std::to_string(angle) + " deg";
     return c;

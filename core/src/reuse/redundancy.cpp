@@ -44,7 +44,7 @@ RedundancyCheck checkRedundancy(const MarginalizedKeyframe& keyframe, const Keyf
     const KeyframeRecord op = map.keyframe(id);
     if (op.id < 0) continue;
     const Eigen::Vector3d other_axis = op.T_w_c.so3() * Eigen::Vector3d::UnitZ();
-    const double angle = std::acos(std::clamp(axis.dot(other_axis), -1.0, 1.0)) * 180.0 / kPi;
+    const double angle = degrees(std::acos(std::clamp(axis.dot(other_axis), -1.0, 1.0)));
     if (angle > config.redundancy_angle_deg) continue;
     const SE3d T_c_w = op.T_w_c.inverse();
     int seen = 0;

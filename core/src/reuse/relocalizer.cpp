@@ -288,8 +288,7 @@ bool Relocalizer::alignNearest(const ImagePyramid& frame, double exposure, const
       const SE3d d = T_found * T_c_w.inverse();
       spdlog::debug(
           "relocalisation: keyframe {} aligns {:.3f} median depths and {:.2f} degrees away", id,
-          d.translation().norm() / std::max(median_depth, 1e-9),
-          d.so3().log().norm() * 180.0 / kPi);
+          d.translation().norm() / std::max(median_depth, 1e-9), degrees(d.so3().log().norm()));
       continue;
     }
     out.keyframe_id = id;
