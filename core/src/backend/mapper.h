@@ -103,8 +103,11 @@ class Mapper {
   }
   /// The newest keyframe as the tracker's reference (its pyramid stays owned by the window).
   TrackingReference newestReference() const;
-  /// Every active point of the window projected into the newest keyframe.
-  void trackingPoints(std::vector<DepthPoint>& out) const;
+  /// Every active point of the window projected into the newest keyframe. With `budget` > 0 the
+  /// points of reactivated map keyframes are thinned evenly (every n-th, in their order) so that
+  /// they and the window's own points together are at most `budget`; the window's own points are
+  /// all kept (so a window without map keyframes is never thinned).
+  void trackingPoints(std::vector<DepthPoint>& out, int budget = 0) const;
   int activePointCount() const;
   /// Drops the window (tracking lost); returns the window keyframes' last poses for the map and,
   /// when leaving keyframes are described, the keyframes themselves (as if they had left).

@@ -91,6 +91,8 @@ MappingStage::MappingStage(const MappingStageSettings& settings, const PyramidCa
     reuse_ = std::make_unique<ReactivationSearch>(settings.reuse);
     resting_ = RestingKeyframes(settings.reuse.rest_keyframes);
     mapper_.setCoverageRadius(static_cast<float>(settings.reuse.coverage_radius_px));
+    reference_point_budget_ = static_cast<int>(
+        std::lround(settings.reuse.reference_point_ratio * settings.mapper.window.active_points));
   }
   depth_points_.reserve(64 * 1024);
   concurrency::TaskOptions options;
@@ -423,7 +425,7 @@ int MappingStage::mergeMaps(const loop::MapMerge& m) {
 }
 
 void MappingStage::publishReference() {
-  mapper_.trackingPoints(depth_points_);
+  mapper_.trackingPoints(depth_points_, reference_point_budget_);
   if (!depth_points_.empty()) median_depth_ = medianDepth(depth_points_, idepths_);
   std::unique_ptr<CoarseTracker> tracker = references_.acquire();
   const TrackingReference r = mapper_.newestReference();
