@@ -535,6 +535,8 @@ void Mapper::trackingPoints(std::vector<DepthPoint>& out, int budget) const {
   if (map_points == 0) return;
   const std::int64_t own = static_cast<std::int64_t>(out.size()) - map_points;
   const std::int64_t room = std::max<std::int64_t>(0, budget - map_points);
+  // Own point i (in order) is kept when floor((i + 1) room / own) steps past floor(i room / own):
+  // `room` of them, evenly spread.
   std::int64_t i = 0;
   std::size_t kept = 0;
   for (const DepthPoint& p : out) {

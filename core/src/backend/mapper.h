@@ -103,10 +103,11 @@ class Mapper {
   }
   /// The newest keyframe as the tracker's reference (its pyramid stays owned by the window).
   TrackingReference newestReference() const;
-  /// Every active point of the window projected into the newest keyframe. With `budget` > 0 the
-  /// points of reactivated map keyframes are thinned evenly (every n-th, in their order) so that
-  /// they and the window's own points together are at most `budget`; the window's own points are
-  /// all kept (so a window without map keyframes is never thinned).
+  /// Every active point of the window projected into the newest keyframe. With `budget` > 0 and
+  /// points of reactivated map keyframes among them, the window's own points are thinned evenly
+  /// (every n-th, in their order) so that all of them together are at most `budget`; the map
+  /// keyframes' points are all kept (more than `budget` of them: those alone). A window without
+  /// map keyframes' points is never thinned.
   void trackingPoints(std::vector<DepthPoint>& out, int budget = 0) const;
   int activePointCount() const;
   /// Drops the window (tracking lost); returns the window keyframes' last poses for the map and,

@@ -88,7 +88,7 @@ struct ReuseConfig {
   int reanchor_max_keyframes_off = 10;
   double coverage_radius_px = 3.0;  ///< no new point this close to a map point seen (0: off)
   /// The tracking reference holds at most this many times window.active_points points once
-  /// map keyframes' points are in it: the window's own points all, the map keyframes' points
+  /// map keyframes' points are in it: the map keyframes' points all, the window's own points
   /// thinned evenly to fill the rest (0: no limit). Without it, reactivated keyframes add about a
   /// quarter to the points every frame is tracked against (docs/map-reuse.md, "The tracking
   /// reference's budget").
