@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdint>
 #include <limits>
 
 #include "backend/loop_description.h"
@@ -513,7 +512,7 @@ int Mapper::activePointCount() const {
   return n;
 }
 
-void Mapper::trackingPoints(std::vector<DepthPoint>& out, int budget) const {
+void Mapper::trackingPoints(std::vector<DepthPoint>& out) const {
   out.clear();
   if (window_.empty()) return;
   const WindowKeyframe& newest = *window_.back();
@@ -529,25 +528,6 @@ void Mapper::trackingPoints(std::vector<DepthPoint>& out, int budget) const {
       out.push_back({px.x(), px.y(), 1.f / q.z(), 1.f, kf->is_reactivated});
     }
   }
-  if (budget <= 0 || static_cast<int>(out.size()) <= budget) return;
-  std::int64_t map_points = 0;
-  for (const DepthPoint& p : out) map_points += p.from_map ? 1 : 0;
-  if (map_points == 0) return;
-  const std::int64_t own = static_cast<std::int64_t>(out.size()) - map_points;
-  const std::int64_t room = std::max<std::int64_t>(0, budget - map_points);
-  // Own point i (in order) is kept when floor((i + 1) room / own) steps past floor(i room / own):
-  // `room` of them, evenly spread.
-  std::int64_t i = 0;
-  std::size_t kept = 0;
-  for (const DepthPoint& p : out) {
-    if (!p.from_map) {
-      const bool keep = (i + 1) * room / own > i * room / own;
-      ++i;
-      if (!keep) continue;
-    }
-    out[kept++] = p;
-  }
-  out.resize(kept);
 }
 
 KeyframeInsertion Mapper::relocalize(std::unique_ptr<ImagePyramid> pyramid, const MapperFrame& info,

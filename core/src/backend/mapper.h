@@ -103,12 +103,8 @@ class Mapper {
   }
   /// The newest keyframe as the tracker's reference (its pyramid stays owned by the window).
   TrackingReference newestReference() const;
-  /// Every active point of the window projected into the newest keyframe. With `budget` > 0 and
-  /// points of reactivated map keyframes among them, the window's own points are thinned evenly
-  /// (every n-th, in their order) so that all of them together are at most `budget`; the map
-  /// keyframes' points are all kept (more than `budget` of them: those alone). A window without
-  /// map keyframes' points is never thinned.
-  void trackingPoints(std::vector<DepthPoint>& out, int budget = 0) const;
+  /// Every active point of the window projected into the newest keyframe.
+  void trackingPoints(std::vector<DepthPoint>& out) const;
   int activePointCount() const;
   /// Drops the window (tracking lost); returns the window keyframes' last poses for the map and,
   /// when leaving keyframes are described, the keyframes themselves (as if they had left).

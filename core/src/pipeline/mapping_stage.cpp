@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "backend/reference_budget.h"
 #include "concurrency/backoff.h"
 #include "math/constants.h"
 #include "reuse/redundancy.h"
@@ -91,8 +92,8 @@ MappingStage::MappingStage(const MappingStageSettings& settings, const PyramidCa
     reuse_ = std::make_unique<ReactivationSearch>(settings.reuse);
     resting_ = RestingKeyframes(settings.reuse.rest_keyframes);
     mapper_.setCoverageRadius(static_cast<float>(settings.reuse.coverage_radius_px));
-    reference_point_budget_ = static_cast<int>(
-        std::lround(settings.reuse.reference_point_ratio * settings.mapper.window.active_points));
+    reference_point_budget_ = referencePointBudget(settings.reuse.reference_point_ratio,
+                                                   settings.mapper.window.active_points);
   }
   depth_points_.reserve(64 * 1024);
   concurrency::TaskOptions options;
@@ -425,8 +426,9 @@ int MappingStage::mergeMaps(const loop::MapMerge& m) {
 }
 
 void MappingStage::publishReference() {
-  mapper_.trackingPoints(depth_points_, reference_point_budget_);
+  mapper_.trackingPoints(depth_points_);
   if (!depth_points_.empty()) median_depth_ = medianDepth(depth_points_, idepths_);
+  thinToReferenceBudget(depth_points_, reference_point_budget_);
   std::unique_ptr<CoarseTracker> tracker = references_.acquire();
   const TrackingReference r = mapper_.newestReference();
   tracker->setReference(*r.pyramid, mapper_.camera(), depth_points_, r.exposure, r.aff,

@@ -228,8 +228,8 @@ class MappingStage {
   DepthMapCanvas depth_canvas_;
   StageTimer timer_;
   std::vector<DepthPoint> depth_points_;
-  /// Points of a tracking reference with map keyframes in the window (reuse.reference_point_ratio
-  /// times window.active_points; 0: no limit).
+  /// Most points of a tracking reference with map keyframes' points in it (referencePointBudget
+  /// of reuse.reference_point_ratio; 0: no limit).
   int reference_point_budget_ = 0;
   bool describe_;     ///< keyframes leaving the window are described (loop closure or reuse)
   bool inline_mode_;  ///< deterministic: jobs run in the submitting thread

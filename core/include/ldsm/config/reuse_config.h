@@ -88,10 +88,10 @@ struct ReuseConfig {
   int reanchor_max_keyframes_off = 10;
   double coverage_radius_px = 3.0;  ///< no new point this close to a map point seen (0: off)
   /// The tracking reference holds at most this many times window.active_points points once
-  /// map keyframes' points are in it: the map keyframes' points all, the window's own points
-  /// thinned evenly to fill the rest (0: no limit). Without it, reactivated keyframes add about a
-  /// quarter to the points every frame is tracked against (docs/map-reuse.md, "The tracking
-  /// reference's budget").
+  /// map keyframes' points are in it: the map keyframes' points all (more than that: those
+  /// alone), the window's own points thinned evenly to fill the rest (0: no limit). Without it,
+  /// reactivated keyframes add about a quarter to the points every frame is tracked against
+  /// (docs/map-reuse.md, "The tracking reference's budget").
   double reference_point_ratio = 1.0;
   /// A keyframe leaving the window keeps only its pose when a map keyframe of an earlier visit
   /// stands within redundancy_distance times its median depth, looks within
@@ -190,8 +190,8 @@ struct ReuseConfig {
     v.field("coverage_radius_px", coverage_radius_px, Range<double>{0.0, 50.0},
             "no new point this close to a map point seen in the keyframe (0: off)");
     v.field("reference_point_ratio", reference_point_ratio, Range<double>{0.0, 100.0},
-            "tracking reference points, times window.active_points, once map keyframes' points "
-            "are in it (0: no limit)");
+            "most tracking reference points, times window.active_points, once map keyframes' "
+            "points are in it: those all stay, the window's own are thinned (0: no limit)");
     v.field("cull_redundant", cull_redundant,
             "keep only the pose of keyframes an earlier map keyframe already covers");
     v.field("max_map_keyframes", max_map_keyframes, Range<int>{0, 10000000},

@@ -21,8 +21,8 @@ struct MappingStageAccess {
                                const std::vector<loop::LoopCorrection>& corrections) {
     stage.applyCorrections(corrections);
   }
-  static void trackingPoints(const MappingStage& stage, std::vector<DepthPoint>& out, int budget) {
-    stage.mapper_.trackingPoints(out, budget);
+  static void trackingPoints(const MappingStage& stage, std::vector<DepthPoint>& out) {
+    stage.mapper_.trackingPoints(out);
   }
 };
 
@@ -401,7 +401,7 @@ TEST(MappingStage, AWindowOnTheMapIsNotReanchored) {
 /// window has verified).
 int mapPointsInView(const MappingStage& stage) {
   std::vector<DepthPoint> all;
-  MappingStageAccess::trackingPoints(stage, all, 0);
+  MappingStageAccess::trackingPoints(stage, all);
   return static_cast<int>(
       std::count_if(all.begin(), all.end(), [](const DepthPoint& p) { return p.from_map; }));
 }
@@ -412,89 +412,42 @@ void backOnTheMap(MappedWindow& m, int first = 32) {
   for (int i = first; i >= 2 && mapPointsInView(m.stage) == 0; i -= 3) m.keyframes(i, i, -3);
 }
 
-TEST(MappingStage, TheTrackingReferenceKeepsTheMapPointsAndThinsTheWindowsOwnToItsBudget) {
-  Config config = reuseConfig();
-  config.reuse.min_keyframe_age = 2;
-  MappedWindow m(34, config);
-  std::vector<DepthPoint> all, some;
-  // Without map keyframes in the window, no budget thins the window's own points.
-  m.keyframes(3, 15, 3);
-  ASSERT_TRUE(m.stage.snapshot()->reactivated.empty());
-  MappingStageAccess::trackingPoints(m.stage, all, 0);
-  MappingStageAccess::trackingPoints(m.stage, some, 10);
-  ASSERT_GT(all.size(), 100u);
-  EXPECT_EQ(some.size(), all.size());
-
-  m.keyframes(18, 33, 3);
-  backOnTheMap(m);
-  MappingStageAccess::trackingPoints(m.stage, all, 0);
-  std::vector<DepthPoint> map, own;
-  for (const DepthPoint& p : all) (p.from_map ? map : own).push_back(p);
-  ASSERT_GT(map.size(), 50u);
-  ASSERT_GT(own.size(), 50u);
-  const auto same = [](const DepthPoint& a, const DepthPoint& b) {
-    return a.u == b.u && a.v == b.v && a.idepth == b.idepth && a.from_map == b.from_map;
-  };
-
-  // Room for half of the window's own points: every map point, and every other own point (one
-  // dropped between kept ones, two now and then when the count is odd).
-  const std::size_t room = own.size() / 2;
-  const std::size_t max_dropped = (own.size() + room - 1) / room - 1;
-  const int budget = static_cast<int>(map.size() + room);
-  MappingStageAccess::trackingPoints(m.stage, some, budget);
-  ASSERT_EQ(static_cast<int>(some.size()), budget);
-  std::size_t next_map = 0, next_own = 0, own_kept = 0;
-  for (const DepthPoint& p : some) {
-    if (p.from_map) {
-      ASSERT_LT(next_map, map.size());
-      EXPECT_TRUE(same(p, map[next_map++])) << "map points are kept in order";
-      continue;
-    }
-    // Evenly thinned: never more than max_dropped of the window's points in a row left out.
-    const std::size_t from = next_own;
-    while (next_own < own.size() && !same(p, own[next_own])) ++next_own;
-    ASSERT_LT(next_own, own.size()) << "a point that is not the window's";
-    EXPECT_LE(next_own - from, max_dropped) << "own points " << from << "-" << next_own;
-    ++next_own;
-    ++own_kept;
-  }
-  EXPECT_EQ(next_map, map.size());
-  EXPECT_EQ(own_kept, room);
-
-  // Less room than the map points take: the map points alone. More than all: everything.
-  MappingStageAccess::trackingPoints(m.stage, some, static_cast<int>(map.size()) - 1);
-  ASSERT_EQ(some.size(), map.size());
-  for (std::size_t i = 0; i < map.size(); ++i) EXPECT_TRUE(same(some[i], map[i])) << i;
-  MappingStageAccess::trackingPoints(m.stage, some, static_cast<int>(all.size()));
-  ASSERT_EQ(some.size(), all.size());
-  for (std::size_t i = 0; i < all.size(); ++i) EXPECT_TRUE(same(some[i], all[i])) << i;
-}
-
 TEST(MappingStage, TheReferencePointRatioBoundsThePublishedReference) {
   // The same map with and without a budget (the frames' poses are given: the reference does not
-  // change the window), so the published references differ only by the budget.
-  const auto reference_points = [](double ratio) {
+  // change the window), so the published references differ only by the budget
+  // (reference_budget.h; its rule is tested in reference_budget_test.cpp).
+  struct Published {
+    int level0 = 0;                 ///< level-0 points of the published reference
+    std::vector<DepthPoint> input;  ///< the window's tracking points before the budget
+  };
+  const int active_points = Config{}.window.active_points;
+  const auto publish = [](double ratio) {
     Config config = reuseConfig();
     config.reuse.min_keyframe_age = 2;
     config.reuse.reference_point_ratio = ratio;
     MappedWindow m(34, config);
     m.keyframes(3, 33, 3);
     backOnTheMap(m);
+    Published out;
     PreparedReference r;
     EXPECT_TRUE(m.stage.references().takeNewest(r));
-    std::vector<DepthPoint> all;
-    MappingStageAccess::trackingPoints(m.stage, all, 0);
-    return std::make_pair(r.tracker ? r.tracker->depthMaps().points(0).count : 0, all);
+    if (r.tracker) out.level0 = r.tracker->depthMaps().points(0).count;
+    MappingStageAccess::trackingPoints(m.stage, out.input);
+    return out;
   };
-  const auto unlimited = reference_points(0.0);
+  const Published unlimited = publish(0.0);
   int map_points = 0;
-  for (const DepthPoint& p : unlimited.second) map_points += p.from_map ? 1 : 0;
+  for (const DepthPoint& p : unlimited.input) map_points += p.from_map ? 1 : 0;
   ASSERT_GT(map_points, 50);
-  // A budget of the map points alone (window.active_points 2000 by default).
-  const double ratio = map_points / 2000.0;
-  const auto bounded = reference_points(ratio);
-  EXPECT_LT(bounded.first, unlimited.first);
-  EXPECT_GT(bounded.first, 0);
+  ASSERT_GT(unlimited.input.size(), static_cast<std::size_t>(map_points) + 50);
+
+  // A budget of the map points alone: the window's own points are left out of the reference.
+  const Published bounded = publish(map_points / static_cast<double>(active_points));
+  ASSERT_EQ(bounded.input.size(), unlimited.input.size()) << "the window itself changed";
+  EXPECT_LT(bounded.level0, unlimited.level0);
+  // A budget above every point changes nothing.
+  const Published roomy = publish((unlimited.input.size() + 1.0) / active_points);
+  EXPECT_EQ(roomy.level0, unlimited.level0);
 }
 
 TEST(MappingStage, MapKeyframesCarryTheDescriptorsOfTheirOwnImageAndCorners) {
