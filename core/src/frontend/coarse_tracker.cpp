@@ -6,6 +6,7 @@
 #include <string>
 
 #include "camera/radial_distortion.h"
+#include "frontend/coarse_evaluation_sums.h"
 #include "image/interpolation.h"
 #include "kernels/coarse_warp.h"
 #include "kernels/coarse_weigh.h"
@@ -194,36 +195,7 @@ CoarseTracker::Evaluation CoarseTracker::evaluateLevel(const ImagePyramid& frame
   weighting.cutoff = cutoff;
   weighting.outlier_cost = outlier_cost;
   weighting.base_cutoff = base_cutoff;
-  Evaluation ev;
-  float energy = 0.f, huber_sq = 0.f;  // partial sums, flushed to double every block
-  int n = 0, in_image = 0, base_outliers = 0;
-  // One warped and weighed point into the sums and the residual arrays, in point order (the
-  // float partial sums are flushed into double when an inlier makes the count in the image a
-  // multiple of 256).
-  const auto add = [&](const CoarseWarpedPoint& wp, const simd::CoarseWeightedPoint& wt) {
-    ++in_image;
-    base_outliers += wt.base_outlier ? 1 : 0;
-    energy += wt.energy;
-    huber_sq += wt.huber;
-    if (!wt.inlier) {
-      ++ev.outliers;
-      return;  // (the partial sums are flushed after inliers only)
-    }
-    warped_.dx_fx[n] = wp.dx_fx;
-    warped_.dy_fy[n] = wp.dy_fy;
-    warped_.nx[n] = wp.nx;
-    warped_.ny[n] = wp.ny;
-    warped_.iz[n] = wp.iz;
-    warped_.ref_term[n] = wp.ref_term;
-    warped_.residual[n] = wp.residual;
-    warped_.weight[n] = wt.weight;
-    ++n;
-    if ((in_image & 255) == 0) {
-      ev.energy += energy;
-      ev.huber_sq_sum += huber_sq;
-      energy = huber_sq = 0.f;
-    }
-  };
+  CoarseEvaluationSums sums(warped_);
   int i = 0;
   simd::CoarseWarp4 block;
   simd::CoarseWeights4 weights;
@@ -232,27 +204,23 @@ CoarseTracker::Evaluation CoarseTracker::evaluateLevel(const ImagePyramid& frame
                                            block);
     if (block.inside == 0) continue;
     simd::weighCoarse4<simd::Vec4>(weighting, block.residual, &pts.grad_sq[i], weights);
-    for (int l = 0; l < 4; ++l) {
-      if (((block.inside >> l) & 1) == 0) continue;
-      add({block.dx_fx[l], block.dy_fy[l], block.nx[l], block.ny[l], block.iz[l], block.ref_term[l],
-           block.residual[l]},
-          {weights.energy[l], weights.huber[l], weights.weight[l], ((weights.inlier >> l) & 1) != 0,
-           ((weights.base_outlier >> l) & 1) != 0});
-    }
+    sums.addBlock(block, weights);
   }
   for (; i < pts.count; ++i) {
     CoarseWarpedPoint wp;
     if (simd::reference::warpCoarsePoint<kRadial>(w, rx[i], ry[i], pts.idepth[i], pts.intensity[i],
                                                   wp))
-      add(wp, simd::reference::weighCoarsePoint(weighting, wp.residual, pts.grad_sq[i]));
+      sums.addPoint(wp, simd::reference::weighCoarsePoint(weighting, wp.residual, pts.grad_sq[i]));
   }
-  ev.energy += energy;
-  ev.huber_sq_sum += huber_sq;
-  ev.in_image = in_image;
-  ev.base_inliers = in_image - base_outliers;
-  ev.inliers = n;
+  sums.finish();
+  Evaluation ev;
+  ev.energy = sums.energy();
+  ev.huber_sq_sum = sums.huberSum();
+  ev.in_image = sums.inImage();
+  ev.outliers = sums.outliers();
+  ev.base_inliers = sums.inImage() - sums.baseOutliers();
+  ev.inliers = sums.inliers();
   ev.finite = std::isfinite(ev.energy);
-  warped_.count = n;
   return ev;
 }
 
