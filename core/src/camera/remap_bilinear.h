@@ -3,7 +3,8 @@
 // that sees no input, which gets `invalid`):
 //   top = p00 + ax (p10 - p00), bottom = p01 + ax (p11 - p01), out = top + ay (bottom - top).
 // remapRow<V> does four output pixels per vector (positions and weights in SIMD, the 2x2 blocks
-// loaded per pixel; V from math/simd/vec4f.h); reference::remapRow is the per-pixel formulation,
+// loaded per pixel; V from math/simd/vec4f.h; 8-bit blocks on SSE2 and NEON as byte pairs widened
+// together); reference::remapRow is the per-pixel formulation,
 // with the same operations in the same order, so the two are bit-identical (tested for every vector
 // type). A separable table (one input row per output row, one input column per output column)
 // has remapSeparableRow, with the cells and weights precomputed per column and per row.
@@ -115,6 +116,41 @@ inline Vec4Sse blendBlocks<Vec4Sse, std::uint8_t>(const std::uint8_t* const* blo
   const Vec4Sse d{_mm_cvtepi32_ps(_mm_srli_epi32(lower, 16))};
   const Vec4Sse top = a + ax * (b - a);
   const Vec4Sse bottom = c + ax * (d - c);
+  return top + ay * (bottom - top);
+}
+#elif defined(LDSM_SIMD_NEON)
+/// The same on NEON: the byte pairs as 16-bit lanes of one vector, widened, the pixels of the
+/// upper and the lower row pairs separated by an unzip.
+template <>
+inline Vec4Neon blendBlocks<Vec4Neon, std::uint8_t>(const std::uint8_t* const* blocks,
+                                                    std::ptrdiff_t dx1, std::ptrdiff_t dy1,
+                                                    Vec4Neon ax, Vec4Neon ay) {
+  if (dx1 != 1) return blendBlocksByLane(blocks, dx1, dy1, ax, ay);
+  const auto pair = [](const std::uint8_t* p) {
+    std::uint16_t v;
+    std::memcpy(&v, p, 2);
+    return v;
+  };
+  uint16x8_t t = vdupq_n_u16(pair(blocks[0]));
+  t = vsetq_lane_u16(pair(blocks[1]), t, 1);
+  t = vsetq_lane_u16(pair(blocks[2]), t, 2);
+  t = vsetq_lane_u16(pair(blocks[3]), t, 3);
+  t = vsetq_lane_u16(pair(blocks[0] + dy1), t, 4);
+  t = vsetq_lane_u16(pair(blocks[1] + dy1), t, 5);
+  t = vsetq_lane_u16(pair(blocks[2] + dy1), t, 6);
+  t = vsetq_lane_u16(pair(blocks[3] + dy1), t, 7);
+  const uint8x16_t bytes = vreinterpretq_u8_u16(t);
+  // upper: p00 p10 of blocks 0..3 interleaved; lower: p01 p11.
+  const uint16x8_t upper = vmovl_u8(vget_low_u8(bytes));
+  const uint16x8_t lower = vmovl_u8(vget_high_u8(bytes));
+  const uint16x8x2_t split = vuzpq_u16(upper, lower);  // [0]: p00 x4, p01 x4; [1]: p10, p11
+  const auto widen = [](uint16x4_t x) { return Vec4Neon{vcvtq_f32_u32(vmovl_u16(x))}; };
+  const Vec4Neon a = widen(vget_low_u16(split.val[0]));
+  const Vec4Neon c = widen(vget_high_u16(split.val[0]));
+  const Vec4Neon b = widen(vget_low_u16(split.val[1]));
+  const Vec4Neon d = widen(vget_high_u16(split.val[1]));
+  const Vec4Neon top = a + ax * (b - a);
+  const Vec4Neon bottom = c + ax * (d - c);
   return top + ay * (bottom - top);
 }
 #endif

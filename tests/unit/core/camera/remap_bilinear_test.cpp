@@ -51,9 +51,17 @@ void expectRowsAgree(const Image<T>& img, std::mt19937& rng) {
     for (int u = 0; u < width; ++u) {
       mx[u] = X(rng);
       my[u] = Y(rng);
-      if (coin(rng) == 0) mx[u] = my[u] = -1.f;                         // sees no input
-      if (coin(rng) == 1) mx[u] = static_cast<float>(img.width() - 1);  // last column
-      if (coin(rng) == 2) my[u] = static_cast<float>(img.height() - 1);
+      // A pixel without input has both coordinates -1 (the table's contract): the last column
+      // or row is not set on it, which would leave a valid x with y = -1 (a read before the
+      // image).
+      const bool no_input = coin(rng) == 0;
+      const bool last_column = coin(rng) == 1, last_row = coin(rng) == 2;
+      if (no_input) {
+        mx[u] = my[u] = -1.f;
+      } else {
+        if (last_column) mx[u] = static_cast<float>(img.width() - 1);
+        if (last_row) my[u] = static_cast<float>(img.height() - 1);
+      }
     }
     reference::remapRow(input(img), mx.data(), my.data(), width, -3.f, a.data());
     remapRow<V>(input(img), mx.data(), my.data(), width, -3.f, b.data());
