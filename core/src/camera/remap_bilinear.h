@@ -14,6 +14,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <type_traits>
 #include <vector>
 
 #include "math/simd/vec4f.h"
@@ -59,101 +60,99 @@ inline void remapRow(const RemapInput<T>& in, const float* map_x, const float* m
 
 namespace detail {
 
-/// Bilinear blend of the 2x2 blocks at blocks[0..3] (dx1, dy1 the offsets of the right and the
-/// lower neighbour) with weights ax (per pixel) and ay: top = p00 + ax (p10 - p00), bottom the
-/// same one row down, top + ay (bottom - top).
-template <class V, typename T>
-inline V blendBlocksByLane(const T* const* blocks, std::ptrdiff_t dx1, std::ptrdiff_t dy1, V ax,
-                           V ay) {
-  // Lanes from registers (V::setLanes), not through an array: a vector load of it cannot take
-  // its value from the four scalar stores and waits until they are written.
-  const auto lanes = [&](std::ptrdiff_t o) {
-    return V::setLanes(static_cast<float>(blocks[0][o]), static_cast<float>(blocks[1][o]),
-                       static_cast<float>(blocks[2][o]), static_cast<float>(blocks[3][o]));
-  };
-  const V a = lanes(0), b = lanes(dx1), c = lanes(dy1), d = lanes(dy1 + dx1);
+/// top = a + ax (b - a), bottom = c + ax (d - c), top + ay (bottom - top): the blend of the
+/// blocks' corners p00 (a), p10 (b), p01 (c), p11 (d).
+template <class V>
+inline V blendCorners(V a, V b, V c, V d, V ax, V ay) {
   const V top = a + ax * (b - a);
   const V bottom = c + ax * (d - c);
   return top + ay * (bottom - top);
 }
 
-template <class V, typename T>
-inline V blendBlocks(const T* const* blocks, std::ptrdiff_t dx1, std::ptrdiff_t dy1, V ax, V ay) {
-  return blendBlocksByLane(blocks, dx1, dy1, ax, ay);
+/// Whether bytePairCorners exists for V: 8-bit blocks loaded as byte pairs (SSE2, NEON).
+template <class V>
+constexpr bool kHasBytePairCorners = false;
+
+/// The bytes p[0], p[1] as one 16-bit word (p[0] in the low byte on these little-endian targets).
+inline std::uint16_t bytePair(const std::uint8_t* p) {
+  std::uint16_t v;
+  std::memcpy(&v, p, 2);
+  return v;
 }
 
 #if defined(LDSM_SIMD_SSE)
-/// 8-bit input on SSE2: each block's byte pairs (p00 p10) and (p01 p11) are loaded as 16-bit
-/// words into one vector and widened into the four lanes' integers at once, instead of sixteen
-/// byte loads, conversions and lane inserts. The same values (bytes are exact in float) and the
-/// same blend: bit-identical.
 template <>
-inline Vec4Sse blendBlocks<Vec4Sse, std::uint8_t>(const std::uint8_t* const* blocks,
-                                                  std::ptrdiff_t dx1, std::ptrdiff_t dy1,
-                                                  Vec4Sse ax, Vec4Sse ay) {
-  // An input one pixel wide has no right neighbour to load with the pixel.
-  if (dx1 != 1) return blendBlocksByLane(blocks, dx1, dy1, ax, ay);
-  const auto pair = [](const std::uint8_t* p) {
-    std::uint16_t v;
-    std::memcpy(&v, p, 2);
-    return static_cast<int>(v);
-  };
-  __m128i t = _mm_cvtsi32_si128(pair(blocks[0]));
-  t = _mm_insert_epi16(t, pair(blocks[1]), 1);
-  t = _mm_insert_epi16(t, pair(blocks[2]), 2);
-  t = _mm_insert_epi16(t, pair(blocks[3]), 3);
-  t = _mm_insert_epi16(t, pair(blocks[0] + dy1), 4);
-  t = _mm_insert_epi16(t, pair(blocks[1] + dy1), 5);
-  t = _mm_insert_epi16(t, pair(blocks[2] + dy1), 6);
-  t = _mm_insert_epi16(t, pair(blocks[3] + dy1), 7);
+constexpr bool kHasBytePairCorners<Vec4Sse> = true;
+/// The corners of four 8-bit blocks whose right neighbour is the next byte: each block's byte
+/// pairs (p00 p10) and (p01 p11) loaded as 16-bit words into one vector and widened into the
+/// lanes' integers at once, instead of sixteen byte loads, conversions and lane inserts.
+inline void bytePairCorners(const std::uint8_t* const* blocks, std::ptrdiff_t dy1, Vec4Sse& a,
+                            Vec4Sse& b, Vec4Sse& c, Vec4Sse& d) {
+  __m128i t = _mm_cvtsi32_si128(bytePair(blocks[0]));
+  t = _mm_insert_epi16(t, bytePair(blocks[1]), 1);
+  t = _mm_insert_epi16(t, bytePair(blocks[2]), 2);
+  t = _mm_insert_epi16(t, bytePair(blocks[3]), 3);
+  t = _mm_insert_epi16(t, bytePair(blocks[0] + dy1), 4);
+  t = _mm_insert_epi16(t, bytePair(blocks[1] + dy1), 5);
+  t = _mm_insert_epi16(t, bytePair(blocks[2] + dy1), 6);
+  t = _mm_insert_epi16(t, bytePair(blocks[3] + dy1), 7);
   const __m128i zero = _mm_setzero_si128();
   const __m128i upper = _mm_unpacklo_epi8(t, zero);  // lane k: p00 | p10 << 16 of block k
   const __m128i lower = _mm_unpackhi_epi8(t, zero);  // lane k: p01 | p11 << 16
   const __m128i low16 = _mm_set1_epi32(0xFFFF);
-  const Vec4Sse a{_mm_cvtepi32_ps(_mm_and_si128(upper, low16))};
-  const Vec4Sse b{_mm_cvtepi32_ps(_mm_srli_epi32(upper, 16))};
-  const Vec4Sse c{_mm_cvtepi32_ps(_mm_and_si128(lower, low16))};
-  const Vec4Sse d{_mm_cvtepi32_ps(_mm_srli_epi32(lower, 16))};
-  const Vec4Sse top = a + ax * (b - a);
-  const Vec4Sse bottom = c + ax * (d - c);
-  return top + ay * (bottom - top);
+  a.n = _mm_cvtepi32_ps(_mm_and_si128(upper, low16));
+  b.n = _mm_cvtepi32_ps(_mm_srli_epi32(upper, 16));
+  c.n = _mm_cvtepi32_ps(_mm_and_si128(lower, low16));
+  d.n = _mm_cvtepi32_ps(_mm_srli_epi32(lower, 16));
 }
 #elif defined(LDSM_SIMD_NEON)
-/// The same on NEON: the byte pairs as 16-bit lanes of one vector, widened, the pixels of the
-/// upper and the lower row pairs separated by an unzip.
 template <>
-inline Vec4Neon blendBlocks<Vec4Neon, std::uint8_t>(const std::uint8_t* const* blocks,
-                                                    std::ptrdiff_t dx1, std::ptrdiff_t dy1,
-                                                    Vec4Neon ax, Vec4Neon ay) {
-  if (dx1 != 1) return blendBlocksByLane(blocks, dx1, dy1, ax, ay);
-  const auto pair = [](const std::uint8_t* p) {
-    std::uint16_t v;
-    std::memcpy(&v, p, 2);
-    return v;
-  };
-  uint16x8_t t = vdupq_n_u16(pair(blocks[0]));
-  t = vsetq_lane_u16(pair(blocks[1]), t, 1);
-  t = vsetq_lane_u16(pair(blocks[2]), t, 2);
-  t = vsetq_lane_u16(pair(blocks[3]), t, 3);
-  t = vsetq_lane_u16(pair(blocks[0] + dy1), t, 4);
-  t = vsetq_lane_u16(pair(blocks[1] + dy1), t, 5);
-  t = vsetq_lane_u16(pair(blocks[2] + dy1), t, 6);
-  t = vsetq_lane_u16(pair(blocks[3] + dy1), t, 7);
+constexpr bool kHasBytePairCorners<Vec4Neon> = true;
+/// The same on NEON: the byte pairs as 16-bit lanes of one vector, widened, the upper and the
+/// lower row's pixels separated by an unzip.
+inline void bytePairCorners(const std::uint8_t* const* blocks, std::ptrdiff_t dy1, Vec4Neon& a,
+                            Vec4Neon& b, Vec4Neon& c, Vec4Neon& d) {
+  uint16x8_t t = vdupq_n_u16(bytePair(blocks[0]));
+  t = vsetq_lane_u16(bytePair(blocks[1]), t, 1);
+  t = vsetq_lane_u16(bytePair(blocks[2]), t, 2);
+  t = vsetq_lane_u16(bytePair(blocks[3]), t, 3);
+  t = vsetq_lane_u16(bytePair(blocks[0] + dy1), t, 4);
+  t = vsetq_lane_u16(bytePair(blocks[1] + dy1), t, 5);
+  t = vsetq_lane_u16(bytePair(blocks[2] + dy1), t, 6);
+  t = vsetq_lane_u16(bytePair(blocks[3] + dy1), t, 7);
   const uint8x16_t bytes = vreinterpretq_u8_u16(t);
   // upper: p00 p10 of blocks 0..3 interleaved; lower: p01 p11.
   const uint16x8_t upper = vmovl_u8(vget_low_u8(bytes));
   const uint16x8_t lower = vmovl_u8(vget_high_u8(bytes));
   const uint16x8x2_t split = vuzpq_u16(upper, lower);  // [0]: p00 x4, p01 x4; [1]: p10, p11
-  const auto widen = [](uint16x4_t x) { return Vec4Neon{vcvtq_f32_u32(vmovl_u16(x))}; };
-  const Vec4Neon a = widen(vget_low_u16(split.val[0]));
-  const Vec4Neon c = widen(vget_high_u16(split.val[0]));
-  const Vec4Neon b = widen(vget_low_u16(split.val[1]));
-  const Vec4Neon d = widen(vget_high_u16(split.val[1]));
-  const Vec4Neon top = a + ax * (b - a);
-  const Vec4Neon bottom = c + ax * (d - c);
-  return top + ay * (bottom - top);
+  a.n = vcvtq_f32_u32(vmovl_u16(vget_low_u16(split.val[0])));
+  c.n = vcvtq_f32_u32(vmovl_u16(vget_high_u16(split.val[0])));
+  b.n = vcvtq_f32_u32(vmovl_u16(vget_low_u16(split.val[1])));
+  d.n = vcvtq_f32_u32(vmovl_u16(vget_high_u16(split.val[1])));
 }
 #endif
+
+/// Bilinear blend of the 2x2 blocks at blocks[0..3] (dx1, dy1 the offsets of the right and the
+/// lower neighbour) with weights ax (per pixel) and ay (blendCorners). The corners of 8-bit
+/// blocks come as byte pairs where V has them (the same values: bytes are exact in float, so
+/// bit-identical); otherwise, and for an input one pixel wide (no right neighbour), lane by lane
+/// from registers (V::setLanes), not through an array: a vector load of it cannot take its value
+/// from the four scalar stores and waits until they are written.
+template <class V, typename T>
+inline V blendBlocks(const T* const* blocks, std::ptrdiff_t dx1, std::ptrdiff_t dy1, V ax, V ay) {
+  if constexpr (std::is_same_v<T, std::uint8_t> && kHasBytePairCorners<V>) {
+    if (dx1 == 1) {
+      V a, b, c, d;
+      bytePairCorners(blocks, dy1, a, b, c, d);
+      return blendCorners(a, b, c, d, ax, ay);
+    }
+  }
+  const auto lanes = [&](std::ptrdiff_t o) {
+    return V::setLanes(static_cast<float>(blocks[0][o]), static_cast<float>(blocks[1][o]),
+                       static_cast<float>(blocks[2][o]), static_cast<float>(blocks[3][o]));
+  };
+  return blendCorners(lanes(0), lanes(dx1), lanes(dy1), lanes(dy1 + dx1), ax, ay);
+}
 
 }  // namespace detail
 
