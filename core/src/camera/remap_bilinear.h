@@ -3,17 +3,16 @@
 // that sees no input, which gets `invalid`):
 //   top = p00 + ax (p10 - p00), bottom = p01 + ax (p11 - p01), out = top + ay (bottom - top).
 // remapRow<V> does four output pixels per vector (positions and weights in SIMD, the 2x2 blocks
-// loaded per pixel; V from math/simd/vec4f.h; 8-bit blocks on SSE2 and NEON as byte pairs widened
-// together); reference::remapRow is the per-pixel formulation,
-// with the same operations in the same order, so the two are bit-identical (tested for every vector
-// type). A separable table (one input row per output row, one input column per output column)
-// has remapSeparableRow, with the cells and weights precomputed per column and per row.
+// loaded per pixel; V from math/simd/vec4f.h; 8-bit blocks on SSE2 and NEON as byte pairs
+// widened together); reference::remapRow is the per-pixel formulation, with the same operations
+// in the same order, so the two are bit-identical (tested for every vector type). A separable table
+// (one input row per output row, one input column per output column) has remapSeparableRow, with
+// the cells and weights precomputed per column and per row.
 #pragma once
 
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
-#include <cstring>
 #include <type_traits>
 #include <vector>
 
@@ -71,18 +70,17 @@ inline V blendCorners(V a, V b, V c, V d, V ax, V ay) {
 
 /// Whether bytePairCorners exists for V: 8-bit blocks loaded as byte pairs (SSE2, NEON).
 template <class V>
-constexpr bool kHasBytePairCorners = false;
+inline constexpr bool kHasBytePairCorners = false;
 
-/// The bytes p[0], p[1] as one 16-bit word (p[0] in the low byte on these little-endian targets).
+/// The bytes p[0], p[1] as one 16-bit word, p[0] in the low byte (one 16-bit load on a
+/// little-endian target; the kernels below take the low byte as the left pixel).
 inline std::uint16_t bytePair(const std::uint8_t* p) {
-  std::uint16_t v;
-  std::memcpy(&v, p, 2);
-  return v;
+  return static_cast<std::uint16_t>(p[0] | (p[1] << 8));
 }
 
 #if defined(LDSM_SIMD_SSE)
 template <>
-constexpr bool kHasBytePairCorners<Vec4Sse> = true;
+inline constexpr bool kHasBytePairCorners<Vec4Sse> = true;
 /// The corners of four 8-bit blocks whose right neighbour is the next byte: each block's byte
 /// pairs (p00 p10) and (p01 p11) loaded as 16-bit words into one vector and widened into the
 /// lanes' integers at once, instead of sixteen byte loads, conversions and lane inserts.
@@ -107,7 +105,7 @@ inline void bytePairCorners(const std::uint8_t* const* blocks, std::ptrdiff_t dy
 }
 #elif defined(LDSM_SIMD_NEON)
 template <>
-constexpr bool kHasBytePairCorners<Vec4Neon> = true;
+inline constexpr bool kHasBytePairCorners<Vec4Neon> = true;
 /// The same on NEON: the byte pairs as 16-bit lanes of one vector, widened, the upper and the
 /// lower row's pixels separated by an unzip.
 inline void bytePairCorners(const std::uint8_t* const* blocks, std::ptrdiff_t dy1, Vec4Neon& a,

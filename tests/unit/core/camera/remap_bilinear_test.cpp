@@ -126,8 +126,8 @@ TYPED_TEST(RemapBilinearTest, FourPixelsAtOnceEqualThePixelByPixelRemap) {
   const RandomImages img = randomImages(rng);
   expectRowsAgree<V>(img.bytes, rng);
   expectRowsAgree<V>(img.floats, rng);
-  // One-pixel-wide and one-pixel-high inputs (the 2x2 block degenerates; on SSE2 the 8-bit
-  // blend then loads lane by lane).
+  // One-pixel-wide and one-pixel-high inputs (the 2x2 block degenerates; on SSE2 and NEON the
+  // 8-bit blend then loads lane by lane).
   Image<std::uint8_t> column(1, 5), row(6, 1);
   for (int y = 0; y < 5; ++y) column(0, y) = static_cast<std::uint8_t>(10 * y + 3);
   for (int x = 0; x < 6; ++x) row(x, 0) = static_cast<std::uint8_t>(7 * x + 1);

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <random>
 #include <vector>
@@ -45,10 +46,11 @@ simd::CoarseWeights4 randomWeights(std::mt19937& rng, int inlier, int base_outli
   return w;
 }
 
-struct Rows {
+WarpedResiduals rowsFor(std::size_t n) {
   WarpedResiduals r;
-  explicit Rows(std::size_t n) { r.allocate(n); }
-};
+  r.allocate(n);
+  return r;
+}
 
 void expectSameBits(float a, float b, const char* what, int i) {
   std::uint32_t x, y;
@@ -82,8 +84,8 @@ void expectSameSums(CoarseEvaluationSums& blocks, const WarpedResiduals& a,
 /// Adds `blocks` blocks to both (one single point first when `offset`), by block and by point.
 void runBoth(std::mt19937& rng, int blocks, bool offset, double full_share) {
   const std::size_t n = static_cast<std::size_t>(4 * blocks + 1);
-  Rows rows_a(n), rows_b(n);
-  CoarseEvaluationSums by_block(rows_a.r), by_point(rows_b.r);
+  WarpedResiduals rows_a = rowsFor(n), rows_b = rowsFor(n);
+  CoarseEvaluationSums by_block(rows_a), by_point(rows_b);
   std::uniform_real_distribution<double> coin(0.0, 1.0);
   std::uniform_int_distribution<int> mask(0, 15);
   if (offset) {  // shifts the moves into double from block edges into blocks
@@ -111,10 +113,10 @@ void runBoth(std::mt19937& rng, int blocks, bool offset, double full_share) {
            ((w.base_outlier >> l) & 1) != 0});
     }
   }
-  ASSERT_GT(full_blocks, blocks / 4);  // the block path is taken
+  ASSERT_GT(full_blocks, blocks / 4);  // blocks of four inliers, the block path's kind
   by_block.finish();
   by_point.finish();
-  expectSameSums(by_block, rows_a.r, by_point, rows_b.r);
+  expectSameSums(by_block, rows_a, by_point, rows_b);
 }
 
 TEST(CoarseEvaluationSums, BlocksOfFourInliersEqualTheSamePointsOneByOne) {
@@ -129,8 +131,8 @@ TEST(CoarseEvaluationSums, MixedBlocksEqualTheSamePointsOneByOne) {
 }
 
 TEST(CoarseEvaluationSums, CountsInliersOutliersAndBaseOutliers) {
-  Rows rows(8);
-  CoarseEvaluationSums sums(rows.r);
+  WarpedResiduals rows = rowsFor(8);
+  CoarseEvaluationSums sums(rows);
   std::mt19937 rng(3);
   // Lanes 0, 1, 3 inside; 0 and 3 inliers; base outliers 1 and 3 (an inlier can be one when
   // the threshold was doubled).
@@ -140,7 +142,7 @@ TEST(CoarseEvaluationSums, CountsInliersOutliersAndBaseOutliers) {
   EXPECT_EQ(sums.inliers(), 2);
   EXPECT_EQ(sums.outliers(), 1);
   EXPECT_EQ(sums.baseOutliers(), 2);
-  EXPECT_EQ(rows.r.count, 2);
+  EXPECT_EQ(rows.count, 2);
 }
 
 }  // namespace

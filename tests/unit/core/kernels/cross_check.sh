@@ -15,6 +15,7 @@ mkdir -p "$work"
 tests="$root/tests/unit/core/math/vec4f_test.cpp $root/tests/unit/core/kernels/pattern_kernels_test.cpp
   $root/tests/unit/core/kernels/coarse_accumulate_test.cpp
   $root/tests/unit/core/kernels/coarse_warp_test.cpp
+  $root/tests/unit/core/frontend/coarse_evaluation_sums_test.cpp
   $root/tests/unit/core/camera/remap_bilinear_test.cpp
   $root/tests/unit/core/kernels/evaluate_residual_test.cpp
   $root/tests/unit/core/kernels/pattern_energy_test.cpp
