@@ -52,6 +52,10 @@ std::vector<std::string> configProblems(const Config& config) {
                        std::to_string(config.initializer.min_rotation_free_parallax_px) +
                        ") must not exceed initializer.min_parallax_px (" +
                        std::to_string(config.initializer.min_parallax_px) + ")");
+  if (config.loop.min_pnp_inliers > config.loop.min_matches)
+    problems.push_back("loop.min_pnp_inliers (" + std::to_string(config.loop.min_pnp_inliers) +
+                       ") must not exceed loop.min_matches (" +
+                       std::to_string(config.loop.min_matches) + ")");
   if (config.system.live && config.system.deterministic)
     problems.push_back(
         "system.live = true needs system.deterministic = false (deterministic mode processes "

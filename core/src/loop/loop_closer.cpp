@@ -12,9 +12,18 @@
 
 namespace ldsm::loop {
 
+LoopVerificationSettings loopVerificationSettings(const LoopConfig& config) {
+  LoopVerificationSettings s;
+  s.min_inliers = config.min_inliers;
+  s.min_matches = config.min_matches;
+  s.min_matches_with_depth = config.min_pnp_inliers;
+  s.pnp.min_inliers = config.min_pnp_inliers;
+  return s;
+}
+
 LoopCloser::LoopCloser(const LoopConfig& config, const PinholeIntrinsics& camera, bool inline_mode)
     : config_(config), camera_(camera), drift_(OdometryDriftModel::fromConfig(config)) {
-  verification_.min_inliers = config.min_inliers;
+  verification_ = loopVerificationSettings(config);
   concurrency::TaskOptions options;
   options.mode = inline_mode ? concurrency::TaskMode::kInline : concurrency::TaskMode::kThreaded;
   options.queue_capacity = static_cast<std::size_t>(config.queue_capacity);

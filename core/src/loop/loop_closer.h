@@ -28,6 +28,10 @@
 
 namespace ldsm::loop {
 
+/// The verification thresholds the configuration sets (the Sim(3) inliers, the ORB matches and
+/// the PnP inliers; the rest keep LoopVerificationSettings' defaults).
+LoopVerificationSettings loopVerificationSettings(const LoopConfig& config);
+
 /// One keyframe handed to the background task: the keyframe as it left the window.
 using LoopJob = MarginalizedKeyframe;
 

@@ -13,6 +13,10 @@ struct LoopConfig {
   int exclude_recent_keyframes = 20;
   int max_candidates = 3;  ///< best BoW candidates verified per keyframe
   int min_inliers = 20;    ///< inliers of the Sim(3) after refinement to accept a loop
+  /// ORB matches between the query and a candidate before any geometry is tried, and the PnP
+  /// RANSAC inliers needed (also the matches whose candidate feature has a depth, which PnP uses).
+  int min_matches = 30;
+  int min_pnp_inliers = 20;
   /// Corners described (ORB) on a keyframe leaving the window, besides the odometry's own, and
   /// the weakest Shi-Tomasi score they may have (9: a gradient of 3 grey levels per pixel).
   int corners_per_keyframe = 400;
@@ -68,6 +72,10 @@ struct LoopConfig {
             "bag-of-words candidates verified per keyframe");
     v.field("min_inliers", min_inliers, Range<int>{10, 1000},
             "Sim(3) inliers needed to accept a loop");
+    v.field("min_matches", min_matches, Range<int>{8, 10000},
+            "ORB matches with a candidate needed before its geometry is tried");
+    v.field("min_pnp_inliers", min_pnp_inliers, Range<int>{6, 1000},
+            "PnP RANSAC inliers needed (and candidate matches with a depth)");
     v.field("corners_per_keyframe", corners_per_keyframe, Range<int>{0, 5000},
             "extra corners described (ORB) on each keyframe leaving the window");
     v.field("corner_min_score", corner_min_score, Range<double>{0.0, 1e6},

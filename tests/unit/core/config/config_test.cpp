@@ -135,6 +135,14 @@ TEST(ConfigYaml, ErrorsNameFileLineKeyAndRange) {
 
   e = errorOf("window:\n  min_keyframes: 9\n  max_keyframes: 8\n");
   EXPECT_NE(e.find("must not exceed"), std::string::npos) << e;
+  e = errorOf("loop:\n  min_matches: 12\n  min_pnp_inliers: 15\n");
+  EXPECT_NE(e.find("loop.min_pnp_inliers (15) must not exceed loop.min_matches (12)"),
+            std::string::npos)
+      << e;
+  e = errorOf("loop:\n  min_pnp_inliers: 3\n");
+  EXPECT_NE(e.find("'loop.min_pnp_inliers' = 3 is outside the allowed range [6, 1000]"),
+            std::string::npos)
+      << e;
 }
 
 TEST(ConfigYaml, MissingFile) {

@@ -235,6 +235,44 @@ TEST(LoopCloser, TheRecentKeyframesAreNoLoopCandidates) {
   EXPECT_EQ(loopsAt(kCandidate + kRecent), 0);
 }
 
+// A revisit seen by `points` corners, every one matched with depth at its true pixel.
+test::KeyframePair fewCornersRevisit(int points) {
+  test::SceneOptions o;
+  o.num_points = points;
+  o.current_depth_fraction = 1.0;
+  o.candidate_depth_fraction = 1.0;
+  o.wrong_pixel_fraction = 0.0;
+  o.extra_outliers = 0;
+  o.S_current_candidate =
+      Sim3d(SO3d::exp(Eigen::Vector3d(0.02, -0.05, 0.03)), Eigen::Vector3d(0.1, -0.05, 0.08), 1.0);
+  return test::makeKeyframePair(o);
+}
+
+// loop.min_matches and loop.min_pnp_inliers reach the verification: 20-29 matched corners are
+// below the default 30 matches, 12-19 below the default 20 PnP inliers; each revisit is accepted
+// only when the configuration asks for fewer.
+TEST(LoopCloser, MatchAndPnpThresholdsComeFromTheConfiguration) {
+  LoopConfig c;
+  const auto verify = [&](const test::KeyframePair& p) {
+    return verifyLoop(p.current, p.candidate, loopVerificationSettings(c));
+  };
+  const test::KeyframePair p26 = fewCornersRevisit(26);
+  ASSERT_GE(p26.num_true, 20);
+  ASSERT_LT(p26.num_true, 30);
+  EXPECT_NE(verify(p26).reason.find("need 30"), std::string::npos) << verify(p26).reason;
+  c.min_matches = 20;
+  EXPECT_TRUE(verify(p26).accepted) << verify(p26).reason;
+
+  const test::KeyframePair p16 = fewCornersRevisit(16);
+  ASSERT_GE(p16.num_true, 12);
+  ASSERT_LT(p16.num_true, 20);
+  c.min_matches = 12;
+  c.min_inliers = 12;
+  EXPECT_NE(verify(p16).reason.find("need 20"), std::string::npos) << verify(p16).reason;
+  c.min_pnp_inliers = 12;
+  EXPECT_TRUE(verify(p16).accepted) << verify(p16).reason;
+}
+
 // A keyframe that shares many points with another (through the window or a map keyframe brought
 // back) is connected to it already: it is no loop candidate, however alike the two look.
 TEST(LoopCloser, CovisibleKeyframesAreNoLoopCandidates) {
