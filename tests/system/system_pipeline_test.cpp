@@ -310,6 +310,17 @@ std::vector<drivers::Frame> renderAll(drivers::sim::SimSource& source) {
   return frames;
 }
 
+/// Every frame of `source`, from frame `cut` on with the image of the same frame of the rendered
+/// loop scene with the same options (the camera carried into another scene).
+std::vector<drivers::Frame> cutToTheLoopScene(drivers::sim::SimSource& source, std::size_t cut) {
+  std::vector<drivers::Frame> frames = renderAll(source);
+  drivers::sim::SimSource elsewhere("loop", source.options());
+  const std::vector<drivers::Frame> other = renderAll(elsewhere);
+  for (std::size_t i = cut; i < std::min(frames.size(), other.size()); ++i)
+    frames[i].image = other[i].image;
+  return frames;
+}
+
 /// Waits until the live pipeline has taken the first `submitted` frames: the tracking thread has
 /// reported them, the initializer has finished every frame it was given (or is held making the
 /// map) and the mapping thread every keyframe asked for (a frame that fails to track while a
@@ -409,14 +420,10 @@ TEST(SystemPipeline, LiveTrackingNeverWaitsForTheFirstMap) {
 // from the continued motion reaches it.)
 TEST(SystemPipeline, LiveModeInitialisesASecondMapAfterALoss) {
   drivers::sim::SimSource source("forward", forwardDrive(120));
-  std::vector<drivers::Frame> frames = renderAll(source);
-  drivers::sim::SimSource elsewhere("loop", forwardDrive(120));
-  const std::vector<drivers::Frame> other = renderAll(elsewhere);
-  ASSERT_EQ(other.size(), frames.size());
   constexpr std::size_t kNoiseFirst = 40, kNoiseLast = 49;
+  std::vector<drivers::Frame> frames = cutToTheLoopScene(source, kNoiseLast + 1);
   for (std::size_t i = kNoiseFirst; i <= kNoiseLast; ++i)
     test::fillWithNoise(frames[i].image, static_cast<std::uint32_t>(i));
-  for (std::size_t i = kNoiseLast + 1; i < frames.size(); ++i) frames[i].image = other[i].image;
   Config c = threaded(true);
   c.reuse.enabled = false;
   HeldInitializationListener listener;  // never held: released from the start
@@ -458,12 +465,8 @@ TEST(SystemPipeline, LiveModeInitialisesASecondMapAfterALoss) {
 // made a keyframe, and the window's RMSE rose from 3.6 to 7.8 over the next 60 frames.
 TEST(SystemPipeline, ACutToAnotherSceneIsALossNotAJump) {
   drivers::sim::SimSource source("forward", forwardDrive(120));
-  std::vector<drivers::Frame> frames = renderAll(source);
-  drivers::sim::SimSource elsewhere("loop", forwardDrive(120));
-  const std::vector<drivers::Frame> other = renderAll(elsewhere);
-  ASSERT_EQ(other.size(), frames.size());
   constexpr std::size_t kCut = 40;
-  for (std::size_t i = kCut; i < frames.size(); ++i) frames[i].image = other[i].image;
+  const std::vector<drivers::Frame> frames = cutToTheLoopScene(source, kCut);
   Config c;
   c.system.deterministic = true;
   c.reuse.enabled = false;
