@@ -316,6 +316,8 @@ std::vector<drivers::Frame> cutToTheLoopScene(drivers::sim::SimSource& source, s
   std::vector<drivers::Frame> frames = renderAll(source);
   drivers::sim::SimSource elsewhere("loop", source.options());
   const std::vector<drivers::Frame> other = renderAll(elsewhere);
+  if (other.size() != frames.size())
+    ADD_FAILURE() << "the loop scene rendered " << other.size() << " frames, not " << frames.size();
   for (std::size_t i = cut; i < std::min(frames.size(), other.size()); ++i)
     frames[i].image = other[i].image;
   return frames;
@@ -481,8 +483,8 @@ TEST(SystemPipeline, ACutToAnotherSceneIsALossNotAJump) {
   EXPECT_EQ(s.initializations, 2);
   const std::vector<StampedPose> trajectory = system.trajectory();
   EXPECT_TRUE(std::none_of(trajectory.begin(), trajectory.end(), [&](const StampedPose& p) {
-    return p.timestamp == frames[kCut].timestamp;
-  })) << "the first frame of the other scene has no pose in the first map";
+    return p.timestamp >= frames[kCut].timestamp && p.map == 0;
+  })) << "no frame of the other scene has a pose in the first map";
 }
 
 #if defined(__linux__)

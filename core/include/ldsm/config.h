@@ -134,9 +134,10 @@ struct TrackingConfig {
   int max_iterations_per_level = 10;
   double huber_threshold = 9.0;  ///< Huber threshold of the photometric residual, grey levels
   /// A frame whose residual grows past this many times the last frame's while fewer than half of
-  /// its points are inliers, or past 0.6 times as many while fewer than three quarters are, is
-  /// not this scene (a glitch, noise, a covered lens, a cut to another scene): tracking is lost
-  /// there rather than accepting a garbage pose. 0 disables the check.
+  /// its points are inliers, or (tracked as usual, not searched for after a loss or a gap) past
+  /// 0.6 times as many while fewer than three quarters are, is not this scene (a glitch, noise, a
+  /// covered lens, a cut to another scene): tracking is lost there rather than accepting a garbage
+  /// pose. 0 disables the check.
   double max_rmse_growth = 5.0;
 
   template <typename V>
@@ -148,8 +149,8 @@ struct TrackingConfig {
     v.field("huber_threshold", huber_threshold, Range<double>{0.1, 255.0},
             "Huber threshold of photometric residuals (grey levels)");
     v.field("max_rmse_growth", max_rmse_growth, Range<double>{0.0, 1e6},
-            "a frame with this many times the last residual and < 50 % inliers, or 0.6 times as "
-            "many and < 75 % inliers, is lost (0: off)");
+            "a frame with this many times the last residual and < 50 % inliers (or, outside "
+            "the search after a loss or gap, 0.6 times as many and < 75 %) is lost (0: off)");
   }
 };
 

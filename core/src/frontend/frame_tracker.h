@@ -144,8 +144,9 @@ class FrameTracker {
   KeyframeConfig kf_config_;
   double flow_scale_ = 1.0;  ///< on the flow weights (adoptReference)
   double max_rmse_growth_ = 0.0;
-  /// A frame is not the tracked scene also when its residual grows past this share of
-  /// max_rmse_growth while fewer than this share of its points are inliers (FrameTracker::track).
+  /// Outside the wide search, a frame is not the tracked scene also when its residual grows past
+  /// this share of max_rmse_growth while fewer than this share of its points are inliers
+  /// (FrameTracker::track).
   static constexpr double kOutlierGrowthShare = 0.6;
   static constexpr double kOutlierGrowthInliers = 0.75;
   PyramidCamera camera_;

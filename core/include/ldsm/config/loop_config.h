@@ -74,7 +74,7 @@ struct LoopConfig {
             "Sim(3) inliers needed to accept a loop");
     v.field("min_matches", min_matches, Range<int>{8, 10000},
             "ORB matches with a candidate needed before its geometry is tried");
-    v.field("min_pnp_inliers", min_pnp_inliers, Range<int>{6, 1000},
+    v.field("min_pnp_inliers", min_pnp_inliers, Range<int>{10, 1000},
             "PnP RANSAC inliers needed (and candidate matches with a depth)");
     v.field("corners_per_keyframe", corners_per_keyframe, Range<int>{0, 5000},
             "extra corners described (ORB) on each keyframe leaving the window");

@@ -140,7 +140,7 @@ TEST(ConfigYaml, ErrorsNameFileLineKeyAndRange) {
             std::string::npos)
       << e;
   e = errorOf("loop:\n  min_pnp_inliers: 3\n");
-  EXPECT_NE(e.find("'loop.min_pnp_inliers' = 3 is outside the allowed range [6, 1000]"),
+  EXPECT_NE(e.find("'loop.min_pnp_inliers' = 3 is outside the allowed range [10, 1000]"),
             std::string::npos)
       << e;
 }

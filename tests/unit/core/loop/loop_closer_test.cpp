@@ -249,17 +249,27 @@ test::KeyframePair fewCornersRevisit(int points) {
 }
 
 // loop.min_matches and loop.min_pnp_inliers reach the verification: 20-29 matched corners are
-// below the default 30 matches, 12-19 below the default 20 PnP inliers; each revisit is accepted
-// only when the configuration asks for fewer.
+// below the default 30 matches, 12-19 below the default 20 PnP inliers (and matches with depth,
+// which follow them); each revisit is accepted only when the configuration asks for few enough.
 TEST(LoopCloser, MatchAndPnpThresholdsComeFromTheConfiguration) {
   LoopConfig c;
+  c.min_matches = 40;
+  c.min_pnp_inliers = 25;
+  c.min_inliers = 15;
+  const LoopVerificationSettings mapped = loopVerificationSettings(c);
+  EXPECT_EQ(mapped.min_matches, 40);
+  EXPECT_EQ(mapped.min_matches_with_depth, 25);
+  EXPECT_EQ(mapped.pnp.min_inliers, 25);
+  EXPECT_EQ(mapped.min_inliers, 15);
+
+  c = LoopConfig();
   const auto verify = [&](const test::KeyframePair& p) {
     return verifyLoop(p.current, p.candidate, loopVerificationSettings(c));
   };
   const test::KeyframePair p26 = fewCornersRevisit(26);
   ASSERT_GE(p26.num_true, 20);
   ASSERT_LT(p26.num_true, 30);
-  EXPECT_NE(verify(p26).reason.find("need 30"), std::string::npos) << verify(p26).reason;
+  EXPECT_NE(verify(p26).reason.find("(need 30)"), std::string::npos) << verify(p26).reason;
   c.min_matches = 20;
   EXPECT_TRUE(verify(p26).accepted) << verify(p26).reason;
 
@@ -268,7 +278,8 @@ TEST(LoopCloser, MatchAndPnpThresholdsComeFromTheConfiguration) {
   ASSERT_LT(p16.num_true, 20);
   c.min_matches = 12;
   c.min_inliers = 12;
-  EXPECT_NE(verify(p16).reason.find("need 20"), std::string::npos) << verify(p16).reason;
+  c.min_pnp_inliers = p16.num_true + 1;  // more than the revisit's correspondences with depth
+  EXPECT_FALSE(verify(p16).accepted);
   c.min_pnp_inliers = 12;
   EXPECT_TRUE(verify(p16).accepted) << verify(p16).reason;
 }
