@@ -135,20 +135,21 @@ FrameTrackingOutcome FrameTracker::track(const ImagePyramid& frame, double expos
   // max_rmse_growth times the last frame's with fewer than half the points inliers; and in the
   // ordinary search (not the wide one after a loss or a gap, whose fit the resume rules judge
   // against the residual before the loss, with the map's confirmation) a lesser growth with more
-  // than a quarter of the points outliers. On smooth images most residuals of a
-  // wrong fit stay under the outlier cutoff: cuts to another rendered scene fitted at 4.5-5.8
-  // times the last residual with 60-68 % inliers and were tracked on, the map going wrong
-  // (docs/reliability.md). Tracked frames of vamr_desk_loop, kitti00_200 and the rendered loop
-  // stay at 1.8 times the last residual or less with 83 % inliers or more.
-  const bool check = max_rmse_growth_ > 0.0 && last_rmse_ > 0.0;
-  const bool wide = search == Search::kWide;
-  if ((check && r.rmse > max_rmse_growth_ * last_rmse_ && r.tracking.inlier_fraction < 0.5) ||
-      (check && !wide && r.rmse > kOutlierGrowthShare * max_rmse_growth_ * last_rmse_ &&
-       r.tracking.inlier_fraction < kOutlierGrowthInliers)) {
+  // than a quarter of the points outliers. On smooth images most residuals of a wrong fit stay
+  // under the outlier cutoff: cuts to another rendered scene fitted at 4.5-5.8 times the last
+  // residual with 60-68 % inliers and were tracked on, the map going wrong (docs/reliability.md).
+  // Tracked frames of vamr_desk_loop, kitti00_200 and the rendered loop stay at 1.8 times the
+  // last residual or less with 83 % inliers or more.
+  const double growth = r.rmse / last_rmse_;
+  const double inliers = r.tracking.inlier_fraction;
+  if (max_rmse_growth_ > 0.0 && last_rmse_ > 0.0 &&
+      ((growth > max_rmse_growth_ && inliers < 0.5) ||
+       (search != Search::kWide && growth > kOutlierGrowthShare * max_rmse_growth_ &&
+        inliers < kOutlierGrowthInliers))) {
     out.failure = fmt::format(
         "residual {:.1f} times the last frame's with {:.0f} % inliers: the image does not show "
         "the tracked scene",
-        r.rmse / last_rmse_, 100.0 * r.tracking.inlier_fraction);
+        growth, 100.0 * inliers);
     return out;
   }
   out.success = true;
