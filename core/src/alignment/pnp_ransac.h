@@ -1,6 +1,6 @@
 // Robust camera pose from 3D-2D correspondences (RANSAC over minimal PnP solutions, then a
-// least-squares refinement on the inliers): the first step of the geometric loop verification
-// and of relocalisation.
+// least-squares refinement on the inliers, which are counted again against the refined pose):
+// the first step of the geometric loop verification and of relocalisation.
 #pragma once
 
 #include <vector>
