@@ -98,6 +98,10 @@ CoarseTracker::CoarseTracker(int width, int height, int levels,
   if (!(settings.outlier_threshold > 0.f) || !std::isfinite(settings.outlier_threshold)) {
     throw ConfigError("coarse tracker: outlier_threshold must be finite and > 0");
   }
+  if (!(settings.coarse_level_min_relative_decrease >= 0.0 &&
+        settings.coarse_level_min_relative_decrease < 1.0)) {
+    throw ConfigError("coarse tracker: coarse_level_min_relative_decrease must be in [0, 1)");
+  }
 }
 
 void CoarseTracker::setReference(const ImagePyramid& reference, const PyramidCamera& camera,
@@ -293,7 +297,11 @@ CoarseTracker::Evaluation CoarseTracker::optimiseLevel(const ImagePyramid& frame
       T = T_new;
       affine = affine_new;
       ev = ev_new;
+      const double previous_cost = current_cost;
       current_cost = cost(ev, affine);
+      if (level > 0 && previous_cost - current_cost <
+                           settings_.coarse_level_min_relative_decrease * previous_cost)
+        break;  // close enough for the finer level to start from
       accumulateNormalEquations(warped_, H, g);
       addAffinePrior(affine, ev.in_image, H, g);
       lambda = std::max(lambda * 0.5, 1e-8);

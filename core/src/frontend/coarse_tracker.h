@@ -65,6 +65,11 @@ struct CoarseTrackerSettings {
   /// or after max_rejected_steps steps in a row failed to lower the cost.
   double convergence_rms_step = 5e-3;
   int max_rejected_steps = 3;
+  /// On the coarser levels (1 and up) a level also ends after an accepted step that lowered the
+  /// cost by less than this share of it: level 0 refines from there. Their last 0.1 % took most
+  /// of their iterations (vamr_desk_loop: 10.8 evaluations per level; docs/engine.md, "Stopping
+  /// the coarse levels early"). 0: the coarse levels run until a step is too small or rejected.
+  double coarse_level_min_relative_decrease = 1e-3;
 };
 
 enum class TrackingFailure {

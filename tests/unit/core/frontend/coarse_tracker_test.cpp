@@ -112,6 +112,38 @@ TEST_F(CoarseTrackerTest, RecoversKnownMotion) {
   for (int l = 0; l < TrackScene::kLevels; ++l) EXPECT_TRUE(std::isfinite(result.rmse(l)));
 }
 
+// The coarse levels end once an accepted step lowers the cost by less than 0.1 %: level 0 starts
+// close enough to reach the same pose, with fewer iterations over all than when the coarse levels
+// run until a step is rejected or too small. Sensor noise on the frame and noisy depths, as on
+// real images, where the coarse levels' tails of tiny improvements are long.
+TEST_F(CoarseTrackerTest, CoarseLevelsStopOnceTheCostHardlyFalls) {
+  const SE3d truth = typicalMotion();
+  std::mt19937 rng(11);
+  std::normal_distribution<float> sensor(0.f, 2.f);
+  const ImagePyramid frame = renderFrame(truth, [&](float v) { return v + sensor(rng); });
+  std::uniform_real_distribution<float> depth_noise(-0.05f, 0.05f);
+  std::vector<DepthPoint> noisy = points_;
+  for (DepthPoint& p : noisy) p.idepth *= 1.f + depth_noise(rng);
+  CoarseTrackerSettings full;
+  full.coarse_level_min_relative_decrease = 0.0;
+  SE3d T_full, T_early;
+  AffineLight affine;
+  CoarseTrackingResult full_result, early_result;
+  ASSERT_TRUE(trackFromIdentity(*makeTracker(noisy, full), frame, T_full, affine, full_result));
+  ASSERT_TRUE(trackFromIdentity(*makeTracker(noisy), frame, T_early, affine, early_result));
+  std::printf("iterations over all levels: %d run to convergence, %d with the early stop\n",
+              full_result.iterations, early_result.iterations);
+  EXPECT_LT(early_result.iterations, full_result.iterations);
+  std::printf(
+      "rotation %.2e / %.2e rad, translation %.2e / %.2e from the truth; %.2e / %.2e "
+      "between them\n",
+      test::rotationError(T_full, truth), test::rotationError(T_early, truth),
+      test::translationError(T_full, truth), test::translationError(T_early, truth),
+      test::rotationError(T_early, T_full), test::translationError(T_early, T_full));
+  EXPECT_LT(test::rotationError(T_early, T_full), 2e-4);
+  EXPECT_LT(test::translationError(T_early, T_full), 0.002 * truth.translation().norm());
+}
+
 // Images through a radial distortion (7.7 px at the corners): the reference's points are pixels
 // of the distorted image, and the tracker told the distortion warps through it. Told none (the
 // plain pinhole), the same images give a pose several times further off (measured: rotation
@@ -423,6 +455,11 @@ TEST(CoarseTrackerSettingsTest, RejectsBadThresholds) {
   s.outlier_threshold = std::nanf("");
   EXPECT_THROW(CoarseTracker(64, 48, 3, s), ConfigError);
   EXPECT_THROW(CoarseTracker(64, 48, 9, CoarseTrackerSettings()), ConfigError);
+  s = CoarseTrackerSettings();
+  s.coarse_level_min_relative_decrease = -0.1;
+  EXPECT_THROW(CoarseTracker(64, 48, 3, s), ConfigError);
+  s.coarse_level_min_relative_decrease = 1.0;
+  EXPECT_THROW(CoarseTracker(64, 48, 3, s), ConfigError);
 }
 
 }  // namespace
