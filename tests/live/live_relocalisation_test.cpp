@@ -27,6 +27,7 @@
 #include "ldsm/drivers/dataset_source.h"
 #include "ldsm/drivers/realtime_replay_source.h"
 #include "ldsm/drivers/trajectory_io.h"
+#include "ldsm/error.h"
 #include "ldsm/eval/ate.h"
 #include "ldsm/system.h"
 #include "test_paths.h"
@@ -108,7 +109,11 @@ TEST(LiveRelocalisation, VamrDeskLoopResumesInItsMapAfterFortyBlackFramesInRealT
   Trajectory before, after;
   for (const StampedPose& p : trajectory) (p.timestamp < gap_start ? before : after).push_back(p);
   const auto segmentAte = [&](const Trajectory& t) {
-    return t.size() >= 3 ? eval::computeAte(gt, t).rmse : -1.0;
+    try {
+      return eval::computeAte(gt, t).rmse;
+    } catch (const InputError&) {
+      return -1.0;  // too few poses matched to the ground truth: printed as -1
+    }
   };
   std::printf("  ATE before the gap %.5f m (%zu poses), after it %.5f m (%zu poses)\n",
               segmentAte(before), before.size(), segmentAte(after), after.size());

@@ -1,6 +1,7 @@
 // Robust camera pose from 3D-2D correspondences (RANSAC over minimal PnP solutions, then a
-// least-squares refinement on the inliers, which are counted again against the refined pose):
-// the first step of the geometric loop verification and of relocalisation.
+// least-squares refinement on the inliers, which are counted again against the refined pose and
+// kept when that finds more): the first step of the geometric loop verification and of
+// relocalisation.
 #pragma once
 
 #include <vector>
@@ -44,10 +45,12 @@ int pnpRansacSamples(const PnpRansacSettings& settings, int correspondences);
 struct PnpRansacResult {
   bool success = false;
   SE3d T_camera_points;
-  /// T_camera_points holds the pose RANSAC found: always on success, and also when it found one
-  /// with fewer than min_inliers inliers (success false; `inliers` are then that pose's).
+  /// T_camera_points holds the pose RANSAC found, refined on its inliers: always on success, and
+  /// also when it found one with fewer than min_inliers inliers (success false).
   bool has_pose = false;
-  std::vector<int> inliers;  ///< indices into the input arrays, increasing
+  /// Indices into the input arrays, increasing: RANSAC's inliers, or the larger set the refined
+  /// pose projects within inlier_threshold_px (in front of the camera).
+  std::vector<int> inliers;
 };
 
 /// Finds the pose of a pinhole camera (no distortion) that projects `points` (3D, in their own

@@ -65,10 +65,12 @@ struct CoarseTrackerSettings {
   /// or after max_rejected_steps steps in a row failed to lower the cost.
   double convergence_rms_step = 5e-3;
   int max_rejected_steps = 3;
-  /// On the coarser levels (1 and up) a level also ends after an accepted step that lowered the
-  /// cost by less than this share of it: level 0 refines from there. Their last 0.1 % took most
-  /// of their iterations (vamr_desk_loop: 10.8 evaluations per level; docs/engine.md, "Stopping
-  /// the coarse levels early"). 0: the coarse levels run until a step is too small or rejected.
+  /// A level that a finer one follows also ends after an accepted step that lowered the cost by
+  /// less than this share of it: the finer level refines from there. The coarse levels' last
+  /// 0.1 % took most of their iterations (vamr_desk_loop: 10.8 evaluations per level;
+  /// docs/engine.md, "Stopping the coarse levels early"). The finest level tracked (level 0, or
+  /// a coarse one when only that is tracked, as the screening of rotated guesses does) runs as
+  /// before. 0: every level runs until a step is too small or rejected.
   double coarse_level_min_relative_decrease = 1e-3;
 };
 
@@ -183,8 +185,10 @@ class CoarseTracker {
   const float* rayX(int level) const;
   const float* rayY(int level) const;
   /// Runs LM on one level; returns the final evaluation (and updates T, affine, cutoff).
-  Evaluation optimiseLevel(const ImagePyramid& frame, double exposure, int level, SE3d& T,
-                           AffineLight& affine, float& cutoff, int& iterations);
+  /// `refined_further`: a finer level follows (the early stop of the coarse levels applies).
+  Evaluation optimiseLevel(const ImagePyramid& frame, double exposure, int level,
+                           bool refined_further, SE3d& T, AffineLight& affine, float& cutoff,
+                           int& iterations);
   void addAffinePrior(const AffineLight& affine, int points, CoarseMatrix& H,
                       CoarseVector& g) const;
   /// Prior energy per point (`points` in the evaluation).
