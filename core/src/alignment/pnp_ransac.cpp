@@ -52,22 +52,30 @@ bool refineOnInliers(const std::vector<cv::Point3d>& object, const std::vector<c
   return false;
 }
 
-// The correspondences (increasing indices) that the pose (rvec, tvec) projects in front of the
-// camera within `threshold_px` of their pixels (OpenCV's RANSAC inlier test, plus depth > 0).
-std::vector<int> reprojectionInliers(const std::vector<cv::Point3d>& object,
-                                     const std::vector<cv::Point2d>& image, const cv::Matx33d& K,
-                                     const cv::Mat& rvec, const cv::Mat& tvec,
-                                     double threshold_px) {
-  cv::Matx33d R;
-  cv::Rodrigues(rvec, R);
-  const cv::Vec3d t(tvec.at<double>(0), tvec.at<double>(1), tvec.at<double>(2));
+// OpenCV's pose (Rodrigues vector, translation) as a rotation matrix and a translation.
+void poseFromOpenCv(const cv::Mat& rvec, const cv::Mat& tvec, Eigen::Matrix3d& R,
+                    Eigen::Vector3d& t) {
+  cv::Matx33d Rcv;
+  cv::Rodrigues(rvec, Rcv);
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) R(r, c) = Rcv(r, c);
+  }
+  t = Eigen::Vector3d(tvec.at<double>(0), tvec.at<double>(1), tvec.at<double>(2));
+}
+
+// The correspondences (increasing indices) that the pose (R, t) projects in front of the camera
+// within `threshold_px` of their pixels (OpenCV's RANSAC inlier test, plus depth > 0).
+std::vector<int> reprojectionInliers(const std::vector<Eigen::Vector3d>& points,
+                                     const std::vector<Eigen::Vector2d>& pixels,
+                                     const PinholeIntrinsics& camera, const Eigen::Matrix3d& R,
+                                     const Eigen::Vector3d& t, double threshold_px) {
   std::vector<int> inliers;
-  for (std::size_t i = 0; i < object.size(); ++i) {
-    const cv::Vec3d p = R * cv::Vec3d(object[i].x, object[i].y, object[i].z) + t;
-    if (!(p[2] > 0)) continue;
-    const double du = K(0, 0) * p[0] / p[2] + K(0, 2) - image[i].x;
-    const double dv = K(1, 1) * p[1] / p[2] + K(1, 2) - image[i].y;
-    if (du * du + dv * dv <= threshold_px * threshold_px) inliers.push_back(static_cast<int>(i));
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3d p = R * points[i] + t;
+    if (!(p.z() > 0)) continue;
+    const Eigen::Vector2d error(camera.fx * p.x() / p.z() + camera.cx - pixels[i].x(),
+                                camera.fy * p.y() / p.z() + camera.cy - pixels[i].y());
+    if (error.squaredNorm() <= threshold_px * threshold_px) inliers.push_back(static_cast<int>(i));
   }
   return inliers;
 }
@@ -150,8 +158,11 @@ PnpRansacResult solvePnpRansac(const std::vector<Eigen::Vector3d>& points,
   for (int round = 0; ok && inliers.size() >= kMinCorrespondences && round < kRefinements;
        ++round) {
     if (!refineOnInliers(object, image, K, inliers, rvec, tvec)) break;
+    Eigen::Matrix3d R;
+    Eigen::Vector3d t;
+    poseFromOpenCv(rvec, tvec, R, t);
     std::vector<int> recounted =
-        reprojectionInliers(object, image, K, rvec, tvec, settings.inlier_threshold_px);
+        reprojectionInliers(points, pixels, camera, R, t, settings.inlier_threshold_px);
     if (recounted.size() <= inliers.size()) break;
     inliers = std::move(recounted);
   }
@@ -159,13 +170,9 @@ PnpRansacResult solvePnpRansac(const std::vector<Eigen::Vector3d>& points,
     result.inliers = std::move(inliers);
     return result;
   }
-  cv::Matx33d R;
-  cv::Rodrigues(rvec, R);
   Eigen::Matrix3d Re;
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) Re(r, c) = R(r, c);
-  }
-  const Eigen::Vector3d t(tvec.at<double>(0), tvec.at<double>(1), tvec.at<double>(2));
+  Eigen::Vector3d t;
+  poseFromOpenCv(rvec, tvec, Re, t);
   std::sort(inliers.begin(), inliers.end());
   if (!Re.allFinite() || !t.allFinite()) {
     result.inliers = std::move(inliers);
