@@ -383,6 +383,7 @@ void TrackingStage::relocalizeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent
   relocalization_attempts_.fetch_add(1, std::memory_order_relaxed);
   const std::shared_ptr<const MappingSnapshot> snap = mapping_.snapshot();
   const RelocalizationResult r = findInMap(*pyr, exposure, *snap);
+  bool map_pose_kept = r.success;  // false once the window's own track fits better (below)
   if (window_kept_) {
     // The window is still there: track the frame against its reference, from where the map says
     // the camera is (or, not found, from where it was last seen).
@@ -411,6 +412,33 @@ void TrackingStage::relocalizeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent
           (found.T_w_c.translation() - snap->newest_T_c_w.inverse().translation()).norm();
       return distance < resume_radius_ * snap->median_depth;
     }();
+    if (r.success && near_window) {
+      // The map's pose can be wrong where the window's is not: on a periodic texture (the desk's
+      // checkerboard) PnP and the direct fit to one map keyframe can land a period off, and a
+      // track started there fits almost as well as the right one. The wide search from where
+      // the camera was last seen is the second opinion; where the two tracks disagree, the one
+      // that fits the window better goes on (betterResumption). Only near the window: a frame the
+      // map found elsewhere (a kidnapped camera) fits no track against the window well.
+      const FrameTracker::MotionState after_map_track = tracker_.motionState();
+      FrameTracker::MotionState last = last_good_;
+      last.has_velocity = false;
+      tracker_.restoreMotion(last);
+      const FrameTrackingOutcome from_last =
+          tracker_.track(*pyr, exposure, frame.timestamp, FrameTracker::Search::kWide);
+      if (from_last.success &&
+          !(outcome.success && posesAgree(outcome.T_c_w, from_last.T_c_w, snap->median_depth)) &&
+          betterResumption(from_last, outcome)) {
+        spdlog::debug(
+            "frame {}: the track from the last pose fits better than the one from the map's pose "
+            "(rmse {:.2f} at {:.0f} % inliers against {:.2f} at {:.0f} %)",
+            frame.frame_index, from_last.rmse, 100.0 * from_last.inlier_fraction, outcome.rmse,
+            100.0 * outcome.inlier_fraction);
+        outcome = from_last;
+        map_pose_kept = false;
+      } else {
+        tracker_.restoreMotion(after_map_track);
+      }
+    }
     if (!r.success && !resumesAfterLoss(outcome, rmse_before_loss_) && last_good_.has_velocity) {
       // Not near the last pose either: the camera may have kept moving as it did, farther than
       // any rotated guess reaches (a robot driving on while its images were dark: the rendered
@@ -425,7 +453,7 @@ void TrackingStage::relocalizeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent
     // when it fits reasonably (resumesWhereTheMapFoundIt).
     bool good_fit =
         resumesAfterLoss(outcome, rmse_before_loss_) ||
-        (r.success && near_window && resumesWhereTheMapFoundIt(outcome, rmse_before_loss_));
+        (map_pose_kept && near_window && resumesWhereTheMapFoundIt(outcome, rmse_before_loss_));
     // A fit short of those (the view moved on during the gap: residuals grow with the distance to
     // the reference) resumes when the map puts the frame where the window does: its own pose, or
     // else a direct fit of the map keyframes nearest to the window's pose (vamr_desk_loop after 40
@@ -433,8 +461,9 @@ void TrackingStage::relocalizeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent
     // depths and 0.06 degrees away). Only for a frame the map found near the window: in live runs
     // a track the map had not found, confirmed this way, resumed and went wrong (3 of 7 runs at
     // 0.024-0.036 m; 0 of 4 without the confirmation).
-    int confirming_keyframe = r.success ? r.keyframe_id : -1;
-    if (!good_fit && r.success && near_window && plausibleAfterLoss(outcome, rmse_before_loss_)) {
+    int confirming_keyframe = map_pose_kept ? r.keyframe_id : -1;
+    if (!good_fit && map_pose_kept && near_window &&
+        plausibleAfterLoss(outcome, rmse_before_loss_)) {
       const auto agrees = [&](const SE3d& T_c_w) {
         return posesAgree(outcome.T_c_w, T_c_w, snap->median_depth);
       };
@@ -469,8 +498,10 @@ void TrackingStage::relocalizeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent
       return;
     }
   }
-  if (!r.success) {
-    spdlog::debug("frame {}: not relocalised: {}", frame.frame_index, r.failure);
+  if (!r.success || !map_pose_kept) {
+    spdlog::debug(
+        "frame {}: not relocalised: {}", frame.frame_index,
+        r.success ? "the map's pose fits the window worse than the last pose" : r.failure);
     pyramids_.release(std::move(pyr));
     return;
   }
@@ -485,6 +516,13 @@ bool TrackingStage::resumesAfterLoss(const FrameTrackingOutcome& o, double rmse_
           o.rmse <= kResumeMaxRmseGrowth * rmse_before_loss) ||
          (o.inlier_fraction >= kResumeFarMinInliers &&
           o.rmse <= kResumeFarMaxRmseGrowth * rmse_before_loss);
+}
+
+bool TrackingStage::betterResumption(const FrameTrackingOutcome& a, const FrameTrackingOutcome& b) {
+  if (!a.success) return false;
+  if (!b.success) return true;
+  // Residuals per inlier share: a wrong pose has both fewer inliers and larger residuals.
+  return a.rmse * b.inlier_fraction < b.rmse * a.inlier_fraction;
 }
 
 bool TrackingStage::resumesWhereTheMapFoundIt(const FrameTrackingOutcome& o,

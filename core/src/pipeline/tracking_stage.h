@@ -108,6 +108,9 @@ class TrackingStage {
   /// kResumeMaxRmseGrowth of `rmse_before_loss`, or kResumeFarMinInliers within
   /// kResumeFarMaxRmseGrowth (no residual before: the inliers alone).
   static bool resumesAfterLoss(const FrameTrackingOutcome& o, double rmse_before_loss);
+  /// Of two tracks of a frame after a loss that disagree, whether `a` fits the window better
+  /// than `b`: smaller residuals per share of inlier points.
+  static bool betterResumption(const FrameTrackingOutcome& a, const FrameTrackingOutcome& b);
   /// Whether a frame the map found near the kept window resumes there: at least
   /// kResumeConfirmedMinInliers of its points inliers and its residual within
   /// kResumeMaxRmseGrowth of `rmse_before_loss`. The map's alignment (one map keyframe's points)
