@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <string>
 #include <vector>
 
 #include "ldsm/drivers/dataset_calibration.h"
@@ -289,16 +290,17 @@ TEST(MapReuse, AfterTwoSecondsWithoutImagesADrivingCameraResumesWhereItDroveTo) 
   EXPECT_LT(e.after, 2.0 * clean.ate.rmse);
 }
 
-// The same on the real hand-held desk sequence, whose camera moves unevenly: frames 350-389
-// (1.3 s) black, the first 450 frames. Tracked as an ordinary frame after the gap, frame 390 found
-// a pose 3.6 cm off that passed as tracked, and the map went wrong from there (the whole sequence:
-// ATE 0.0356 m; clean 0.00075 m). Looked for as after a loss, it resumes in the window (the wide
-// search: the camera moved 4.6 cm and turned 6 degrees meanwhile): 0.0007 m. The bar is twice the
-// clean run's on DSO's figure for the sequence (0.0008-0.0009 m), for other CPUs. About 15 s.
-TEST(MapReuse, VamrDeskLoopResumesInItsMapAfterFortyBlackFrames) {
-  const std::string folder = test::sharedData("vamr_desk_loop");
-  if (folder.empty())
-    GTEST_SKIP() << "../shared/data/vamr_desk_loop is absent: real-data test skipped";
+/// vamr_desk_loop's first `frames` frames, deterministic with the defaults, those in [first, end)
+/// black.
+struct DeskGapRun {
+  SystemStats stats;
+  int lost = 0;
+  eval::AteResult ate;
+  std::size_t after_gap = 0;  ///< poses of frames after the gap
+};
+
+DeskGapRun runDeskWithBlackFrames(const std::string& folder, std::int64_t first, std::int64_t end,
+                                  std::int64_t frames) {
   if (std::getenv("LDSM_DEBUG")) spdlog::set_level(spdlog::level::debug);
   const auto desc = drivers::describeDataset(folder);
   const auto calib = drivers::loadDatasetCalibration(desc);
@@ -309,25 +311,64 @@ TEST(MapReuse, VamrDeskLoopResumesInItsMapAfterFortyBlackFrames) {
   ReuseListener listener;
   system.setListener(&listener);
   drivers::Frame frame;
-  while (source->next(frame) && frame.index < 450) {
-    if (frame.index >= 350 && frame.index < 390) frame.image.fill(0);
+  while (source->next(frame) && frame.index < frames) {
+    if (frame.index >= first && frame.index < end) frame.image.fill(0);
     system.submit({frame.image.view(), frame.timestamp, frame.exposure_ms});
   }
   system.finish();
-  const SystemStats s = system.stats();
+  DeskGapRun r;
+  r.stats = system.stats();
+  r.lost = listener.lost;
   const Trajectory trajectory = system.trajectory();
-  const eval::AteResult ate = eval::computeAte(gt, trajectory);
+  r.ate = eval::computeAte(gt, trajectory);
+  const double gap_end = desc.timestamps[static_cast<std::size_t>(end)];
+  for (const StampedPose& p : trajectory) r.after_gap += p.timestamp >= gap_end ? 1 : 0;
   std::printf(
-      "vamr, 40 black frames: %lld lost, %lld relocalised, %lld new maps, ATE %.5f m over "
-      "%zu poses\n",
-      static_cast<long long>(s.tracking_losses), static_cast<long long>(s.reuse.relocalizations),
-      static_cast<long long>(s.reuse.new_maps), ate.rmse, ate.matched);
-  EXPECT_EQ(s.rejected_frames, 40);
-  EXPECT_EQ(listener.lost, 1);
-  EXPECT_EQ(s.reuse.relocalizations, 1);
-  EXPECT_EQ(s.reuse.new_maps, 0);
-  EXPECT_GT(ate.matched, 450u - 40u - 20u);
-  EXPECT_LT(ate.rmse, 2.0 * 0.0009);
+      "vamr, frames %lld-%lld black: %lld lost, %lld relocalised, %lld new maps, ATE %.5f m over "
+      "%zu poses (%zu after the gap)\n",
+      static_cast<long long>(first), static_cast<long long>(end - 1),
+      static_cast<long long>(r.stats.tracking_losses),
+      static_cast<long long>(r.stats.reuse.relocalizations),
+      static_cast<long long>(r.stats.reuse.new_maps), r.ate.rmse, r.ate.matched, r.after_gap);
+  return r;
+}
+
+// The same on the real hand-held desk sequence, whose camera moves unevenly: frames 350-389
+// (1.3 s) black, the first 450 frames. Tracked as an ordinary frame after the gap, frame 390 found
+// a pose 3.6 cm off that passed as tracked, and the map went wrong from there (the whole sequence:
+// ATE 0.0356 m; clean 0.00075 m). Looked for as after a loss, it resumes in the window (the wide
+// search: the camera moved 4.6 cm and turned 6 degrees meanwhile): 0.0007 m. The bar is twice the
+// clean run's on DSO's figure for the sequence (0.0008-0.0009 m), for other CPUs. About 15 s.
+TEST(MapReuse, VamrDeskLoopResumesInItsMapAfterFortyBlackFrames) {
+  const std::string folder = test::sharedData("vamr_desk_loop");
+  if (folder.empty())
+    GTEST_SKIP() << "../shared/data/vamr_desk_loop is absent: real-data test skipped";
+  const DeskGapRun r = runDeskWithBlackFrames(folder, 350, 390, 450);
+  EXPECT_EQ(r.stats.rejected_frames, 40);
+  EXPECT_EQ(r.lost, 1);
+  EXPECT_EQ(r.stats.reuse.relocalizations, 1);
+  EXPECT_EQ(r.stats.reuse.new_maps, 0);
+  EXPECT_GT(r.ate.matched, 450u - 40u - 20u);
+  EXPECT_LT(r.ate.rmse, 2.0 * 0.0009);
+}
+
+// Frames 360-399 black: the window's track of the frames after the gap is right (0.3-1.1 mm from
+// the clean run's poses) but fits at 63-68 % inliers, short of the 70 % a single frame needs, and
+// the map finds none of them (PnP 0-7 inliers of 16-22 ORB matches). It resumes once that fit has
+// held for five frames in a row (TrackingStage::kSteadyFits). Without that no frame was found in
+// the 5 s before a new map started (the whole sequence: ATE 0.035 m, two maps never merged); here,
+// 60 frames after the gap, nothing after the gap had a pose. About 15 s.
+TEST(MapReuse, VamrDeskLoopResumesWhereOnlyTheWindowsTrackHoldsAfterTheGap) {
+  const std::string folder = test::sharedData("vamr_desk_loop");
+  if (folder.empty())
+    GTEST_SKIP() << "../shared/data/vamr_desk_loop is absent: real-data test skipped";
+  const DeskGapRun r = runDeskWithBlackFrames(folder, 360, 400, 460);
+  EXPECT_EQ(r.lost, 1);
+  EXPECT_EQ(r.stats.reuse.relocalizations, 1);
+  EXPECT_EQ(r.stats.reuse.new_maps, 0);
+  // Resumed within the first frames after the gap (five attempts, and a few more for other CPUs).
+  EXPECT_GE(r.after_gap, 60u - 10u);
+  EXPECT_LT(r.ate.rmse, 2.0 * 0.0009);
 }
 
 class MergeListener : public ReuseListener {

@@ -213,6 +213,16 @@ class TrackingStage {
   /// ...and this many degrees: the map's pose off by 3.1-3.6 degrees (see
   /// resumesWhereTheMapFoundIt) is not agreement.
   static constexpr double kAgreeDegrees = 1.0;
+  /// A fit that resumes where the map found the frame (resumesWhereTheMapFoundIt) resumes without
+  /// the map once it held for kSteadyFits attempts in a row, each within kSteadyMaxGapS of the
+  /// one before, its camera centre within kSteadyAgreeFactor times posesAgree's distance of the
+  /// one before (the camera moves between attempts) and its rotation within posesAgree's angle.
+  static constexpr int kSteadyFits = 5;
+  static constexpr double kSteadyMaxGapS = 0.5;
+  static constexpr double kSteadyAgreeFactor = 2.0;
+  int steady_fits_ = 0;
+  SE3d steady_T_c_w_;
+  double steady_timestamp_ = 0.0;
   bool wait_for_keyframes_ = false;  ///< TrackingStageSettings::wait_for_keyframes
   bool relocalizing_ = false;
   double lost_since_ = 0.0;
