@@ -356,8 +356,8 @@ TEST(MapReuse, VamrDeskLoopResumesInItsMapAfterFortyBlackFrames) {
 // the clean run's poses) but fits at 63-68 % inliers, short of the 70 % a single frame needs, and
 // the map finds none of them (PnP 0-7 inliers of 16-22 ORB matches). It resumes once that fit has
 // held for five frames in a row (TrackingStage::kSteadyFits). Without that no frame was found in
-// the 5 s before a new map started (the whole sequence: ATE 0.035 m, two maps never merged); here,
-// 60 frames after the gap, nothing after the gap had a pose. About 15 s.
+// the 5 s before a new map started (the whole sequence: ATE 0.035 m, two maps never merged), and
+// in this test's 460 frames no frame after the gap had a pose. About 15 s.
 TEST(MapReuse, VamrDeskLoopResumesWhereOnlyTheWindowsTrackHoldsAfterTheGap) {
   const std::string folder = test::sharedData("vamr_desk_loop");
   if (folder.empty())

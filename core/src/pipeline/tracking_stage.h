@@ -215,8 +215,8 @@ class TrackingStage {
   static constexpr double kAgreeDegrees = 1.0;
   /// A fit that resumes where the map found the frame (resumesWhereTheMapFoundIt) resumes without
   /// the map once it held for kSteadyFits attempts in a row, each within kSteadyMaxGapS of the
-  /// one before, its camera centre within kSteadyAgreeFactor times posesAgree's distance of the
-  /// one before (the camera moves between attempts) and its rotation within posesAgree's angle.
+  /// one before, its camera centre and rotation within kSteadyAgreeFactor times posesAgree's
+  /// distance and angle of the one before (the camera moves between attempts).
   static constexpr int kSteadyFits = 5;
   static constexpr double kSteadyMaxGapS = 0.5;
   static constexpr double kSteadyAgreeFactor = 2.0;
