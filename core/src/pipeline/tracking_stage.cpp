@@ -491,12 +491,9 @@ void TrackingStage::relocalizeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent
     // (47-55 % inliers) in the measurements (docs/map-reuse.md).
     if (!good_fit && !map_pose_kept && near_window &&
         resumesWhereTheMapFoundIt(outcome, rmse_before_loss_)) {
-      const SE3d moved = outcome.T_c_w * steady_T_c_w_.inverse();
       const bool continues =
           steady_fits_ > 0 && frame.timestamp - steady_timestamp_ <= kSteadyMaxGapS &&
-          moved.translation().norm() <=
-              kSteadyAgreeFactor * kAgreeMedianDepths * std::max(snap->median_depth, 1e-9) &&
-          moved.so3().log().norm() <= radians(kSteadyAgreeFactor * kAgreeDegrees);
+          posesAgree(outcome.T_c_w, steady_T_c_w_, snap->median_depth, kSteadyAgreeFactor);
       steady_fits_ = continues ? steady_fits_ + 1 : 1;
       steady_T_c_w_ = outcome.T_c_w;
       steady_timestamp_ = frame.timestamp;
@@ -566,10 +563,11 @@ bool TrackingStage::plausibleAfterLoss(const FrameTrackingOutcome& o, double rms
   return !(rmse_before_loss > 0.0) || o.rmse <= kResumeFarMaxRmseGrowth * rmse_before_loss;
 }
 
-bool TrackingStage::posesAgree(const SE3d& a_T_c_w, const SE3d& b_T_c_w, double median_depth) {
+bool TrackingStage::posesAgree(const SE3d& a_T_c_w, const SE3d& b_T_c_w, double median_depth,
+                               double tolerance) {
   const SE3d d = a_T_c_w * b_T_c_w.inverse();
-  return d.translation().norm() <= kAgreeMedianDepths * std::max(median_depth, 1e-9) &&
-         d.so3().log().norm() <= radians(kAgreeDegrees);
+  return d.translation().norm() <= tolerance * kAgreeMedianDepths * std::max(median_depth, 1e-9) &&
+         d.so3().log().norm() <= radians(tolerance * kAgreeDegrees);
 }
 
 RelocalizationResult TrackingStage::findInMap(const ImagePyramid& pyr, double exposure,

@@ -123,8 +123,9 @@ class TrackingStage {
   /// and its residual within kResumeFarMaxRmseGrowth of `rmse_before_loss`.
   static bool plausibleAfterLoss(const FrameTrackingOutcome& o, double rmse_before_loss);
   /// Whether two poses of one frame agree: within kAgreeMedianDepths of `median_depth` and
-  /// kAgreeDegrees of each other.
-  static bool posesAgree(const SE3d& a_T_c_w, const SE3d& b_T_c_w, double median_depth);
+  /// kAgreeDegrees of each other, both times `tolerance` (poses of consecutive frames: wider).
+  static bool posesAgree(const SE3d& a_T_c_w, const SE3d& b_T_c_w, double median_depth,
+                         double tolerance = 1.0);
 
  private:
   /// A frame for the initializer, and the initialisation it finished (the map made).

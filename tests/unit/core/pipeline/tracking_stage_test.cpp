@@ -81,6 +81,11 @@ TEST(TrackingStageResume, TwoPosesAgreeWithinTwoHundredthsOfTheMedianDepthAndOne
   // The map's pose 3.55 degrees from the window's track (a worse minimum of its fit): no agreement.
   EXPECT_FALSE(TrackingStage::posesAgree(moved(0.0, 3.55), a, 2.0));
   EXPECT_FALSE(TrackingStage::posesAgree(moved(0.0, 1.01), a, 2.0));
+  // Consecutive frames' tracks (the steady fit after a loss): both bounds twice as wide.
+  EXPECT_TRUE(TrackingStage::posesAgree(moved(0.079, 0.0), a, 2.0, 2.0));
+  EXPECT_FALSE(TrackingStage::posesAgree(moved(0.081, 0.0), a, 2.0, 2.0));
+  EXPECT_TRUE(TrackingStage::posesAgree(moved(0.0, 1.99), a, 2.0, 2.0));
+  EXPECT_FALSE(TrackingStage::posesAgree(moved(0.0, 2.01), a, 2.0, 2.0));
 }
 
 TEST(TrackingStageResume, AFailedTrackNeverResumes) {
