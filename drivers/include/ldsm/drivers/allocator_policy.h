@@ -18,7 +18,8 @@ constexpr std::size_t kMmapThresholdBytes = 256 * 1024;
 
 /// Fixes the C library's mmap threshold at `mmap_threshold` bytes (blocks at least this large are
 /// mapped on their own and returned to the system when freed). Returns false where the C library
-/// has no such setting (not glibc), or when it refused the value; nothing changes then.
+/// has no such setting (not glibc), or when the allocator refused the value (too large for glibc;
+/// any value under AddressSanitizer, whose allocator replaces glibc's); nothing changes then.
 bool setHeapPolicy(std::size_t mmap_threshold = kMmapThresholdBytes);
 
 }  // namespace ldsm::drivers
