@@ -6,8 +6,9 @@
 //      anywhere in the map (a bag-of-words query, when given: a kidnapped camera, a loaded map);
 //   3. ORB matches to each candidate's corners with depth, the best candidates by match count;
 //   4. RANSAC PnP of the candidate's 3D corners against the frame's corners;
-//   5. direct (photometric) alignment of the candidate's points to the frame from the PnP pose,
-//      which must hold (enough inliers) for the relocalisation to count.
+//   5. direct (photometric) alignment of the candidate's points to the frame from the PnP pose
+//      (where PnP failed: from the candidate's own pose, reuse.relocalization_direct_start),
+//      which must hold (enough inliers, correlated patterns) for the relocalisation to count.
 // confirm() checks a pose found another way (the kept window's track) with step 5 alone.
 // Runs on the tracking thread while tracking is lost; reads the map store.
 #pragma once
@@ -39,6 +40,8 @@ struct RelocalizationResult {
   int pnp_inliers = 0;
   int direct_inliers = 0;
   int direct_points = 0;
+  /// The direct fit started from the keyframe's own pose (its PnP failed), not from a PnP pose.
+  bool from_keyframe_pose = false;
 };
 
 class Relocalizer {
@@ -81,10 +84,11 @@ class Relocalizer {
   /// its reason).
   PnpRansacResult solvePnp(const MarginalizedKeyframe& kf, const KeyframeRecord& pose,
                            RelocalizationResult& out) const;
-  /// 5. Direct alignment of the keyframe's points from T_start; it must also correlate.
+  /// 5. Direct alignment of the keyframe's points from T_start; it must also correlate (more
+  /// strongly `from_keyframe_pose`, T_start the keyframe's own pose: no PnP pose backs it).
   DirectAlignmentResult alignDirectly(const MarginalizedKeyframe& kf, const KeyframeRecord& pose,
                                       const ImagePyramid& frame, double exposure,
-                                      const SE3d& T_start) const;
+                                      const SE3d& T_start, bool from_keyframe_pose = false) const;
   /// 6. From the pose found, direct alignment to the map keyframes seen from nearer (within the
   /// search radius, or covisible with the one found): the nearest that holds gives the pose. A
   /// match found by place recognition may be a keyframe far from the frame, and the direct fit to

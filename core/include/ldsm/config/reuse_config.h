@@ -113,6 +113,9 @@ struct ReuseConfig {
   /// a new map is started (0: start a new map at once).
   double relocalization_timeout_s = 5.0;
   int relocalization_min_inliers = 15;  ///< PnP inliers of a relocalisation
+  /// A candidate with enough ORB matches whose PnP fails (most matches wrong: a repeated texture)
+  /// is aligned directly from its own pose; the fit must pass the same checks.
+  bool relocalization_direct_start = true;
   /// Share of the keyframe's points in view that must be photometric inliers.
   double relocalization_min_direct_inliers = 0.5;
   /// Keyframes searched around the last known pose, times the last median depth.
@@ -211,6 +214,8 @@ struct ReuseConfig {
             "seconds of relocalisation attempts after a tracking loss before a new map starts");
     v.field("relocalization_min_inliers", relocalization_min_inliers, Range<int>{6, 10000},
             "PnP inliers a relocalisation needs");
+    v.field("relocalization_direct_start", relocalization_direct_start,
+            "a candidate whose PnP fails is aligned directly from its own pose");
     v.field("relocalization_min_direct_inliers", relocalization_min_direct_inliers,
             Range<double>{0.0, 1.0},
             "share of the keyframe's points in view that must be photometric inliers");

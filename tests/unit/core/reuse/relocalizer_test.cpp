@@ -25,10 +25,11 @@ SE3d cameraAt(const Eigen::Vector3d& c, double yaw_deg = 0.0) {
 }
 
 struct KeyframeOptions {
-  bool corner_depths = true;  ///< false: the corners' depths are unknown (NaN)
-  bool pose_record = true;    ///< false: the map has the data but no pose for it
-  bool true_colours = true;   ///< false: pattern intensities of another image
-  bool points = true;         ///< false: no points (only corners) kept
+  bool corner_depths = true;   ///< false: the corners' depths are unknown (NaN)
+  bool pose_record = true;     ///< false: the map has the data but no pose for it
+  bool true_colours = true;    ///< false: pattern intensities of another image
+  bool points = true;          ///< false: no points (only corners) kept
+  bool wrong_matches = false;  ///< true: each descriptor kept with another corner (PnP fails)
 };
 
 class RelocalizerTest : public ::testing::Test {
@@ -75,7 +76,10 @@ class RelocalizerTest : public ::testing::Test {
     for (const Corner& c : corners) pixels.emplace_back(c.u, c.v);
     std::vector<std::uint32_t> kept;
     OrbExtractor(kW, kH).compute(img.view(), pixels, kf->descriptors, kept);
-    for (const std::uint32_t i : kept) {
+    for (std::size_t k = 0; k < kept.size(); ++k) {
+      // Wrong matches: descriptor k with the corner half the list away, as if a repeated texture
+      // had matched every corner to its twin elsewhere.
+      const std::uint32_t i = kept[o.wrong_matches ? (k + kept.size() / 2) % kept.size() : k];
       kf->corners.push_back(pixels[i]);
       kf->corner_idepth.push_back(
           o.corner_depths
@@ -222,6 +226,56 @@ TEST_F(RelocalizerTest, DirectAlignmentRejectsUnrelatedIntensitiesOfALowContrast
                           << r.direct_inliers << " of " << r.direct_points << " points inliers";
   EXPECT_EQ(r.failure.rfind("direct alignment to keyframe", 0), 0u) << r.failure;
   EXPECT_NE(r.failure.find("correlate"), std::string::npos) << r.failure;
+}
+
+// PnP fails where most ORB matches are wrong (every descriptor with another corner here; a
+// repeated texture in vamr_desk_loop after a gap), although the keyframe shows the place: the frame
+// is aligned directly from the keyframe's own pose and found; with
+// reuse.relocalization_direct_start off it is not, and the failure names PnP.
+TEST_F(RelocalizerTest, WherePnpFailsTheDirectFitFromTheKeyframesPoseFindsTheFrame) {
+  KeyframeOptions o;
+  o.wrong_matches = true;
+  addPath(o);
+  const SE3d T_w_frame = cameraAt({0.53, -0.02, 0.27}, 7.0);  // 4 cm and 1 degree from keyframe 1
+  const RelocalizationResult r = relocalize(frameAt(T_w_frame));
+  ASSERT_TRUE(r.success) << r.failure;
+  EXPECT_TRUE(r.from_keyframe_pose);
+  EXPECT_LT(r.pnp_inliers, config_.relocalization_min_inliers);
+  EXPECT_GE(r.matches, config_.relocalization_min_inliers);
+  const SE3d err = r.T_c_w * T_w_frame;
+  EXPECT_LT(err.so3().log().norm(), 1e-3);
+  EXPECT_LT(err.translation().norm(), 0.005);
+  EXPECT_GE(r.direct_inliers, 0.9 * r.direct_points);
+
+  config_.relocalization_direct_start = false;
+  const RelocalizationResult off = relocalize(frameAt(T_w_frame));
+  EXPECT_FALSE(off.success);
+  EXPECT_EQ(off.failure.rfind("PnP against keyframe", 0), 0u) << off.failure;
+}
+
+// The direct fit from a keyframe's pose counts only where it holds: a frame of a place the map
+// never saw fails, and a failure names both PnP and the direct fit.
+TEST_F(RelocalizerTest, TheDirectFitFromAKeyframesPoseFailsForAPlaceTheMapNeverSaw) {
+  KeyframeOptions o;
+  o.wrong_matches = true;
+  addPath(o);
+  const RelocalizationResult never_seen = relocalize(frameAt(cameraAt({30.0, 0, 0.3}, 4.0)));
+  EXPECT_FALSE(never_seen.success);
+  EXPECT_EQ(never_seen.keyframe_id, -1);
+}
+
+TEST_F(RelocalizerTest, TheDirectFitFromAKeyframesPoseMustCorrelate) {
+  // The keyframes' points with another image's intensities: PnP fails (wrong matches), and the
+  // direct fit from the keyframe's pose does not correlate.
+  KeyframeOptions o;
+  o.wrong_matches = true;
+  o.true_colours = false;
+  addPath(o);
+  const RelocalizationResult r = relocalize(frameAt(cameraAt({0.53, -0.02, 0.27}, 7.0)));
+  EXPECT_FALSE(r.success);
+  EXPECT_FALSE(r.from_keyframe_pose);
+  EXPECT_EQ(r.failure.rfind("PnP against keyframe", 0), 0u) << r.failure;
+  EXPECT_NE(r.failure.find("direct alignment from its pose"), std::string::npos) << r.failure;
 }
 
 // Confirming a pose found another way (the kept window's track after a loss): the nearest map
