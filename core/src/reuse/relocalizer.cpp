@@ -171,6 +171,12 @@ RelocalizationResult Relocalizer::relocalize(const ImagePyramid& frame, double e
   }
   RelocalizationResult best;
   double best_angle = 0.0;
+  struct PnpFailure {
+    std::shared_ptr<const MarginalizedKeyframe> kf;
+    KeyframeRecord pose;
+    RelocalizationResult counts;  ///< its match counts and PnP failure
+  };
+  std::vector<PnpFailure> pnp_failed;
   for (int k = 0; k < kTriedCandidates && k < static_cast<int>(scored.size()); ++k) {
     const auto [matches, id] = scored[static_cast<std::size_t>(k)];
     if (matches < pnp_.min_inliers) {
@@ -187,46 +193,60 @@ RelocalizationResult Relocalizer::relocalize(const ImagePyramid& frame, double e
       continue;
     }
     const PnpRansacResult pnp = solvePnp(*kf, pose, out);
-    // PnP fails where most matches are wrong although the keyframe shows the place (a repeated
-    // texture: vamr_desk_loop's checkerboard after a gap, 8-14 PnP inliers of 23 matches); the
-    // direct fit from the keyframe's own pose, coarse to fine, still converges when the camera is
-    // near that viewpoint, and must pass the same checks as one from a PnP pose.
-    if (!pnp.success && !config_.relocalization_direct_start) continue;
-    const bool from_keyframe_pose = !pnp.success;
-    const DirectAlignmentResult direct =
-        alignDirectly(*kf, pose, frame, exposure, from_keyframe_pose ? SE3d() : pnp.T_camera_points,
-                      from_keyframe_pose);
-    if (!direct.success) {
-      if (!best.success) {
-        best.failure =
-            (from_keyframe_pose ? out.failure + "; direct alignment from its pose: "
-                                : "direct alignment to keyframe " + std::to_string(kf->id) + ": ") +
-            direct.failure;
-        best.direct_inliers = direct.inliers;
-        best.direct_points = direct.in_image;
-        best.matches = out.matches;
-        best.pnp_inliers = out.pnp_inliers;
-      }
-      continue;
+    if (pnp.success) {
+      considerFit(*kf, pose, frame, exposure, pnp.T_camera_points, false, out, best, best_angle);
+    } else if (config_.relocalization_direct_start) {
+      pnp_failed.push_back({kf, pose, out});
     }
-    // Of the candidates that hold, the one seen from the nearest viewpoint: the photometric
-    // alignment (an unwarped pattern, the map's depths) is most accurate there.
-    const double angle = direct.T_target_host.so3().log().norm();
-    if (best.success && angle >= best_angle) continue;
-    best_angle = angle;
-    best = out;
-    best.success = true;
-    best.failure.clear();
-    best.keyframe_id = kf->id;
-    best.from_keyframe_pose = from_keyframe_pose;
-    best.direct_inliers = direct.inliers;
-    best.direct_points = direct.in_image;
-    best.T_c_w = direct.T_target_host * pose.T_w_c.inverse();
-    best.aff = frameBrightness(direct, *kf, exposure);
   }
+  // PnP fails where most matches are wrong although the keyframe shows the place (a repeated
+  // texture: vamr_desk_loop's checkerboard after a gap, 8-14 PnP inliers of 23 matches). Where no
+  // fit from a PnP pose held, those candidates are aligned directly from their own poses: coarse
+  // to fine, that converges when the camera is near the viewpoint, and it must pass the same
+  // checks with a stronger pattern correlation.
+  if (!best.success)
+    for (const PnpFailure& c : pnp_failed)
+      considerFit(*c.kf, c.pose, frame, exposure, SE3d(), true, c.counts, best, best_angle);
   if (!best.success && best.failure.empty()) best.failure = out.failure;
   if (best.success) refineFromNearer(frame, exposure, map, median_depth, best);
   return best;
+}
+
+void Relocalizer::considerFit(const MarginalizedKeyframe& kf, const KeyframeRecord& pose,
+                              const ImagePyramid& frame, double exposure, const SE3d& T_start,
+                              bool from_keyframe_pose, const RelocalizationResult& counts,
+                              RelocalizationResult& best, double& best_angle) const {
+  const DirectAlignmentResult direct =
+      alignDirectly(kf, pose, frame, exposure, T_start, from_keyframe_pose);
+  if (!direct.success) {
+    // The last failure says why; one from a PnP pose is kept over those from keyframes' poses.
+    const bool pnp_fit_failed_before = best.pnp_inliers >= pnp_.min_inliers;
+    if (!best.success && !(from_keyframe_pose && pnp_fit_failed_before)) {
+      best.failure =
+          (from_keyframe_pose ? counts.failure + "; direct alignment from its pose: "
+                              : "direct alignment to keyframe " + std::to_string(kf.id) + ": ") +
+          direct.failure;
+      best.direct_inliers = direct.inliers;
+      best.direct_points = direct.in_image;
+      best.matches = counts.matches;
+      best.pnp_inliers = counts.pnp_inliers;
+    }
+    return;
+  }
+  // Of the candidates that hold, the one seen from the nearest viewpoint: the photometric
+  // alignment (an unwarped pattern, the map's depths) is most accurate there.
+  const double angle = direct.T_target_host.so3().log().norm();
+  if (best.success && angle >= best_angle) return;
+  best_angle = angle;
+  best = counts;
+  best.success = true;
+  best.failure.clear();
+  best.keyframe_id = kf.id;
+  best.from_keyframe_pose = from_keyframe_pose;
+  best.direct_inliers = direct.inliers;
+  best.direct_points = direct.in_image;
+  best.T_c_w = direct.T_target_host * pose.T_w_c.inverse();
+  best.aff = frameBrightness(direct, kf, exposure);
 }
 
 AffineLight Relocalizer::frameBrightness(const DirectAlignmentResult& direct,

@@ -6,9 +6,10 @@
 //      anywhere in the map (a bag-of-words query, when given: a kidnapped camera, a loaded map);
 //   3. ORB matches to each candidate's corners with depth, the best candidates by match count;
 //   4. RANSAC PnP of the candidate's 3D corners against the frame's corners;
-//   5. direct (photometric) alignment of the candidate's points to the frame from the PnP pose
-//      (where PnP failed: from the candidate's own pose, reuse.relocalization_direct_start),
-//      which must hold (enough inliers, correlated patterns) for the relocalisation to count.
+//   5. direct (photometric) alignment of the candidate's points to the frame from the PnP pose,
+//      which must hold (enough inliers, correlated patterns) for the relocalisation to count;
+//      where no PnP pose held, from the own pose of each candidate whose PnP failed
+//      (reuse.relocalization_direct_start), with a stronger correlation.
 // confirm() checks a pose found another way (the kept window's track) with step 5 alone.
 // Runs on the tracking thread while tracking is lost; reads the map store.
 #pragma once
@@ -40,7 +41,9 @@ struct RelocalizationResult {
   int pnp_inliers = 0;
   int direct_inliers = 0;
   int direct_points = 0;
-  /// The direct fit started from the keyframe's own pose (its PnP failed), not from a PnP pose.
+  /// The fit that found the frame started from the candidate keyframe's own pose (its PnP failed
+  /// and no candidate's PnP pose held), not from a PnP pose; refineFromNearer() may have moved
+  /// the result to a nearer keyframe since.
   bool from_keyframe_pose = false;
 };
 
@@ -89,6 +92,13 @@ class Relocalizer {
   DirectAlignmentResult alignDirectly(const MarginalizedKeyframe& kf, const KeyframeRecord& pose,
                                       const ImagePyramid& frame, double exposure,
                                       const SE3d& T_start, bool from_keyframe_pose = false) const;
+  /// Direct alignment of `kf` from T_start (alignDirectly); where it holds and is seen from a
+  /// nearer viewpoint than `best` (its rotation from the keyframe, `best_angle`), it becomes
+  /// `best` with `counts`' match counts; where it fails and nothing failed before, `best` says why.
+  void considerFit(const MarginalizedKeyframe& kf, const KeyframeRecord& pose,
+                   const ImagePyramid& frame, double exposure, const SE3d& T_start,
+                   bool from_keyframe_pose, const RelocalizationResult& counts,
+                   RelocalizationResult& best, double& best_angle) const;
   /// 6. From the pose found, direct alignment to the map keyframes seen from nearer (within the
   /// search radius, or covisible with the one found): the nearest that holds gives the pose. A
   /// match found by place recognition may be a keyframe far from the frame, and the direct fit to

@@ -113,8 +113,9 @@ struct ReuseConfig {
   /// a new map is started (0: start a new map at once).
   double relocalization_timeout_s = 5.0;
   int relocalization_min_inliers = 15;  ///< PnP inliers of a relocalisation
-  /// A candidate with enough ORB matches whose PnP fails (most matches wrong: a repeated texture)
-  /// is aligned directly from its own pose; the fit must pass the same checks.
+  /// Where no candidate's PnP pose holds, those with enough ORB matches whose PnP failed (most
+  /// matches wrong: a repeated texture) are aligned directly from their own poses; the fit must
+  /// pass the same checks, with a pattern correlation of 0.7 instead of 0.3.
   bool relocalization_direct_start = true;
   /// Share of the keyframe's points in view that must be photometric inliers.
   double relocalization_min_direct_inliers = 0.5;
