@@ -177,7 +177,7 @@ bool FrameTracker::keyframeWanted(const CoarseTrackingResult& r, double rmse) co
                        kf_config_.flow_full_weight * size_norm * r.flow_full +
                        kf_config_.brightness_weight * std::fabs(std::log(r.brightness_scale));
   return score > 1.0 || (first_rmse_ > 0.0 && rmse > kf_config_.residual_factor * first_rmse_) ||
-         r.coverage < kf_config_.min_coverage;
+         r.coverage < kf_config_.min_coverage || r.inlier_fraction < kf_config_.min_inlier_fraction;
 }
 
 }  // namespace ldsm
