@@ -229,8 +229,8 @@ struct KeyframeConfig {
   /// inliers of the tracking fit (0: never). The residual rule compares with the first frame
   /// tracked against the reference, which can already fit badly: on vamr_desk_loop after a gap the
   /// frames after a jerk fitted their new reference at 72 % inliers, sliding to 46 % over 17 frames
-  /// and 3.6 cm off, with no keyframe and no loss. Tracked frames of the real and rendered
-  /// sequences stay above 80 % (docs/engine.md, "Keyframe rate").
+  /// and 3.6 cm off, with no keyframe and no loss. The tracked frames of the 12 checksum runs
+  /// (real and rendered sequences, no gaps) stay above 80 % (docs/engine.md, "Keyframe rate").
   double min_inlier_fraction = 0.7;
 
   template <typename V>
