@@ -219,9 +219,8 @@ void Relocalizer::considerFit(const MarginalizedKeyframe& kf, const KeyframeReco
   const DirectAlignmentResult direct =
       alignDirectly(kf, pose, frame, exposure, T_start, from_keyframe_pose);
   if (!direct.success) {
-    // The last failure says why; one from a PnP pose is kept over those from keyframes' poses.
-    const bool pnp_fit_failed_before = best.pnp_inliers >= pnp_.min_inliers;
-    if (!best.success && !(from_keyframe_pose && pnp_fit_failed_before)) {
+    // While nothing has held, the last failure says why.
+    if (!best.success) {
       best.failure =
           (from_keyframe_pose ? counts.failure + "; direct alignment from its pose: "
                               : "direct alignment to keyframe " + std::to_string(kf.id) + ": ") +

@@ -94,8 +94,7 @@ class Relocalizer {
                                       const SE3d& T_start, bool from_keyframe_pose = false) const;
   /// Direct alignment of `kf` from T_start (alignDirectly); where it holds and is seen from a
   /// nearer viewpoint than `best` (its rotation from the keyframe, `best_angle`), it becomes
-  /// `best` with `counts`' match counts; where it fails while nothing has held, `best` says why
-  /// (the last failure, but one from a PnP pose is never replaced by one from a keyframe's pose).
+  /// `best` with `counts`' match counts; where it fails while nothing has held, `best` says why.
   void considerFit(const MarginalizedKeyframe& kf, const KeyframeRecord& pose,
                    const ImagePyramid& frame, double exposure, const SE3d& T_start,
                    bool from_keyframe_pose, const RelocalizationResult& counts,

@@ -27,10 +27,10 @@ SE3d cameraAt(const Eigen::Vector3d& c, double yaw_deg = 0.0) {
 struct KeyframeOptions {
   bool corner_depths = true;   ///< false: the corners' depths are unknown (NaN)
   bool pose_record = true;     ///< false: the map has the data but no pose for it
-  bool true_colours = true;    ///< false: pattern intensities of another image
   bool points = true;          ///< false: no points (only corners) kept
   bool wrong_matches = false;  ///< true: each descriptor kept with another corner (PnP fails)
-  /// Share of the true image in the points' intensities, the rest another image's (1: true).
+  /// Share of the true image in the points' intensities, the rest another image's (1: the true
+  /// intensities; 0: another image's).
   float colour_share = 1.f;
 };
 
@@ -52,7 +52,6 @@ class RelocalizerTest : public ::testing::Test {
     const ImageF img = scene_.render(T_w_c);
     const ImageF other =
         test::renderImage(kW, kH, [](double x, double y) { return test::texture(x, y, 12.0, 77); });
-    const ImageF& colours = o.true_colours ? img : other;
     auto kf = std::make_shared<MarginalizedKeyframe>();
     kf->id = id;
     kf->T_w_c = T_w_c;
@@ -67,7 +66,7 @@ class RelocalizerTest : public ::testing::Test {
         p.idepth = static_cast<float>(1.0 / scene_.depth(T_w_c, x, y));
         for (int k = 0; k < kPatternSize; ++k) {
           const int px = x + kPatternOffsets[k][0], py = y + kPatternOffsets[k][1];
-          p.colors[k] = o.colour_share * colours(px, py) + (1.f - o.colour_share) * other(px, py);
+          p.colors[k] = o.colour_share * img(px, py) + (1.f - o.colour_share) * other(px, py);
         }
         kf->points.push_back(p);
       }
@@ -224,7 +223,7 @@ TEST_F(RelocalizerTest, DirectAlignmentMustHoldForTheRelocalisationToCount) {
 // which unrelated intensities do not, however the contrast is fitted.
 TEST_F(RelocalizerTest, DirectAlignmentRejectsUnrelatedIntensitiesOfALowContrastFrame) {
   KeyframeOptions o;
-  o.true_colours = false;
+  o.colour_share = 0.f;
   addPath(o);
   const RelocalizationResult r = relocalize(frameAt(cameraAt({0.5, 0.05, 0.2}, 5.0)));
   EXPECT_GE(r.pnp_inliers, config_.relocalization_min_inliers);
@@ -318,7 +317,7 @@ TEST_F(RelocalizerTest, TheDirectFitFromAKeyframesPoseMustCorrelate) {
   // direct fit from the keyframe's pose does not correlate.
   KeyframeOptions o;
   o.wrong_matches = true;
-  o.true_colours = false;
+  o.colour_share = 0.f;
   addPath(o);
   const RelocalizationResult r = relocalize(frameAt(cameraAt({0.53, -0.02, 0.27}, 7.0)));
   EXPECT_FALSE(r.success);
