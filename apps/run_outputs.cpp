@@ -298,6 +298,8 @@ void writeRunOutputs(const std::string& dir, const System& system, const Traject
     j.key("max_source_lateness_ms").value(summary.max_source_lateness_ms);
   }
   j.endObject();
+  j.key("loop_dropped_keyframes").value(s.loop_dropped_keyframes);
+  j.key("loop_unfinished_jobs").value(s.loop_unfinished_jobs);
   j.key("loops_closed").value(s.loops_closed);  // "loops" lists the newest kMaxLoopEvents
   j.key("loops").beginArray();
   for (const LoopClosureEvent& l : s.loops) {

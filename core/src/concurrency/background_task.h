@@ -112,11 +112,28 @@ class BackgroundTask {
     return idle();
   }
 
+  /// End of a run, bounded: waits up to `timeout` for every submitted job; if some are still
+  /// unprocessed then, stops the task (stop(): the running job is asked to abort, the queued ones
+  /// are dropped). Returns unfinished(): 0 when every job was processed (the task keeps running),
+  /// else how many were not when it was stopped. After a non-zero return the worker has been
+  /// joined, so the processor's state may be read from the calling thread.
+  std::uint64_t finish(std::chrono::milliseconds timeout) {
+    if (!aborted() && waitIdle(timeout)) return 0;
+    stop();
+    return unfinished();
+  }
+
   /// Every submitted job has been processed (a snapshot).
   bool idle() const { return processed() >= submitted(); }
+  /// stop() was called (by finish() or the owner): submit() refuses every job.
+  bool stopped() const { return aborted(); }
   /// Raises the abort flag (the running job should return soon), joins the worker and drops what
   /// is still queued. Idempotent; the destructor calls it.
   void stop() {
+    if (!abort_.load(std::memory_order_acquire)) {
+      const std::uint64_t done = processed(), all = submitted();
+      unfinished_.store(all > done ? all - done : 0, std::memory_order_relaxed);
+    }
     abort_.store(true, std::memory_order_release);
     if (worker_) worker_->stop();
     idle_cv_.notify_all();
@@ -127,6 +144,9 @@ class BackgroundTask {
   std::uint64_t processed() const { return processed_.load(std::memory_order_acquire); }
   std::uint64_t dropped() const { return dropped_.load(std::memory_order_relaxed); }
   std::uint64_t failed() const { return failed_.load(std::memory_order_relaxed); }
+  /// Jobs submitted and not processed when stop() was first called (the running one included:
+  /// it was asked to abort); 0 while the task runs.
+  std::uint64_t unfinished() const { return unfinished_.load(std::memory_order_relaxed); }
 
  private:
   bool aborted() const { return abort_.load(std::memory_order_acquire); }
@@ -166,7 +186,7 @@ class BackgroundTask {
   concurrency::SpscRing<Job> queue_;
   ResultMailbox<Result> mailbox_;
   std::atomic<bool> abort_{false};
-  std::atomic<std::uint64_t> submitted_{0}, processed_{0}, dropped_{0}, failed_{0};
+  std::atomic<std::uint64_t> submitted_{0}, processed_{0}, dropped_{0}, failed_{0}, unfinished_{0};
   std::mutex idle_mutex_;
   std::condition_variable idle_cv_;
   std::unique_ptr<WorkerThread> worker_;  // last: stopped before the members it uses go away

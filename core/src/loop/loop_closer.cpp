@@ -42,21 +42,28 @@ void LoopCloser::keyframeLeftWindow(MarginalizedKeyframe&& kf) {
     spdlog::debug("loop closure: queue full, keyframe {} not indexed", id);
 }
 
-void LoopCloser::waitIdle() {
-  if (!task_->waitIdle(std::chrono::seconds(60)))
-    spdlog::warn("loop closure: background task still busy after 60 s");
-}
-
 void LoopCloser::flush() {
-  LoopJob flush;
-  flush.id = -1;  // no keyframe: only the pending pose graph
-  // Waits for room: the flush must not be dropped like a keyframe in a full queue.
-  while (!task_->submit(std::move(flush))) {
-    waitIdle();
-    flush = LoopJob();
+  using Clock = std::chrono::steady_clock;
+  const auto limit = std::chrono::duration_cast<std::chrono::milliseconds>(
+      std::chrono::duration<double>(config_.finish_timeout_s));
+  const Clock::time_point start = Clock::now();
+  // The queue drains first, so the flush job (no keyframe: only the pending pose graph) finds
+  // room and is never dropped like a keyframe in a full queue.
+  if (task_->waitIdle(limit)) {
+    LoopJob flush;
     flush.id = -1;
+    task_->submit(std::move(flush));
   }
-  waitIdle();
+  const auto left =
+      std::max(std::chrono::milliseconds(0),
+               limit - std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - start));
+  if (const std::uint64_t left_over = task_->finish(left); left_over > 0) {
+    spdlog::warn(
+        "loop closure: still busy after {} s (loop.finish_timeout_s) at the end of the run; "
+        "stopped with {} job(s) unfinished: their loops and the pending pose-graph correction "
+        "are not applied",
+        config_.finish_timeout_s, left_over);
+  }
 }
 
 LoopCloser::GraphExport LoopCloser::exportGraph(

@@ -49,18 +49,22 @@ class LoopCloser {
   void keyframeLeftWindow(MarginalizedKeyframe&& kf);
   /// Mapping thread, at a safe point: corrections published since the last call.
   std::vector<LoopCorrection> takeCorrections() { return task_->tryTakeResults(); }
-  /// Waits (bounded) until every queued keyframe is processed; end of a run.
-  void waitIdle();
-  /// Runs a pose-graph optimisation that is still pending (deferred, loop.pose_graph_delay_*)
-  /// once the queued keyframes are processed; end of a run.
+  /// End of a run: processes the queued keyframes, then runs a pose-graph optimisation that is
+  /// still pending (deferred, loop.pose_graph_delay_*), all within loop.finish_timeout_s. What is
+  /// not done by then is abandoned: the background task is stopped (a running solve aborts, its
+  /// correction is not applied) and unfinishedKeyframes() says how many jobs were left. Either
+  /// way the task is idle afterwards, so the graph may be exported.
   void flush();
+  /// Keyframes that found the queue full and were not indexed (threaded mode).
   std::uint64_t droppedKeyframes() const { return task_->dropped(); }
+  /// Jobs (keyframes, and the final pose-graph run) abandoned by flush() when its time ran out.
+  std::uint64_t unfinishedKeyframes() const { return task_->unfinished(); }
   /// The pose graph's size after the last processed keyframe (any thread).
   std::int64_t graphVertices() const { return graph_vertices_.load(std::memory_order_relaxed); }
   std::int64_t graphEdges() const { return graph_edges_.load(std::memory_order_relaxed); }
   /// A new map after tracking was lost: its keyframes are not chained to the old ones.
   void startNewMap() { new_map_.store(true); }
-  // ---- Saved maps (call while the task is idle: after waitIdle(), or before the first keyframe)
+  // ---- Saved maps (call while the task is idle: after flush(), or before the first keyframe)
   /// The pose graph's edges between keyframes of `ids`, plus odometry edges chaining `window`
   /// (the window's keyframes with their poses, in order) to the newest vertex; and the
   /// vocabulary (null before the first online training).

@@ -62,6 +62,9 @@ struct LoopConfig {
   /// Keyframes waiting for loop closure (threaded mode; rounded up to a power of two). A
   /// keyframe that finds the queue full is not indexed (loop closure never holds up mapping).
   int queue_capacity = 16;
+  /// At the end of a run (and before a map is saved) loop closure gets this long to process its
+  /// queue and the pending pose graph; then it is stopped and what is unfinished is reported.
+  double finish_timeout_s = 60.0;
 
   template <typename V>
   void visit(V& v) {
@@ -108,6 +111,9 @@ struct LoopConfig {
     v.field("queue_capacity", queue_capacity, Range<int>{1, 1024},
             "keyframes waiting for loop closure (threaded mode); one that finds the queue full "
             "is not indexed");
+    v.field("finish_timeout_s", finish_timeout_s, Range<double>{0.0, 86400.0},
+            "seconds loop closure may take at the end of a run to process its queue and the "
+            "pending pose graph before it is stopped");
   }
 };
 

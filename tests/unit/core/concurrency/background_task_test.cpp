@@ -139,9 +139,50 @@ TEST(BackgroundTask, StopAbortsTheRunningJobAndRefusesNewOnes) {
   task->stop();
   EXPECT_LT(std::chrono::steady_clock::now() - t0, 2s);
   EXPECT_EQ(finished.load(), 1);  // job 1 was dropped, not started
+  EXPECT_EQ(task->unfinished(), 2u);
   EXPECT_FALSE(task->submit(Job{2, nullptr}));
   EXPECT_FALSE(task->waitIdle(1ms));
   task.reset();  // destructor after stop(): fine
+}
+
+TEST(BackgroundTask, FinishStopsWorkThatOutlastsItsTimeAndSaysHowMuch) {
+  std::atomic<bool> started{false};
+  std::atomic<int> finished{0};
+  BackgroundTask<Job, Result> task(
+      [&](Job&, const std::atomic<bool>& abort) -> std::optional<Result> {
+        started.store(true);
+        while (!abort.load()) std::this_thread::sleep_for(1ms);  // never done by itself
+        finished.fetch_add(1);
+        return std::nullopt;
+      },
+      options(TaskMode::kThreaded));
+  for (int i = 0; i < 3; ++i) ASSERT_TRUE(task.submit(Job{i, nullptr}));
+  while (!started.load()) std::this_thread::sleep_for(1ms);
+  const auto t0 = std::chrono::steady_clock::now();
+  EXPECT_EQ(task.finish(20ms), 3u);  // the running job and the two queued ones
+  EXPECT_LT(std::chrono::steady_clock::now() - t0, 5s);
+  EXPECT_TRUE(task.stopped());
+  EXPECT_EQ(finished.load(), 1);  // the running one aborted; the worker joined before return
+  EXPECT_FALSE(task.submit(Job{3, nullptr}));
+  EXPECT_EQ(task.unfinished(), 3u);
+  EXPECT_EQ(task.finish(20ms), 3u);  // idempotent: the same count, nothing new accepted
+}
+
+TEST(BackgroundTask, FinishWithinItsTimeLeavesTheTaskRunning) {
+  for (const TaskMode mode : {TaskMode::kInline, TaskMode::kThreaded}) {
+    BackgroundTask<Job, Result> task(
+        [](Job& job, const std::atomic<bool>&) -> std::optional<Result> {
+          return correctionFor(job);
+        },
+        options(mode));
+    for (int i = 0; i < 5; ++i) ASSERT_TRUE(task.submit(Job{i, nullptr}));
+    EXPECT_EQ(task.finish(30s), 0u);
+    EXPECT_FALSE(task.stopped());
+    EXPECT_EQ(task.processed(), 5u);
+    EXPECT_TRUE(task.submit(Job{5, nullptr}));  // still accepts work
+    EXPECT_EQ(task.finish(30s), 0u);
+    EXPECT_EQ(task.takeResults().size(), 6u);
+  }
 }
 
 TEST(BackgroundTask, ExceptionsAreContainedInBothModes) {

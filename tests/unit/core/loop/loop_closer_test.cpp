@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <vector>
 
@@ -427,6 +428,51 @@ TEST(LoopCloser, CulledKeyframesLeaveThePoseGraphOnceOld) {
     for (int guard = 0; follows.count(root) != 0 && guard < laps * n; ++guard) root = follows[root];
     EXPECT_TRUE(root < n || root >= laps * n - (recent - 1)) << id << " follows " << anchor;
   }
+}
+
+// The end of a threaded run: flush() processes the queue and the pending pose graph within
+// loop.finish_timeout_s; what outlasts it is abandoned (the task is stopped, so the graph can be
+// read at once) and counted, never left running behind the caller.
+std::int64_t runThreaded(double finish_timeout_s, std::uint64_t* unfinished) {
+  const int n = 16;
+  LoopConfig c = config();
+  c.finish_timeout_s = finish_timeout_s;
+  LoopCloser closer(c, test::testCamera(500.0), /*inline_mode=*/false);
+  test::SceneRandom rnd(7);
+  for (int k = 0; k < n; ++k) {
+    LoopJob job = keyframe(k, truePose(k, 2 * n));
+    describe(job, nullptr, rnd);  // 300 corners: indexing and queries take real time
+    if (k + 1 < n)
+      job.links.push_back(link(k + 1, truePose(k, 2 * n), truePose(k + 1, 2 * n), false));
+    closer.keyframeLeftWindow(std::move(job));
+  }
+  EXPECT_EQ(closer.droppedKeyframes(), 0u);  // the queue holds all 16
+  closer.flush();
+  *unfinished = closer.unfinishedKeyframes();
+  // The task is idle or stopped: exporting the graph does not race with it.
+  std::vector<int> ids(n);
+  for (int k = 0; k < n; ++k) ids[static_cast<std::size_t>(k)] = k;
+  const LoopCloser::GraphExport g = closer.exportGraph(ids, {});
+  EXPECT_LE(g.edges.size(), static_cast<std::size_t>(2 * n));
+  return closer.graphVertices();
+}
+
+TEST(LoopCloser, FlushProcessesEverythingWithinItsTime) {
+  std::uint64_t unfinished = 99;
+  EXPECT_EQ(runThreaded(60.0, &unfinished), 16);
+  EXPECT_EQ(unfinished, 0u);
+}
+
+TEST(LoopCloser, FlushAbandonsWhatOutlastsItsTimeAndCountsIt) {
+  std::uint64_t unfinished = 0;
+  const std::int64_t vertices = runThreaded(0.0, &unfinished);
+  // No time at all: the worker cannot have described, indexed and queried 16 keyframes between
+  // the last submit and the flush.
+  EXPECT_GT(unfinished, 0u);
+  EXPECT_LE(unfinished, 16u);
+  // Every keyframe processed is a vertex; the one running when the task stopped may be too.
+  EXPECT_GE(vertices, 16 - static_cast<std::int64_t>(unfinished));
+  EXPECT_LE(vertices, 16 - static_cast<std::int64_t>(unfinished) + 1);
 }
 
 }  // namespace
