@@ -384,7 +384,8 @@ void TrackingStage::relocalizeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent
   StageTimer::Scope t(timer_, kTrack);
   relocalization_attempts_.fetch_add(1, std::memory_order_relaxed);
   const std::shared_ptr<const MappingSnapshot> snap = mapping_.snapshot();
-  const RelocalizationResult r = findInMap(*pyr, exposure, *snap);
+  RelocalizationResult r = findInMap(*pyr, exposure, *snap);
+  if (relocalization_filter_) relocalization_filter_(frame.frame_index, snap->median_depth, r);
   bool map_pose_kept = r.success;  // false once the window's own track fits better (below)
   if (window_kept_) {
     // The window is still there: track the frame against its reference, from where the map says

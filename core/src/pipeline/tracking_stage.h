@@ -14,6 +14,7 @@
 #include <array>
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -79,6 +80,17 @@ class TrackingStage {
   /// A saved map was loaded: the first frames are looked for in it (relocalisation, as after a
   /// loss); a new map starts only when that fails for reuse.relocalization_timeout_s.
   void startInLoadedMap();
+
+  /// For tests and diagnostics: sees, and may change, the map's answer of every relocalisation
+  /// attempt before it is used (the frame's index, the window's median depth at the loss, the
+  /// answer), so that the rules which check the map's pose can be run with a wrong one (on a
+  /// periodic texture the map can place a frame a period off). Called on the tracking thread; set
+  /// before the first frame; empty: none.
+  using RelocalizationFilter =
+      std::function<void(std::int64_t frame_index, double median_depth, RelocalizationResult&)>;
+  void setRelocalizationFilter(RelocalizationFilter filter) {
+    relocalization_filter_ = std::move(filter);
+  }
 
   /// End of a run (the tracking thread idle): waits for an initialisation in progress on its own
   /// thread and, when it made a map, takes it over (its two keyframes' frames into the map store).
@@ -189,6 +201,7 @@ class TrackingStage {
   SE3d world_anchor_;  ///< world -> camera pose given to a new map's first keyframe
   std::int64_t last_tracked_index_ = -1;
   std::unique_ptr<Relocalizer> relocalizer_;  ///< null: no relocalisation (reuse off)
+  RelocalizationFilter relocalization_filter_;
   double relocalization_timeout_s_ = 0.0;
   int place_candidates_ = 0;  ///< reuse.relocalization_place_candidates
   /// A relocalised frame resumes in the kept window only when the map keyframe it was found in
