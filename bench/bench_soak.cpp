@@ -11,9 +11,11 @@
 //              [--trajectory FILE] (all frame poses at the end, TUM format)
 //
 // Under each pass a second line says what map reuse and loop closure did in it: map keyframes
-// brought back and taken out, candidates turned down by the geometric and the ORB check,
-// keyframes culled as redundant, reuse-triggered corrections, loops closed and how many moved
-// keyframes. A pass that keeps new keyframes while bringing none back has lost the map.
+// brought back and taken out, candidates checked and those turned down by the geometric, the ORB
+// and the direct check, keyframes culled as redundant, reuse-triggered corrections, loops closed
+// and how many moved keyframes; a third line the pass's mean ms per call of the stages whose cost
+// could grow with the map (track per frame, mapping/reuse/loop per keyframe). A pass that keeps
+// new keyframes while bringing none back has lost the map.
 //
 // Default: deterministic, one thread, as fast as possible. --realtime: the live pipeline
 // (threaded, frames dropped when tracking is behind) paced at the recorded frame rate.
@@ -153,6 +155,7 @@ int main(int argc, char** argv) {
   auto pass_wall = wall0;
   ldsm::ReuseStats last_reuse;
   std::int64_t last_loops = 0;
+  std::vector<ldsm::StageTiming> last_stages;
   // Frames beyond system.frame_history (by default 9000 in the live mode of --realtime) leave
   // the engine's memory: they go to a file here, so that this process's memory stays the
   // engine's. "ATE all" is then left out until the end (it would read them back every pass).
@@ -190,15 +193,37 @@ int main(int argc, char** argv) {
     for (std::size_t i = s.loops.size() - listed; i < s.loops.size(); ++i)
       if (s.loops[i].corrected_keyframes > 0) ++applied;
     std::printf(
-        "     reuse +%lld -%lld, turned down %lld geometry %lld ORB, culled %lld, map corrections "
-        "%lld; loops %lld (%d moved keyframes)\n",
+        "     reuse +%lld -%lld, %lld candidates checked, turned down %lld geometry %lld ORB %lld "
+        "direct, culled %lld, map corrections %lld; loops %lld (%d moved keyframes)\n",
         static_cast<long long>(r.reactivations - last_reuse.reactivations),
         static_cast<long long>(r.deactivations - last_reuse.deactivations),
+        static_cast<long long>(r.candidates_checked - last_reuse.candidates_checked),
         static_cast<long long>(r.rejected_geometry - last_reuse.rejected_geometry),
         static_cast<long long>(r.rejected_features - last_reuse.rejected_features),
+        static_cast<long long>(r.rejected_photometric - last_reuse.rejected_photometric),
         static_cast<long long>(r.culled_keyframes - last_reuse.culled_keyframes),
         static_cast<long long>(r.map_corrections - last_reuse.map_corrections),
         static_cast<long long>(loops), applied);
+    // This pass's stage times: ms per call of the stages whose cost may grow with the map.
+    std::string stages;
+    for (const ldsm::StageTiming& t : s.stages) {
+      if (t.stage != "track" && t.stage != "mapping" && t.stage != "reuse" && t.stage != "loop")
+        continue;
+      double before_ms = 0.0;
+      std::int64_t before = 0;
+      for (const ldsm::StageTiming& l : last_stages)
+        if (l.stage == t.stage) {
+          before = l.count;
+          before_ms = l.mean_ms * static_cast<double>(l.count);
+        }
+      const std::int64_t calls = t.count - before;
+      if (calls <= 0) continue;
+      stages += ldsm::bench::cell(
+          (t.mean_ms * static_cast<double>(t.count) - before_ms) / static_cast<double>(calls),
+          (" " + t.stage + " %.2f").c_str());
+    }
+    std::printf("     ms per call:%s\n", stages.c_str());
+    last_stages = s.stages;
     last_reuse = r;
     last_loops = s.loops_closed;
     std::fflush(stdout);

@@ -205,12 +205,19 @@ class MappingStage {
   /// With no map keyframe in the window and none accepted: do map keyframes that fit but lie
   /// beyond the basin agree that the window drifted off the map (reuse/drift_consensus.h), and
   /// pass every check from where they put it? Then a re-anchoring is requested.
-  bool checkDriftOffTheMap(const ReuseView& view, const std::vector<ReuseCheck>& checks,
-                           bool can_take);
+  /// Only when driftCheckDue(): it needs every candidate's direct check.
+  bool checkDriftOffTheMap(const ReuseView& view, const std::vector<ReuseCheck>& checks);
+  /// The conditions of checkDriftOffTheMap that do not depend on the candidates: re-anchoring
+  /// is on, something could be taken, no map keyframe held in the window fits, and the window
+  /// was on the map a few keyframes ago.
+  bool driftCheckDue(int newest_id, bool can_take) const;
   std::vector<int> reuseExclusions(int newest_id);
-  /// Reactivates the accepted candidates while there is room (or a weak one to replace).
-  void bringBack(const std::vector<ReuseCheck>& checks, std::vector<std::pair<int, int>>& held,
-                 int room, ReuseEvent& event);
+  /// Reactivates the accepted candidates while there is room (or a weak one to replace). A
+  /// candidate whose direct check was left out (`direct_skipped`) gets it here when `can_take`,
+  /// in the candidates' order, until nothing more can be taken.
+  void bringBack(const ReuseView& view, std::vector<ReuseCheck>& checks,
+                 std::vector<std::pair<int, int>>& held, int room, bool can_take,
+                 ReuseEvent& event);
   /// reuse.trial_check: keeps the event's keyframes a trial optimisation confirms.
   void confirmByTrial(ReuseEvent& event);
 

@@ -154,16 +154,20 @@ ReuseCheck ReactivationSearch::check(const ReuseView& view, const MarginalizedKe
     return c;
   }
   c.stage = ReuseStage::Direct;
-  if (!direct) {
-    c.direct_skipped = true;  // not rejected: no reason to write
-    return c;
-  }
+  c.direct_skipped = true;  // not rejected: no reason to write
+  if (direct) finishCheck(view, keyframe, pose, c);
+  return c;
+}
+
+bool ReactivationSearch::finishCheck(const ReuseView& view, const MarginalizedKeyframe& keyframe,
+                                     const KeyframeRecord& pose, ReuseCheck& c) const {
+  c.direct_skipped = false;
   if (config_.direct_check && view.pyramid && view.pyramid_camera &&
       !checkDirect(view, keyframe, pose, c))
-    return c;
+    return false;
   c.stage = ReuseStage::Accepted;
   c.accepted = true;
-  return c;
+  return true;
 }
 
 bool ReactivationSearch::checkDirect(const ReuseView& view, const MarginalizedKeyframe& keyframe,

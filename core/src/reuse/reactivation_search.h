@@ -41,8 +41,8 @@ struct ReuseView {
   float radial_k = 0.f;
   std::vector<Eigen::Vector2f> corners;  ///< with descriptors, one each
   std::vector<OrbDescriptor> descriptors;
-  double median_depth = 1.0;    ///< of the window's points seen from it
-  double path_length = 0.0;     ///< distance travelled up to it (map units)
+  double median_depth = 1.0;  ///< of the window's points seen from it
+  double path_length = 0.0;   ///< distance travelled up to it (map units)
   /// The first keyframe of the window's chain: keyframes with smaller ids were made before the
   /// window last started (before a relocalisation, or in a loaded map's session), so the
   /// distance travelled since them is unknown and any of them is a revisit.
@@ -98,12 +98,18 @@ class ReactivationSearch {
   /// `direct_skipped` set, neither accepted nor rejected (its alignment is not run).
   ReuseCheck check(const ReuseView& view, const MarginalizedKeyframe& keyframe,
                    const KeyframeRecord& pose, bool direct = true) const;
+  /// Completes a check that `check` (or `search`) left at the direct check (`direct_skipped`):
+  /// what check() with `direct` would have done from there. Returns whether it is accepted.
+  bool finishCheck(const ReuseView& view, const MarginalizedKeyframe& keyframe,
+                   const KeyframeRecord& pose, ReuseCheck& c) const;
   /// The direct check of a candidate that passed the others (fills c's direct fields).
   bool checkDirect(const ReuseView& view, const MarginalizedKeyframe& keyframe,
                    const KeyframeRecord& pose, ReuseCheck& c) const;
   /// Candidates checked, the accepted ones first, best (most consistent matches) first.
-  /// `direct` false: no direct check (the caller has no room for a map keyframe; the alignment,
-  /// a few milliseconds per candidate, would decide nothing).
+  /// `direct` false: no direct check (the caller has no room for a map keyframe, or runs it with
+  /// finishCheck() on the candidates in order until its window is full; the alignment costs a few
+  /// milliseconds per candidate). Those that passed the feature check come first then, as they
+  /// have the most matches.
   std::vector<ReuseCheck> search(const ReuseView& view, const MapStore& map,
                                  const std::vector<int>& exclude, bool direct = true) const;
 

@@ -141,5 +141,42 @@ TEST(ReactivationDirectCheck, RunsAfterTheFeatureCheckOnlyWithAnImage) {
   EXPECT_GT(with_image.direct_inliers, 0.0) << "the alignment ran when asked";
 }
 
+// The mapping stage leaves the direct check out of the search and runs it on the candidates in
+// order until its window is full (MappingStage::bringBack): finishing a skipped check must give
+// exactly what the check with the alignment gives, accepted or rejected.
+TEST(ReactivationDirectCheck, AFinishedSkippedCheckIsTheFullCheck) {
+  ReuseConfig config;
+  config.min_feature_matches = 0;
+  config.min_keyframe_age = 1;
+  const ReactivationSearch search(config);
+  for (const double off : {0.0, 0.03, 0.12}) {  // accepted, accepted further off, rejected
+    DirectRevisit r(tangentPose(0.02, -0.04, 0.05, 0.2, -0.05, 0.25));
+    r.view.T_c_w = (r.T_w_view * tangentPose(0.0, off / 3.0, 0.0, off, 0.0, 0.0)).inverse();
+    r.kf.newest_when_left = 10;
+    r.kf.path_length = 0.0;
+    r.view.path_length = 10.0;
+    const ReuseCheck full = search.check(r.view, r.kf, r.record);
+    ReuseCheck later = search.check(r.view, r.kf, r.record, /*direct=*/false);
+    ASSERT_TRUE(later.direct_skipped);
+    EXPECT_EQ(search.finishCheck(r.view, r.kf, r.record, later), full.accepted) << off;
+    EXPECT_FALSE(later.direct_skipped);
+    EXPECT_EQ(later.accepted, full.accepted) << off;
+    EXPECT_EQ(later.stage, full.stage) << off;
+    EXPECT_EQ(later.direct_inliers, full.direct_inliers) << off;
+    EXPECT_EQ(later.correlation, full.correlation) << off;
+    EXPECT_EQ(later.shift_px, full.shift_px) << off;
+    EXPECT_EQ(later.basin_miss_px, full.basin_miss_px) << off;
+    EXPECT_EQ(later.outside_basin, full.outside_basin) << off;
+    EXPECT_EQ(later.reason, full.reason) << off;
+    EXPECT_TRUE(later.T_view_kf_aligned.matrix() == full.T_view_kf_aligned.matrix()) << off;
+    if (off == 0.0) {
+      EXPECT_TRUE(full.accepted) << full.reason;
+    }
+    if (off == 0.12) {
+      EXPECT_FALSE(full.accepted);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace ldsm
