@@ -130,8 +130,9 @@ struct SystemStats {
   std::vector<LoopClosureEvent> loops;
   std::int64_t loops_closed = 0;
   static constexpr int kMaxLoopEvents = 1024;
-  /// Loop closure's keyframes not indexed because its queue was full (threaded mode), and its
-  /// jobs abandoned at the end of the run because they outlasted loop.finish_timeout_s.
+  /// Loop closure's keyframes not indexed (its queue was full, threaded mode, or it had been
+  /// stopped), and its jobs abandoned by an end of run (finish, saveMap) that outlasted
+  /// loop.finish_timeout_s; after such a timeout loop closure stays off for the session.
   std::int64_t loop_dropped_keyframes = 0;
   std::int64_t loop_unfinished_jobs = 0;
   /// Frames whose poses left memory (system.frame_history; System::takeRetiredFrames()), and of

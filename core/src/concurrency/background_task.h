@@ -6,7 +6,7 @@
 // window change per job) and loop closure (a keyframe per job, corrections as results) run on it.
 //
 // Threads: submit() from one producer thread; tryTakeResults()/takeResults() from one consumer
-// thread; stop()/waitIdle() from the owner. The processor runs in the worker thread only
+// thread; stop()/waitIdle()/finish() from the owner. The processor runs in the worker thread only
 // (kThreaded) or in the submitting thread (kInline), never concurrently with itself.
 #pragma once
 
@@ -130,13 +130,15 @@ class BackgroundTask {
   /// Raises the abort flag (the running job should return soon), joins the worker and drops what
   /// is still queued. Idempotent; the destructor calls it.
   void stop() {
-    if (!abort_.load(std::memory_order_acquire)) {
-      const std::uint64_t done = processed(), all = submitted();
-      unfinished_.store(all > done ? all - done : 0, std::memory_order_relaxed);
-    }
-    abort_.store(true, std::memory_order_release);
+    const bool first = !abort_.exchange(true, std::memory_order_acq_rel);
     if (worker_) worker_->stop();
     idle_cv_.notify_all();
+    if (!first) return;
+    // Counted once the worker is joined: a job that completed meanwhile is not unfinished, the
+    // one the abort cut short is.
+    const std::uint64_t done = processed(), all = submitted();
+    unfinished_.store((all > done ? all - done : 0) + (cut_short_.load() ? 1 : 0),
+                      std::memory_order_relaxed);
   }
 
   TaskMode mode() const { return mode_; }
@@ -144,8 +146,9 @@ class BackgroundTask {
   std::uint64_t processed() const { return processed_.load(std::memory_order_acquire); }
   std::uint64_t dropped() const { return dropped_.load(std::memory_order_relaxed); }
   std::uint64_t failed() const { return failed_.load(std::memory_order_relaxed); }
-  /// Jobs submitted and not processed when stop() was first called (the running one included:
-  /// it was asked to abort); 0 while the task runs.
+  /// Jobs submitted and not processed to the end when stop() was first called: those dropped
+  /// from the queue and the one running then (asked to abort, it may have returned early); 0
+  /// while the task runs.
   std::uint64_t unfinished() const { return unfinished_.load(std::memory_order_relaxed); }
 
  private:
@@ -172,6 +175,7 @@ class BackgroundTask {
       failed_.fetch_add(1, std::memory_order_relaxed);
       logBackgroundJobFailure("unknown exception");
     }
+    if (aborted()) cut_short_.store(true);  // it may have returned early (the abort flag)
     if (result) mailbox_.post(std::move(*result));
     {
       const std::lock_guard<std::mutex> lock(idle_mutex_);
@@ -186,6 +190,7 @@ class BackgroundTask {
   concurrency::SpscRing<Job> queue_;
   ResultMailbox<Result> mailbox_;
   std::atomic<bool> abort_{false};
+  std::atomic<bool> cut_short_{false};  ///< a job was running when the abort came
   std::atomic<std::uint64_t> submitted_{0}, processed_{0}, dropped_{0}, failed_{0}, unfinished_{0};
   std::mutex idle_mutex_;
   std::condition_variable idle_cv_;

@@ -38,11 +38,17 @@ LoopCloser::~LoopCloser() {
 
 void LoopCloser::keyframeLeftWindow(MarginalizedKeyframe&& kf) {
   const int id = kf.id;
+  if (task_->stopped()) {
+    if (refused_after_stop_.fetch_add(1, std::memory_order_relaxed) == 0)
+      spdlog::warn("loop closure: stopped by a timed-out finish; keyframes are not indexed");
+    return;
+  }
   if (!task_->submit(std::move(kf)))
     spdlog::debug("loop closure: queue full, keyframe {} not indexed", id);
 }
 
 void LoopCloser::flush() {
+  if (task_->stopped()) return;  // a flush before timed out: nothing runs any more
   using Clock = std::chrono::steady_clock;
   const auto limit = std::chrono::duration_cast<std::chrono::milliseconds>(
       std::chrono::duration<double>(config_.finish_timeout_s));
@@ -60,8 +66,8 @@ void LoopCloser::flush() {
   if (const std::uint64_t left_over = task_->finish(left); left_over > 0) {
     spdlog::warn(
         "loop closure: still busy after {} s (loop.finish_timeout_s) at the end of the run; "
-        "stopped with {} job(s) unfinished: their loops and the pending pose-graph correction "
-        "are not applied",
+        "stopped with {} job(s) unfinished: those keyframes are not looked for loops and a "
+        "pending pose-graph correction is not applied; loop closure stays off from here",
         config_.finish_timeout_s, left_over);
   }
 }

@@ -49,16 +49,21 @@ class LoopCloser {
   void keyframeLeftWindow(MarginalizedKeyframe&& kf);
   /// Mapping thread, at a safe point: corrections published since the last call.
   std::vector<LoopCorrection> takeCorrections() { return task_->tryTakeResults(); }
-  /// End of a run: processes the queued keyframes, then runs a pose-graph optimisation that is
-  /// still pending (deferred, loop.pose_graph_delay_*), all within loop.finish_timeout_s. What is
-  /// not done by then is abandoned: the background task is stopped (a running solve aborts, its
-  /// correction is not applied) and unfinishedKeyframes() says how many jobs were left. Either
-  /// way the task is idle afterwards, so the graph may be exported.
+  /// End of a run (and before a map is saved): processes the queued keyframes, then runs a
+  /// pose-graph optimisation that is still pending (deferred, loop.pose_graph_delay_*). In
+  /// threaded mode this gets loop.finish_timeout_s, plus the time a running job takes to notice
+  /// the abort (the pose-graph solve and the vocabulary training poll it): then the background
+  /// task is stopped, unprocessed keyframes are not looked for loops and a pending correction is
+  /// not applied (unfinishedJobs() counts them). A stopped loop closer stays stopped: the
+  /// keyframes of the rest of the session are refused (counted in droppedKeyframes(), warned
+  /// once). Either way the task is idle afterwards, so the graph may be exported.
   void flush();
-  /// Keyframes that found the queue full and were not indexed (threaded mode).
-  std::uint64_t droppedKeyframes() const { return task_->dropped(); }
-  /// Jobs (keyframes, and the final pose-graph run) abandoned by flush() when its time ran out.
-  std::uint64_t unfinishedKeyframes() const { return task_->unfinished(); }
+  /// Keyframes not indexed: they found the queue full (threaded mode) or came after a stop.
+  std::uint64_t droppedKeyframes() const {
+    return task_->dropped() + refused_after_stop_.load(std::memory_order_relaxed);
+  }
+  /// Jobs (keyframes, and the final pose-graph run) a timed-out flush() left unfinished.
+  std::uint64_t unfinishedJobs() const { return task_->unfinished(); }
   /// The pose graph's size after the last processed keyframe (any thread).
   std::int64_t graphVertices() const { return graph_vertices_.load(std::memory_order_relaxed); }
   std::int64_t graphEdges() const { return graph_edges_.load(std::memory_order_relaxed); }
@@ -181,6 +186,7 @@ class LoopCloser {
   mutable std::mutex places_mutex_;
   std::shared_ptr<const PlaceSnapshot> places_;
   // Last: stopped (joined) first on destruction, before the state above goes away.
+  std::atomic<std::uint64_t> refused_after_stop_{0};  ///< keyframes after a timed-out flush()
   std::unique_ptr<concurrency::BackgroundTask<LoopJob, LoopCorrection>> task_;
 };
 

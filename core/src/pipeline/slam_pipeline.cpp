@@ -123,7 +123,7 @@ void SlamPipeline::fillStats(SystemStats& stats) const {
     stats.map.pose_graph_vertices = loop_closer_->graphVertices();
     stats.map.pose_graph_edges = loop_closer_->graphEdges();
     stats.loop_dropped_keyframes = static_cast<std::int64_t>(loop_closer_->droppedKeyframes());
-    stats.loop_unfinished_jobs = static_cast<std::int64_t>(loop_closer_->unfinishedKeyframes());
+    stats.loop_unfinished_jobs = static_cast<std::int64_t>(loop_closer_->unfinishedJobs());
   }
   stats.mapping_backlog = static_cast<int>(mapping_.backlog());
 }

@@ -154,7 +154,7 @@ ReuseCheck ReactivationSearch::check(const ReuseView& view, const MarginalizedKe
     return c;
   }
   c.stage = ReuseStage::Direct;
-  c.direct_skipped = true;  // not rejected: no reason to write
+  c.direct_skipped = true;  // neither accepted nor rejected until finishCheck() aligns it
   if (direct) finishCheck(view, keyframe, pose, c);
   return c;
 }

@@ -108,8 +108,8 @@ class ReactivationSearch {
   /// Candidates checked, the accepted ones first, best (most consistent matches) first.
   /// `direct` false: no direct check (the caller has no room for a map keyframe, or runs it with
   /// finishCheck() on the candidates in order until its window is full; the alignment costs a few
-  /// milliseconds per candidate). Those that passed the feature check come first then, as they
-  /// have the most matches.
+  /// milliseconds per candidate). The accepted ones are then met in the same order as they would
+  /// be listed with `direct` (most matches first, ties in id order).
   std::vector<ReuseCheck> search(const ReuseView& view, const MapStore& map,
                                  const std::vector<int>& exclude, bool direct = true) const;
 

@@ -63,7 +63,9 @@ struct LoopConfig {
   /// keyframe that finds the queue full is not indexed (loop closure never holds up mapping).
   int queue_capacity = 16;
   /// At the end of a run (and before a map is saved) loop closure gets this long to process its
-  /// queue and the pending pose graph; then it is stopped and what is unfinished is reported.
+  /// queue and the pending pose graph (threaded mode; plus the time a running job takes to
+  /// notice the abort); then it is stopped for the rest of the session and what is unfinished
+  /// is reported. 0 abandons even the final pose-graph run.
   double finish_timeout_s = 60.0;
 
   template <typename V>

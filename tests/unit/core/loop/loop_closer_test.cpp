@@ -432,47 +432,72 @@ TEST(LoopCloser, CulledKeyframesLeaveThePoseGraphOnceOld) {
 
 // The end of a threaded run: flush() processes the queue and the pending pose graph within
 // loop.finish_timeout_s; what outlasts it is abandoned (the task is stopped, so the graph can be
-// read at once) and counted, never left running behind the caller.
-std::int64_t runThreaded(double finish_timeout_s, std::uint64_t* unfinished) {
+// read at once) and counted, never left running behind the caller. A stopped loop closer refuses
+// the keyframes that come after.
+struct ThreadedEnd {
+  std::int64_t vertices = 0;
+  std::uint64_t unfinished = 0, dropped_before = 0, dropped_after = 0, unfinished_again = 0;
+};
+
+ThreadedEnd runThreaded(double finish_timeout_s) {
   const int n = 16;
   LoopConfig c = config();
   c.finish_timeout_s = finish_timeout_s;
   LoopCloser closer(c, test::testCamera(500.0), /*inline_mode=*/false);
   test::SceneRandom rnd(7);
+  // Made first and handed over in one burst, so that the worker has 16 keyframes of 300 corners
+  // to index and query (about 1 ms each here) when flush() is called.
+  std::vector<LoopJob> jobs;
   for (int k = 0; k < n; ++k) {
-    LoopJob job = keyframe(k, truePose(k, 2 * n));
-    describe(job, nullptr, rnd);  // 300 corners: indexing and queries take real time
+    jobs.push_back(keyframe(k, truePose(k, 2 * n)));
+    describe(jobs.back(), nullptr, rnd);
     if (k + 1 < n)
-      job.links.push_back(link(k + 1, truePose(k, 2 * n), truePose(k + 1, 2 * n), false));
-    closer.keyframeLeftWindow(std::move(job));
+      jobs.back().links.push_back(link(k + 1, truePose(k, 2 * n), truePose(k + 1, 2 * n), false));
   }
-  EXPECT_EQ(closer.droppedKeyframes(), 0u);  // the queue holds all 16
+  for (LoopJob& job : jobs) closer.keyframeLeftWindow(std::move(job));
+  ThreadedEnd r;
+  r.dropped_before = closer.droppedKeyframes();  // the queue holds all 16
   closer.flush();
-  *unfinished = closer.unfinishedKeyframes();
+  r.unfinished = closer.unfinishedJobs();
   // The task is idle or stopped: exporting the graph does not race with it.
   std::vector<int> ids(n);
   for (int k = 0; k < n; ++k) ids[static_cast<std::size_t>(k)] = k;
   const LoopCloser::GraphExport g = closer.exportGraph(ids, {});
   EXPECT_LE(g.edges.size(), static_cast<std::size_t>(2 * n));
-  return closer.graphVertices();
+  r.vertices = closer.graphVertices();
+  // One more keyframe and another end of run (a map saved again later in the session).
+  LoopJob late = keyframe(n, truePose(n, 2 * n));
+  closer.keyframeLeftWindow(std::move(late));
+  closer.flush();
+  r.dropped_after = closer.droppedKeyframes();
+  r.unfinished_again = closer.unfinishedJobs();
+  return r;
 }
 
 TEST(LoopCloser, FlushProcessesEverythingWithinItsTime) {
-  std::uint64_t unfinished = 99;
-  EXPECT_EQ(runThreaded(60.0, &unfinished), 16);
-  EXPECT_EQ(unfinished, 0u);
+  const ThreadedEnd r = runThreaded(60.0);
+  EXPECT_EQ(r.dropped_before, 0u);
+  EXPECT_EQ(r.vertices, 16);
+  EXPECT_EQ(r.unfinished, 0u);
+  EXPECT_EQ(r.dropped_after, 0u);  // it keeps running: the late keyframe was processed
+  EXPECT_EQ(r.unfinished_again, 0u);
 }
 
 TEST(LoopCloser, FlushAbandonsWhatOutlastsItsTimeAndCountsIt) {
-  std::uint64_t unfinished = 0;
-  const std::int64_t vertices = runThreaded(0.0, &unfinished);
-  // No time at all: the worker cannot have described, indexed and queried 16 keyframes between
-  // the last submit and the flush.
-  EXPECT_GT(unfinished, 0u);
-  EXPECT_LE(unfinished, 16u);
-  // Every keyframe processed is a vertex; the one running when the task stopped may be too.
-  EXPECT_GE(vertices, 16 - static_cast<std::int64_t>(unfinished));
-  EXPECT_LE(vertices, 16 - static_cast<std::int64_t>(unfinished) + 1);
+  const ThreadedEnd r = runThreaded(0.0);
+  EXPECT_EQ(r.dropped_before, 0u);
+  // No time at all: the worker cannot have indexed and queried the 16 keyframes handed over
+  // microseconds before (and with 0 s even the final pose-graph run is abandoned).
+  EXPECT_GT(r.unfinished, 0u);
+  EXPECT_LE(r.unfinished, 16u);
+  // Every keyframe processed is a vertex; the one the abort cut short (counted unfinished) may
+  // be one too.
+  EXPECT_GE(r.vertices, 16 - static_cast<std::int64_t>(r.unfinished));
+  EXPECT_LE(r.vertices, 16 - static_cast<std::int64_t>(r.unfinished) + 1);
+  // Stopped for the session: the late keyframe is refused and counted; a second end of run
+  // reports the same unfinished jobs and no new warning.
+  EXPECT_EQ(r.dropped_after, 1u);
+  EXPECT_EQ(r.unfinished_again, r.unfinished);
 }
 
 }  // namespace
