@@ -15,6 +15,7 @@
 #include "ldsm/drivers/trajectory_io.h"
 #include "ldsm/eval/ate.h"
 #include "ldsm/system.h"
+#include "real_sequence.h"
 #include "test_paths.h"
 
 namespace ldsm {
@@ -153,13 +154,9 @@ TEST(LoopClosure, VamrDeskLoopFindsItsLoopsAndKeepsItsAccuracy) {
   const std::string folder = test::sharedData("vamr_desk_loop");
   if (folder.empty())
     GTEST_SKIP() << "../shared/data/vamr_desk_loop is absent: real-data test skipped";
-  const auto desc = drivers::describeDataset(folder);
-  const auto calib = drivers::loadDatasetCalibration(desc);
-  const Trajectory gt =
-      drivers::readTrajectory(desc.groundtruth_file, desc.groundtruth_format, &desc.timestamps);
-  auto source = drivers::openDataset(desc);
-  Outcome o = runBothOn(*source, calib.geometric, calib.photometric);
-  o.evaluate(gt);
+  const test::RealSequence seq = test::openRealSequence(folder);
+  Outcome o = runBothOn(*seq.source, seq.calibration.geometric, seq.calibration.photometric);
+  o.evaluate(seq.ground_truth);
   std::printf("vamr_desk_loop: %zu loops, ATE %.5f m with loop closure, %.5f m without\n",
               o.loops.size(), o.ate_with.rmse, o.ate_without.rmse);
   EXPECT_EQ(o.stats.tracking_losses, 0);

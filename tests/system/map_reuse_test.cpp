@@ -21,6 +21,7 @@
 #include "ldsm/eval/ate.h"
 #include "ldsm/system.h"
 #include "noise_image.h"
+#include "real_sequence.h"
 #include "test_paths.h"
 
 namespace ldsm {
@@ -302,16 +303,12 @@ struct DeskGapRun {
 DeskGapRun runDeskWithBlackFrames(const std::string& folder, std::int64_t first, std::int64_t end,
                                   std::int64_t frames) {
   if (std::getenv("LDSM_DEBUG")) spdlog::set_level(spdlog::level::debug);
-  const auto desc = drivers::describeDataset(folder);
-  const auto calib = drivers::loadDatasetCalibration(desc);
-  const Trajectory gt =
-      drivers::readTrajectory(desc.groundtruth_file, desc.groundtruth_format, &desc.timestamps);
-  auto source = drivers::openDataset(desc);
-  System system(deterministicConfig(true), calib.geometric, calib.photometric);
+  const test::RealSequence seq = test::openRealSequence(folder);
+  System system(deterministicConfig(true), seq.calibration.geometric, seq.calibration.photometric);
   ReuseListener listener;
   system.setListener(&listener);
   drivers::Frame frame;
-  while (source->next(frame) && frame.index < frames) {
+  while (seq.source->next(frame) && frame.index < frames) {
     if (frame.index >= first && frame.index < end) frame.image.fill(0);
     system.submit({frame.image.view(), frame.timestamp, frame.exposure_ms});
   }
@@ -320,8 +317,8 @@ DeskGapRun runDeskWithBlackFrames(const std::string& folder, std::int64_t first,
   r.stats = system.stats();
   r.lost = listener.lost;
   const Trajectory trajectory = system.trajectory();
-  r.ate = eval::computeAte(gt, trajectory);
-  const double gap_end = desc.timestamps[static_cast<std::size_t>(end)];
+  r.ate = eval::computeAte(seq.ground_truth, trajectory);
+  const double gap_end = seq.description.timestamps[static_cast<std::size_t>(end)];
   for (const StampedPose& p : trajectory) r.after_gap += p.timestamp >= gap_end ? 1 : 0;
   std::printf(
       "vamr, frames %lld-%lld black: %lld lost, %lld relocalised, %lld new maps, ATE %.5f m over "

@@ -15,12 +15,9 @@
 #include <cstdlib>
 #include <string>
 
-#include "ldsm/drivers/dataset_calibration.h"
-#include "ldsm/drivers/dataset_description.h"
-#include "ldsm/drivers/dataset_source.h"
-#include "ldsm/drivers/trajectory_io.h"
 #include "ldsm/eval/ate.h"
 #include "pipeline/slam_pipeline.h"
+#include "real_sequence.h"
 #include "test_paths.h"
 
 namespace ldsm {
@@ -47,14 +44,10 @@ struct WrongPoseRun {
 WrongPoseRun runWithMapPoseOff(const std::string& folder, double dx, double dy, std::int64_t first,
                                std::int64_t end, std::int64_t frames) {
   if (std::getenv("LDSM_DEBUG")) spdlog::set_level(spdlog::level::debug);
-  const auto desc = drivers::describeDataset(folder);
-  const auto calib = drivers::loadDatasetCalibration(desc);
-  const Trajectory gt =
-      drivers::readTrajectory(desc.groundtruth_file, desc.groundtruth_format, &desc.timestamps);
-  auto source = drivers::openDataset(desc);
+  const test::RealSequence seq = test::openRealSequence(folder);
   Config config;
   config.system.deterministic = true;
-  SlamPipeline pipeline(config, calib.geometric, calib.photometric);
+  SlamPipeline pipeline(config, seq.calibration.geometric, seq.calibration.photometric);
   LossListener listener;
   pipeline.setListener(&listener);
   WrongPoseRun r;
@@ -67,7 +60,7 @@ WrongPoseRun runWithMapPoseOff(const std::string& folder, double dx, double dy, 
         ++r.answers_moved;
       });
   drivers::Frame frame;
-  while (source->next(frame) && frame.index < frames) {
+  while (seq.source->next(frame) && frame.index < frames) {
     if (frame.index >= first && frame.index < end) continue;  // the gap
     const bool exposure = std::isfinite(frame.exposure_ms) && config.photometric.use_exposure;
     pipeline.tracking().process(frame.image.view(), frame.index, frame.timestamp,
@@ -76,7 +69,7 @@ WrongPoseRun runWithMapPoseOff(const std::string& folder, double dx, double dy, 
   pipeline.finish();
   pipeline.fillStats(r.stats);
   r.lost = listener.lost;
-  r.ate = eval::computeAte(gt, pipeline.trajectory());
+  r.ate = eval::computeAte(seq.ground_truth, pipeline.trajectory());
   std::printf(
       "vamr, frames %lld-%lld missing, map's pose off by (%.2f, %.2f) median depths: %d answers "
       "moved, %d lost, %lld relocalised, %lld new maps, ATE %.5f m over %zu poses\n",
