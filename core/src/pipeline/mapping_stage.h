@@ -212,12 +212,14 @@ class MappingStage {
   /// was on the map a few keyframes ago.
   bool driftCheckDue(int newest_id, bool can_take) const;
   std::vector<int> reuseExclusions(int newest_id);
+  /// Something found could come back: the window has room for a map keyframe, or holds a
+  /// weakened one (`held`, replaceableReactivated()) that may be replaced.
+  bool canTake(int room, const std::vector<std::pair<int, int>>& held) const;
   /// Reactivates the accepted candidates while there is room (or a weak one to replace). A
-  /// candidate whose direct check was left out (`direct_skipped`) gets it here when `can_take`,
-  /// in the candidates' order, until nothing more can be taken.
+  /// candidate whose direct check was left out (`direct_skipped`) gets it here when something
+  /// could come back (canTake), in the candidates' order, until nothing more can be taken.
   void bringBack(const ReuseView& view, std::vector<ReuseCheck>& checks,
-                 std::vector<std::pair<int, int>>& held, int room, bool can_take,
-                 ReuseEvent& event);
+                 std::vector<std::pair<int, int>>& held, int room, ReuseEvent& event);
   /// reuse.trial_check: keeps the event's keyframes a trial optimisation confirms.
   void confirmByTrial(ReuseEvent& event);
 

@@ -22,7 +22,7 @@ void MappingStage::reuseMap(int newest_frame_index, double newest_timestamp) {
   ReuseView view = reuseView(newest);
   // Without room and without a weakened map keyframe to replace, nothing found could come back:
   // the candidates are counted, but not aligned (bringBack would stop at the first accepted).
-  const bool can_take = room > 0 || (!held.empty() && settings_.reuse.replace_ratio > 0.0);
+  const bool can_take = canTake(room, held);
   // The direct check (an alignment, a few milliseconds per candidate) runs on every candidate only
   // where the drift check needs them all; otherwise bringBack runs it on the candidates in order
   // and stops once nothing more can be taken. Both bring back the same keyframes: the accepted
@@ -39,7 +39,7 @@ void MappingStage::reuseMap(int newest_frame_index, double newest_timestamp) {
   event.keyframe_id = newest.id();
   event.frame_index = newest_frame_index;
   event.timestamp = newest_timestamp;
-  bringBack(view, checks, held, room, can_take, event);
+  bringBack(view, checks, held, room, event);
   if (event.reactivated.empty()) return;
   if (settings_.reuse.trial_check) {
     confirmByTrial(event);
@@ -48,6 +48,10 @@ void MappingStage::reuseMap(int newest_frame_index, double newest_timestamp) {
       for (const int id : event.reactivated) store_.connect(newest.id(), id);
   }
   if (!event.reactivated.empty()) events_.reactivated(event);
+}
+
+bool MappingStage::canTake(int room, const std::vector<std::pair<int, int>>& held) const {
+  return room > 0 || (!held.empty() && settings_.reuse.replace_ratio > 0.0);
 }
 
 bool MappingStage::driftCheckDue(int newest_id, bool can_take) const {
@@ -204,16 +208,20 @@ std::vector<int> MappingStage::reuseExclusions(int newest_id) {
 }
 
 void MappingStage::bringBack(const ReuseView& view, std::vector<ReuseCheck>& checks,
-                             std::vector<std::pair<int, int>>& held, int room, bool can_take,
-                             ReuseEvent& event) {
+                             std::vector<std::pair<int, int>>& held, int room, ReuseEvent& event) {
+  const bool can_take = canTake(room, held);
   int added = 0;
   for (ReuseCheck& c : checks) {
     ++reuse_stats_.candidates_checked;
+    std::shared_ptr<const MarginalizedKeyframe> data;
+    KeyframeRecord pose;
+    const auto look_up = [&] {
+      data = store_.keyframeData(c.id);
+      pose = store_.keyframe(c.id);
+      return data && pose.id >= 0;
+    };
     if (c.direct_skipped) {
-      if (!can_take) continue;
-      const std::shared_ptr<const MarginalizedKeyframe> data = store_.keyframeData(c.id);
-      const KeyframeRecord pose = store_.keyframe(c.id);
-      if (!data || pose.id < 0) continue;
+      if (!can_take || !look_up()) continue;
       reuse_->finishCheck(view, *data, pose, c);
     }
     if (!c.accepted) {
@@ -226,9 +234,7 @@ void MappingStage::bringBack(const ReuseView& view, std::vector<ReuseCheck>& che
         spdlog::trace("reuse: keyframe {} for {} rejected: {}", c.id, event.keyframe_id, c.reason);
       continue;
     }
-    const std::shared_ptr<const MarginalizedKeyframe> data = store_.keyframeData(c.id);
-    const KeyframeRecord pose = store_.keyframe(c.id);
-    if (!data || pose.id < 0) continue;
+    if (!data && !look_up()) continue;
     if (added >= room) {
       // Replace the weakest reactivated keyframe when this one is expected to give clearly more
       // inliers (by default 4x in view, about twice the inliers: half the points in view are).
