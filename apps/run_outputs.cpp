@@ -266,6 +266,8 @@ void writeRunOutputs(const std::string& dir, const System& system, const Traject
   j.key("map_corrections").value(s.reuse.map_corrections);
   j.key("merges").value(s.reuse.merges);
   j.key("window_reanchors").value(s.reuse.window_reanchors);
+  j.key("relocalization_cross_checks").value(s.reuse.relocalization_cross_checks);
+  j.key("relocalization_answers_refused").value(s.reuse.relocalization_answers_refused);
   j.endObject();
   j.key("map").beginObject();
   j.key("keyframes").value(s.map.keyframes);

@@ -110,6 +110,8 @@ void SlamPipeline::fillStats(SystemStats& stats) const {
   if (s->calibration_history) stats.calibration_history = *s->calibration_history;
   stats.reuse = s->reuse;
   stats.reuse.relocalization_attempts = tracking_.relocalizationAttempts();
+  stats.reuse.relocalization_cross_checks = tracking_.crossChecks();
+  stats.reuse.relocalization_answers_refused = tracking_.answersRefused();
   stats.reuse.relocalizations = tracking_.relocalizations();
   stats.map.keyframes = static_cast<std::int64_t>(store_.keyframeCount());
   stats.map.data_keyframes = static_cast<std::int64_t>(store_.dataKeyframeCount());

@@ -25,6 +25,7 @@ TrackingStage::TrackingStage(const TrackingStageSettings& settings, const Pyrami
       relocalization_timeout_s_(settings.localize_only ? std::numeric_limits<double>::infinity()
                                                        : settings.reuse.relocalization_timeout_s),
       place_candidates_(settings.reuse.relocalization_place_candidates),
+      cross_check_(settings.reuse.relocalization_cross_check),
       resume_radius_(settings.reuse.relocalization_search_radius),
       wait_for_keyframes_(settings.wait_for_keyframes) {
   if (settings.reuse.enabled && relocalization_timeout_s_ > 0.0)
@@ -533,8 +534,28 @@ void TrackingStage::relocalizeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent
     pyramids_.release(std::move(pyr));
     return;
   }
-  // Found in the map but away from the window: a new window from the map keyframe.
+  // Found in the map but away from the window: a new window from the map keyframe, which holds
+  // the window at the map's pose: the other map keyframes around it are asked first.
+  if (cross_check_ && !crossCheckAnswer(*pyr, exposure, snap->median_depth, frame.frame_index, r)) {
+    pyramids_.release(std::move(pyr));
+    return;
+  }
   startWindowInMap(std::move(pyr), frame, exposure, r);
+}
+
+bool TrackingStage::crossCheckAnswer(const ImagePyramid& pyr, double exposure, double median_depth,
+                                     std::int64_t frame_index, const RelocalizationResult& r) {
+  cross_checks_.fetch_add(1, std::memory_order_relaxed);
+  const Relocalizer::CrossCheck verdict = relocalizer_->crossCheck(
+      pyr, exposure, store_, median_depth,
+      [&](const SE3d& a, const SE3d& b) { return posesAgree(a, b, median_depth); }, r);
+  if (verdict != Relocalizer::CrossCheck::kRefused) return true;
+  answers_refused_.fetch_add(1, std::memory_order_relaxed);
+  spdlog::debug(
+      "frame {}: not relocalised: the map keyframes around its answer (keyframe {}) align "
+      "elsewhere",
+      frame_index, r.keyframe_id);
+  return false;
 }
 
 bool TrackingStage::resumesAfterLoss(const FrameTrackingOutcome& o, double rmse_before_loss) {

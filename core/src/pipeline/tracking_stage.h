@@ -110,6 +110,10 @@ class TrackingStage {
   std::int64_t relocalizationAttempts() const {
     return relocalization_attempts_.load(std::memory_order_relaxed);
   }
+  /// Map answers cross-checked before a new window was built on them, and of those refused
+  /// (Relocalizer::crossCheck).
+  std::int64_t crossChecks() const { return cross_checks_.load(std::memory_order_relaxed); }
+  std::int64_t answersRefused() const { return answers_refused_.load(std::memory_order_relaxed); }
   /// Losses after which tracking resumed in the same map (in the kept window or from a map
   /// keyframe), one per RelocalizedEvent.
   std::int64_t relocalizations() const { return relocalizations_.load(std::memory_order_relaxed); }
@@ -172,6 +176,10 @@ class TrackingStage {
   /// The frame looked for in the map (the relocaliser, with the place database's candidates).
   RelocalizationResult findInMap(const ImagePyramid& pyr, double exposure,
                                  const MappingSnapshot& snap);
+  /// Whether a new window may be built on the map's answer `r`: false where the other map
+  /// keyframes around its pose all align elsewhere (Relocalizer::crossCheck).
+  bool crossCheckAnswer(const ImagePyramid& pyr, double exposure, double median_depth,
+                        std::int64_t frame_index, const RelocalizationResult& r);
   /// A new window from map keyframe r.keyframe_id at the pose r found (the current one reset).
   void startWindowInMap(std::unique_ptr<ImagePyramid> pyr, FrameEvent& frame, double exposure,
                         const RelocalizationResult& r);
@@ -204,6 +212,7 @@ class TrackingStage {
   RelocalizationFilter relocalization_filter_;
   double relocalization_timeout_s_ = 0.0;
   int place_candidates_ = 0;  ///< reuse.relocalization_place_candidates
+  bool cross_check_ = true;   ///< reuse.relocalization_cross_check
   /// A relocalised frame resumes in the kept window only when the map keyframe it was found in
   /// is within this many median depths of the last pose (reuse.relocalization_search_radius)...
   double resume_radius_ = 0.0;
@@ -253,6 +262,8 @@ class TrackingStage {
   TrackedImage image_scratch_;  ///< reused: publishing allocates nothing after the first frame
   std::atomic<std::int64_t> relocalization_attempts_{0};
   std::atomic<std::int64_t> relocalizations_{0};
+  std::atomic<std::int64_t> cross_checks_{0};
+  std::atomic<std::int64_t> answers_refused_{0};
   std::atomic<std::int64_t> initializations_{0};
   std::atomic<std::int64_t> losses_{0};
   std::atomic<std::int64_t> initializer_frames_{0};

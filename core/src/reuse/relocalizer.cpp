@@ -284,10 +284,10 @@ RelocalizationResult Relocalizer::confirm(const ImagePyramid& frame, double expo
   return out;
 }
 
-bool Relocalizer::alignNearest(const ImagePyramid& frame, double exposure, const MapStore& map,
-                               const SE3d T_c_w, double median_depth, int skip_id,
-                               double max_distance, const std::function<bool(const SE3d&)>& accept,
-                               RelocalizationResult& out) const {
+bool Relocalizer::forEachNearestFit(
+    const ImagePyramid& frame, double exposure, const MapStore& map, const SE3d& T_c_w,
+    double median_depth, int skip_id, double max_distance,
+    const std::function<bool(const RelocalizationResult&)>& visit) const {
   constexpr int kTriedNearest = 3;
   const Eigen::Vector3d centre = T_c_w.inverse().translation();
   struct Near {
@@ -312,28 +312,65 @@ bool Relocalizer::alignNearest(const ImagePyramid& frame, double exposure, const
   });
   for (int k = 0; k < kTriedNearest && k < static_cast<int>(nearest.size()); ++k) {
     const Near& n = nearest[static_cast<std::size_t>(k)];
-    const int id = n.id;
-    const MarginalizedKeyframe* kf = n.kf.get();
-    const KeyframeRecord& pose = n.pose;
     const DirectAlignmentResult direct =
-        alignDirectly(*kf, pose, frame, exposure, T_c_w * pose.T_w_c);
+        alignDirectly(*n.kf, n.pose, frame, exposure, T_c_w * n.pose.T_w_c);
     if (!direct.success) continue;
-    const SE3d T_found = direct.T_target_host * pose.T_w_c.inverse();
-    if (accept && !accept(T_found)) {
-      const SE3d d = T_found * T_c_w.inverse();
-      spdlog::debug(
-          "relocalisation: keyframe {} aligns {:.3f} median depths and {:.2f} degrees away", id,
-          d.translation().norm() / std::max(median_depth, 1e-9), degrees(d.so3().log().norm()));
-      continue;
-    }
-    out.keyframe_id = id;
-    out.direct_inliers = direct.inliers;
-    out.direct_points = direct.in_image;
-    out.T_c_w = T_found;
-    out.aff = frameBrightness(direct, *kf, exposure);
-    return true;
+    RelocalizationResult fit;
+    fit.success = true;
+    fit.keyframe_id = n.id;
+    fit.direct_inliers = direct.inliers;
+    fit.direct_points = direct.in_image;
+    fit.T_c_w = direct.T_target_host * n.pose.T_w_c.inverse();
+    fit.aff = frameBrightness(direct, *n.kf, exposure);
+    if (visit(fit)) return true;
   }
   return false;
+}
+
+bool Relocalizer::alignNearest(const ImagePyramid& frame, double exposure, const MapStore& map,
+                               const SE3d T_c_w, double median_depth, int skip_id,
+                               double max_distance, const std::function<bool(const SE3d&)>& accept,
+                               RelocalizationResult& out) const {
+  return forEachNearestFit(
+      frame, exposure, map, T_c_w, median_depth, skip_id, max_distance,
+      [&](const RelocalizationResult& fit) {
+        if (accept && !accept(fit.T_c_w)) {
+          const SE3d d = fit.T_c_w * T_c_w.inverse();
+          spdlog::debug(
+              "relocalisation: keyframe {} aligns {:.3f} median depths and {:.2f} degrees away",
+              fit.keyframe_id, d.translation().norm() / std::max(median_depth, 1e-9),
+              degrees(d.so3().log().norm()));
+          return false;
+        }
+        out.keyframe_id = fit.keyframe_id;
+        out.direct_inliers = fit.direct_inliers;
+        out.direct_points = fit.direct_points;
+        out.T_c_w = fit.T_c_w;
+        out.aff = fit.aff;
+        return true;
+      });
+}
+
+Relocalizer::CrossCheck Relocalizer::crossCheck(
+    const ImagePyramid& frame, double exposure, const MapStore& map, double median_depth,
+    const std::function<bool(const SE3d&, const SE3d&)>& agree,
+    const RelocalizationResult& answer) const {
+  int elsewhere = 0;
+  const bool confirmed = forEachNearestFit(
+      frame, exposure, map, answer.T_c_w, median_depth, answer.keyframe_id,
+      std::numeric_limits<double>::infinity(), [&](const RelocalizationResult& fit) {
+        if (agree(fit.T_c_w, answer.T_c_w)) return true;
+        const SE3d d = fit.T_c_w * answer.T_c_w.inverse();
+        spdlog::debug(
+            "relocalisation cross-check: keyframe {} aligns {:.3f} median depths and {:.2f} "
+            "degrees from the answer (keyframe {})",
+            fit.keyframe_id, d.translation().norm() / std::max(median_depth, 1e-9),
+            degrees(d.so3().log().norm()), answer.keyframe_id);
+        ++elsewhere;
+        return false;
+      });
+  if (confirmed) return CrossCheck::kConfirmed;
+  return elsewhere == 0 ? CrossCheck::kUnchecked : CrossCheck::kRefused;
 }
 
 }  // namespace ldsm

@@ -10,7 +10,8 @@
 //      which must hold (enough inliers, correlated patterns) for the relocalisation to count;
 //      where no PnP pose held, from the own pose of each candidate whose PnP failed
 //      (reuse.relocalization_direct_start), with a stronger correlation.
-// confirm() checks a pose found another way (the kept window's track) with step 5 alone.
+// confirm() checks a pose found another way (the kept window's track) with step 5 alone;
+// crossCheck() asks the other map keyframes around an answer before a new window is built on it.
 // Runs on the tracking thread while tracking is lost; reads the map store.
 #pragma once
 
@@ -74,6 +75,25 @@ class Relocalizer {
                                const SE3d& T_c_w, double median_depth,
                                const std::function<bool(const SE3d&)>& agrees) const;
 
+  /// What crossCheck() made of an answer.
+  enum class CrossCheck {
+    kConfirmed,  ///< another map keyframe aligns where the answer is
+    kUnchecked,  ///< no other map keyframe near it aligns to the frame: nothing speaks against it
+    kRefused,    ///< others align to the frame, every one of them elsewhere
+  };
+  /// Checks `answer` (a success of relocalize()) against the map keyframes nearest to its pose
+  /// other than the one it was found in: direct alignment of each (at most three, nearest
+  /// first) from the answer's pose, until one ends at a pose `agree`s with the answer's. One
+  /// keyframe's fit can hold at a wrong pose (a repeated texture, a far viewpoint); where the
+  /// neighbours' fits from there all hold elsewhere, the answer is doubtful. Where they agree
+  /// among themselves they are no surer: from a pose 0.2 median depths off on vamr_desk_loop's
+  /// checkerboard they ended 0.02-0.08 median depths from it and made the run worse when taken
+  /// (docs/map-reuse.md, "Cross-checking the map's answer").
+  CrossCheck crossCheck(const ImagePyramid& frame, double exposure, const MapStore& map,
+                        double median_depth,
+                        const std::function<bool(const SE3d&, const SE3d&)>& agree,
+                        const RelocalizationResult& answer) const;
+
  private:
   /// 1. The frame's corners and ORB descriptors; false (and why) when too few.
   bool describeFrame(const ImagePyramid& frame, std::string& failure);
@@ -105,11 +125,17 @@ class Relocalizer {
   /// a far view is the least accurate one (on vamr_desk_loop 1.6 cm off from 12 cm away).
   void refineFromNearer(const ImagePyramid& frame, double exposure, const MapStore& map,
                         double median_depth, RelocalizationResult& best) const;
-  /// Direct alignment from `T_c_w` (a copy: `out` may hold it) of the map keyframes with points
-  /// among candidates() around that pose (with `skip_id`'s covisible neighbours, when >= 0),
-  /// nearer than `max_distance` and other than `skip_id`, at most three, nearest first; the first
-  /// that holds (at a pose `accept` accepts, when given) sets `out` (keyframe, pose, brightness,
-  /// direct counts) and returns true.
+  /// Direct alignment from `T_c_w` of the map keyframes with points among candidates() around
+  /// that pose (with `skip_id`'s covisible neighbours, when >= 0), nearer than `max_distance` and
+  /// other than `skip_id`, at most three, nearest first: each fit that holds goes to `visit` as a
+  /// result (keyframe, pose, brightness, direct counts; success set); true once `visit` returns
+  /// true (the rest are not tried).
+  bool forEachNearestFit(const ImagePyramid& frame, double exposure, const MapStore& map,
+                         const SE3d& T_c_w, double median_depth, int skip_id, double max_distance,
+                         const std::function<bool(const RelocalizationResult&)>& visit) const;
+  /// forEachNearestFit from `T_c_w` (a copy: `out` may hold it); the first fit that holds (at a
+  /// pose `accept` accepts, when given) sets `out`'s keyframe, pose, brightness and direct counts
+  /// and returns true.
   bool alignNearest(const ImagePyramid& frame, double exposure, const MapStore& map, SE3d T_c_w,
                     double median_depth, int skip_id, double max_distance,
                     const std::function<bool(const SE3d&)>& accept,

@@ -117,6 +117,11 @@ struct ReuseConfig {
   /// matches wrong: a repeated texture) are aligned directly from their own poses; the fit must
   /// pass the same checks, with a pattern correlation of 0.7 instead of 0.3.
   bool relocalization_direct_start = true;
+  /// Before a new window is built on the map's answer (found away from the kept window, or in a
+  /// loaded map), the map keyframes nearest to its pose other than the one it was found in are
+  /// aligned from it; where every one that holds ends elsewhere, the answer is refused (the frame
+  /// stays lost and the next one is looked for).
+  bool relocalization_cross_check = true;
   /// Share of the keyframe's points in view that must be photometric inliers.
   double relocalization_min_direct_inliers = 0.5;
   /// Keyframes searched around the last known pose, times the last median depth.
@@ -217,6 +222,8 @@ struct ReuseConfig {
             "PnP inliers a relocalisation needs");
     v.field("relocalization_direct_start", relocalization_direct_start,
             "a candidate whose PnP fails is aligned directly from its own pose");
+    v.field("relocalization_cross_check", relocalization_cross_check,
+            "the map's answer is checked against its neighbouring keyframes before a new window");
     v.field("relocalization_min_direct_inliers", relocalization_min_direct_inliers,
             Range<double>{0.0, 1.0},
             "share of the keyframe's points in view that must be photometric inliers");

@@ -383,6 +383,79 @@ TEST_F(RelocalizerTest, ConfirmationTriesTheNextNearestKeyframeWhenAFitIsRefused
   EXPECT_EQ(asked, 3);  // every keyframe of the map held and was asked about
 }
 
+/// Whether two world -> camera poses are within 1 cm and half a degree of each other.
+bool within1cm(const SE3d& a, const SE3d& b) {
+  const SE3d d = a * b.inverse();
+  return d.translation().norm() < 0.01 && d.so3().log().norm() < 0.0087;
+}
+
+// An answer where the frame is: the map keyframes around it align there too.
+TEST_F(RelocalizerTest, CrossCheckConfirmsARightAnswer) {
+  addPath();
+  const SE3d T_w_frame = cameraAt({0.6, -0.05, 0.35}, 7.0);
+  const ImagePyramid frame = frameAt(T_w_frame);
+  Relocalizer relocalizer(config_, camera_);
+  const RelocalizationResult answer = relocalize(frame);
+  ASSERT_TRUE(answer.success) << answer.failure;
+  EXPECT_EQ(relocalizer.crossCheck(frame, 1.0, map_, 3.0, within1cm, answer),
+            Relocalizer::CrossCheck::kConfirmed);
+}
+
+// An answer 12 cm off sideways (as a fit that held a period off on a repeated texture): the
+// other two keyframes (0 and 2), aligned from it, converge to where the frame is, away from the
+// answer, which is refused.
+TEST_F(RelocalizerTest, CrossCheckRefusesAnAnswerTheOtherKeyframesPutElsewhere) {
+  addPath();
+  const SE3d T_w_frame = cameraAt({0.6, -0.05, 0.35}, 7.0);
+  const ImagePyramid frame = frameAt(T_w_frame);
+  Relocalizer relocalizer(config_, camera_);
+  RelocalizationResult answer;
+  answer.success = true;
+  answer.keyframe_id = 1;
+  answer.T_c_w = (T_w_frame * SE3d(SO3d(), {0.12, 0.0, 0.0})).inverse();
+  int asked = 0;
+  std::vector<SE3d> fits;
+  const auto agree = [&](const SE3d& fit, const SE3d& a) {
+    ++asked;
+    fits.push_back(fit);
+    return within1cm(fit, a);
+  };
+  EXPECT_EQ(relocalizer.crossCheck(frame, 1.0, map_, 3.0, agree, answer),
+            Relocalizer::CrossCheck::kRefused);
+  ASSERT_EQ(asked, 2);  // keyframes 0 and 2, each aligned to where the frame is
+  for (const SE3d& fit : fits) EXPECT_LT((fit * T_w_frame).translation().norm(), 0.005);
+
+  // The same answer moved back where the frame is: confirmed by the first neighbour asked.
+  answer.T_c_w = T_w_frame.inverse();
+  asked = 0;
+  EXPECT_EQ(relocalizer.crossCheck(frame, 1.0, map_, 3.0, agree, answer),
+            Relocalizer::CrossCheck::kConfirmed);
+  EXPECT_EQ(asked, 1);
+}
+
+// Nothing to ask: a map of one keyframe, or neighbours whose fits do not hold (a frame of
+// another scene) leave the answer unchecked rather than refused.
+TEST_F(RelocalizerTest, CrossCheckLeavesAnAnswerUncheckedWhereNoNeighbourAligns) {
+  const SE3d T_w_frame = cameraAt({0.6, -0.05, 0.35}, 7.0);
+  const ImagePyramid frame = frameAt(T_w_frame);
+  Relocalizer relocalizer(config_, camera_);
+  RelocalizationResult answer;
+  answer.success = true;
+  answer.keyframe_id = 1;
+  answer.T_c_w = (T_w_frame * SE3d(SO3d(), {0.12, 0.0, 0.0})).inverse();
+  MapStore alone;
+  addKeyframe(1, cameraAt({0.5, 0.0, 0.25}, 6.0), {}, &alone);
+  EXPECT_EQ(relocalizer.crossCheck(frame, 1.0, alone, 3.0, within1cm, answer),
+            Relocalizer::CrossCheck::kUnchecked);
+
+  addPath();
+  const ImageF other =
+      test::renderImage(kW, kH, [](double x, double y) { return test::texture(x, y, 12.0, 99); });
+  EXPECT_EQ(
+      relocalizer.crossCheck(test::makePyramid(other, kLevels), 1.0, map_, 3.0, within1cm, answer),
+      Relocalizer::CrossCheck::kUnchecked);
+}
+
 TEST_F(RelocalizerTest, FailsCleanlyOnAnEmptyMap) {
   const RelocalizationResult r = relocalize(frameAt(cameraAt({0.5, 0, 0.25})));
   EXPECT_FALSE(r.success);
