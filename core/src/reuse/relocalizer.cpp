@@ -355,22 +355,24 @@ Relocalizer::CrossCheck Relocalizer::crossCheck(
     const ImagePyramid& frame, double exposure, const MapStore& map, double median_depth,
     const std::function<bool(const SE3d&, const SE3d&)>& agree,
     const RelocalizationResult& answer) const {
-  int elsewhere = 0;
-  const bool confirmed = forEachNearestFit(
-      frame, exposure, map, answer.T_c_w, median_depth, answer.keyframe_id,
-      std::numeric_limits<double>::infinity(), [&](const RelocalizationResult& fit) {
-        if (agree(fit.T_c_w, answer.T_c_w)) return true;
-        const SE3d d = fit.T_c_w * answer.T_c_w.inverse();
-        spdlog::debug(
-            "relocalisation cross-check: keyframe {} aligns {:.3f} median depths and {:.2f} "
-            "degrees from the answer (keyframe {})",
-            fit.keyframe_id, d.translation().norm() / std::max(median_depth, 1e-9),
-            degrees(d.so3().log().norm()), answer.keyframe_id);
-        ++elsewhere;
-        return false;
-      });
-  if (confirmed) return CrossCheck::kConfirmed;
-  return elsewhere == 0 ? CrossCheck::kUnchecked : CrossCheck::kRefused;
+  int there = 0, elsewhere = 0;
+  forEachNearestFit(frame, exposure, map, answer.T_c_w, median_depth, answer.keyframe_id,
+                    std::numeric_limits<double>::infinity(), [&](const RelocalizationResult& fit) {
+                      if (agree(fit.T_c_w, answer.T_c_w)) {
+                        ++there;
+                        return false;
+                      }
+                      const SE3d d = fit.T_c_w * answer.T_c_w.inverse();
+                      spdlog::debug(
+                          "relocalisation cross-check: keyframe {} aligns {:.3f} median depths "
+                          "and {:.2f} degrees from the answer (keyframe {})",
+                          fit.keyframe_id, d.translation().norm() / std::max(median_depth, 1e-9),
+                          degrees(d.so3().log().norm()), answer.keyframe_id);
+                      ++elsewhere;
+                      return false;
+                    });
+  if (there == 0 && elsewhere == 0) return CrossCheck::kUnchecked;
+  return there > elsewhere ? CrossCheck::kConfirmed : CrossCheck::kRefused;
 }
 
 }  // namespace ldsm

@@ -77,18 +77,18 @@ class Relocalizer {
 
   /// What crossCheck() made of an answer.
   enum class CrossCheck {
-    kConfirmed,  ///< another map keyframe aligns where the answer is
+    kConfirmed,  ///< more of the other map keyframes that align to the frame do so at the answer
     kUnchecked,  ///< no other map keyframe near it aligns to the frame: nothing speaks against it
-    kRefused,    ///< others align to the frame, every one of them elsewhere
+    kRefused,    ///< as many or more of them align elsewhere
   };
   /// Checks `answer` (a success of relocalize()) against the map keyframes nearest to its pose
   /// other than the one it was found in: direct alignment of each (at most three, nearest
-  /// first) from the answer's pose, until one ends at a pose `agree`s with the answer's. One
-  /// keyframe's fit can hold at a wrong pose (a repeated texture, a far viewpoint); where the
-  /// neighbours' fits from there all hold elsewhere, the answer is doubtful. Where they agree
-  /// among themselves they are no surer: from a pose 0.2 median depths off on vamr_desk_loop's
-  /// checkerboard they ended 0.02-0.08 median depths from it and made the run worse when taken
-  /// (docs/map-reuse.md, "Cross-checking the map's answer").
+  /// first) from the answer's pose; those whose fit holds vote, at the answer (`agree` with its
+  /// pose) or elsewhere. One keyframe's fit can hold at a wrong pose (a repeated texture, a far
+  /// viewpoint), the answer's and a neighbour's alike. Where the neighbours agree among
+  /// themselves elsewhere they are no surer: from a pose 0.2 median depths off on
+  /// vamr_desk_loop's checkerboard they ended 0.02-0.08 median depths from it, and taking their
+  /// pose made runs worse (docs/map-reuse.md, "Cross-checking the map's answer").
   CrossCheck crossCheck(const ImagePyramid& frame, double exposure, const MapStore& map,
                         double median_depth,
                         const std::function<bool(const SE3d&, const SE3d&)>& agree,
