@@ -57,10 +57,10 @@ struct ReuseStats {
   /// drifted beyond its optimisation's reach (docs/map-reuse.md, "Re-anchoring a window that
   /// drifted off the map").
   std::int64_t window_reanchors = 0;
-  /// Answers of the map checked against its other keyframes before a new window was built on
-  /// them (away from the kept window, or after a loaded map), and of those the ones refused (the
-  /// neighbours aligned to the frame, all elsewhere; docs/map-reuse.md, "Cross-checking the
-  /// map's answer").
+  /// Answers of the map checked against its other keyframes before a new window would be built
+  /// on them (away from the kept window, or in a loaded map), and of those the ones refused (at
+  /// least one neighbour aligned elsewhere and no fewer elsewhere than at the answer;
+  /// docs/map-reuse.md, "Cross-checking the map's answer").
   std::int64_t relocalization_cross_checks = 0;
   std::int64_t relocalization_answers_refused = 0;
 };

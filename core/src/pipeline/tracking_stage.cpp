@@ -26,6 +26,7 @@ TrackingStage::TrackingStage(const TrackingStageSettings& settings, const Pyrami
                                                        : settings.reuse.relocalization_timeout_s),
       place_candidates_(settings.reuse.relocalization_place_candidates),
       cross_check_(settings.reuse.relocalization_cross_check),
+      cross_check_window_s_(kCrossCheckTimeShare * settings.reuse.relocalization_timeout_s),
       resume_radius_(settings.reuse.relocalization_search_radius),
       wait_for_keyframes_(settings.wait_for_keyframes) {
   if (settings.reuse.enabled && relocalization_timeout_s_ > 0.0)
@@ -534,14 +535,21 @@ void TrackingStage::relocalizeStep(std::unique_ptr<ImagePyramid> pyr, FrameEvent
     pyramids_.release(std::move(pyr));
     return;
   }
-  // Found in the map but away from the window: a new window from the map keyframe, which holds
-  // the window at the map's pose: the other map keyframes around it are asked first. Only in the
-  // first half of the relocalisation time: later a doubtful answer in this map is better than
-  // the new map the timeout would start (vamr_desk_loop without frames 300-379, the answer 0.2
-  // median depths off: 0.0072 m taken, 0.041 m with a new map that no loop merged).
-  if (cross_check_ &&
-      frame.timestamp - lost_since_ < kCrossCheckTimeShare * relocalization_timeout_s_ &&
-      !crossCheckAnswer(*pyr, exposure, snap->median_depth, frame.frame_index, r)) {
+  startWindowOnAnswer(std::move(pyr), frame, exposure, snap->median_depth, r);
+}
+
+void TrackingStage::startWindowOnAnswer(std::unique_ptr<ImagePyramid> pyr, FrameEvent& frame,
+                                        double exposure, double median_depth,
+                                        const RelocalizationResult& r) {
+  // A new window from the map keyframe holds the window at the map's pose: the other map
+  // keyframes around it are asked first. Only in the first half of the relocalisation time
+  // (the configured one also where localize-only mode never gives up): later a doubtful answer in
+  // this map is better than the new map the timeout would start (vamr_desk_loop without frames
+  // 300-379, the answer 0.2 median depths off: 0.0072 m taken, 0.041 m with a new map that no
+  // loop merged). A loss of unknown time (NaN) is checked.
+  const double lost_for = frame.timestamp - lost_since_;
+  if (cross_check_ && !(lost_for >= cross_check_window_s_) &&
+      !crossCheckAnswer(*pyr, exposure, median_depth, frame.frame_index, r)) {
     pyramids_.release(std::move(pyr));
     return;
   }

@@ -176,8 +176,13 @@ class TrackingStage {
   /// The frame looked for in the map (the relocaliser, with the place database's candidates).
   RelocalizationResult findInMap(const ImagePyramid& pyr, double exposure,
                                  const MappingSnapshot& snap);
-  /// Whether a new window may be built on the map's answer `r`: false where as many or more of
-  /// the other map keyframes around its pose align elsewhere as at it (Relocalizer::crossCheck).
+  /// A frame the map found (`r`) away from the kept window, or with none: a new window on the map
+  /// keyframe at the map's pose, unless the cross-check (early in the loss) refuses the answer.
+  void startWindowOnAnswer(std::unique_ptr<ImagePyramid> pyr, FrameEvent& frame, double exposure,
+                           double median_depth, const RelocalizationResult& r);
+  /// Whether a new window may be built on the map's answer `r`: false where at least one of the
+  /// other map keyframes around its pose aligns elsewhere and no fewer do so than at it
+  /// (Relocalizer::crossCheck).
   bool crossCheckAnswer(const ImagePyramid& pyr, double exposure, double median_depth,
                         std::int64_t frame_index, const RelocalizationResult& r);
   /// A new window from map keyframe r.keyframe_id at the pose r found (the current one reset).
@@ -213,9 +218,10 @@ class TrackingStage {
   double relocalization_timeout_s_ = 0.0;
   int place_candidates_ = 0;  ///< reuse.relocalization_place_candidates
   bool cross_check_ = true;   ///< reuse.relocalization_cross_check
-  /// The map's answer is cross-checked (and may be refused) only within this share of
-  /// reuse.relocalization_timeout_s after the loss.
+  /// The map's answer is cross-checked (and may be refused) only within this share of the
+  /// configured reuse.relocalization_timeout_s after the loss (cross_check_window_s_).
   static constexpr double kCrossCheckTimeShare = 0.5;
+  double cross_check_window_s_ = 0.0;
   /// A relocalised frame resumes in the kept window only when the map keyframe it was found in
   /// is within this many median depths of the last pose (reuse.relocalization_search_radius)...
   double resume_radius_ = 0.0;

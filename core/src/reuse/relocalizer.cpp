@@ -264,6 +264,7 @@ void Relocalizer::refineFromNearer(const ImagePyramid& frame, double exposure, c
   const double found_distance =
       (found.T_w_c.translation() - best.T_c_w.inverse().translation()).norm();
   const int found_id = best.keyframe_id;
+  best.found_keyframe_id = found_id;
   if (alignNearest(frame, exposure, map, best.T_c_w, median_depth, found_id, found_distance, {},
                    best))
     spdlog::debug("relocalisation: refined against keyframe {} (keyframe {}: {:.3f} away)",
@@ -284,10 +285,11 @@ RelocalizationResult Relocalizer::confirm(const ImagePyramid& frame, double expo
   return out;
 }
 
-bool Relocalizer::forEachNearestFit(
-    const ImagePyramid& frame, double exposure, const MapStore& map, const SE3d& T_c_w,
-    double median_depth, int skip_id, double max_distance,
-    const std::function<bool(const RelocalizationResult&)>& visit) const {
+bool Relocalizer::forEachNearestFit(const ImagePyramid& frame, double exposure, const MapStore& map,
+                                    const SE3d& T_c_w, double median_depth, int skip_id,
+                                    double max_distance,
+                                    const std::function<bool(const RelocalizationResult&)>& visit,
+                                    int also_skip_id) const {
   constexpr int kTriedNearest = 3;
   const Eigen::Vector3d centre = T_c_w.inverse().translation();
   struct Near {
@@ -300,7 +302,7 @@ bool Relocalizer::forEachNearestFit(
   for (const int id :
        candidates(map, T_c_w, skip_id >= 0 ? std::vector<int>{skip_id} : std::vector<int>{},
                   median_depth)) {
-    if (id == skip_id) continue;
+    if (id == skip_id || id == also_skip_id) continue;
     const KeyframeRecord r = map.keyframe(id);
     std::shared_ptr<const MarginalizedKeyframe> kf = map.keyframeData(id);
     if (r.id < 0 || !kf || kf->points.empty()) continue;
@@ -356,21 +358,22 @@ Relocalizer::CrossCheck Relocalizer::crossCheck(
     const std::function<bool(const SE3d&, const SE3d&)>& agree,
     const RelocalizationResult& answer) const {
   int there = 0, elsewhere = 0;
+  const auto vote = [&](const RelocalizationResult& fit) {
+    if (agree(fit.T_c_w, answer.T_c_w)) {
+      ++there;
+      return false;
+    }
+    const SE3d d = fit.T_c_w * answer.T_c_w.inverse();
+    spdlog::debug(
+        "relocalisation cross-check: keyframe {} aligns {:.3f} median depths and {:.2f} degrees "
+        "from the answer (keyframe {})",
+        fit.keyframe_id, d.translation().norm() / std::max(median_depth, 1e-9),
+        degrees(d.so3().log().norm()), answer.keyframe_id);
+    ++elsewhere;
+    return false;
+  };
   forEachNearestFit(frame, exposure, map, answer.T_c_w, median_depth, answer.keyframe_id,
-                    std::numeric_limits<double>::infinity(), [&](const RelocalizationResult& fit) {
-                      if (agree(fit.T_c_w, answer.T_c_w)) {
-                        ++there;
-                        return false;
-                      }
-                      const SE3d d = fit.T_c_w * answer.T_c_w.inverse();
-                      spdlog::debug(
-                          "relocalisation cross-check: keyframe {} aligns {:.3f} median depths "
-                          "and {:.2f} degrees from the answer (keyframe {})",
-                          fit.keyframe_id, d.translation().norm() / std::max(median_depth, 1e-9),
-                          degrees(d.so3().log().norm()), answer.keyframe_id);
-                      ++elsewhere;
-                      return false;
-                    });
+                    std::numeric_limits<double>::infinity(), vote, answer.found_keyframe_id);
   if (there == 0 && elsewhere == 0) return CrossCheck::kUnchecked;
   return there > elsewhere ? CrossCheck::kConfirmed : CrossCheck::kRefused;
 }

@@ -46,6 +46,9 @@ struct RelocalizationResult {
   /// and no candidate's PnP pose held), not from a PnP pose; refineFromNearer() may have moved
   /// the result to a nearer keyframe since.
   bool from_keyframe_pose = false;
+  /// The keyframe whose fit first found the frame, before refineFromNearer() moved the result to
+  /// keyframe_id (equal when it did not): crossCheck() asks neither.
+  int found_keyframe_id = -1;
 };
 
 class Relocalizer {
@@ -79,16 +82,17 @@ class Relocalizer {
   enum class CrossCheck {
     kConfirmed,  ///< more of the other map keyframes that align to the frame do so at the answer
     kUnchecked,  ///< no other map keyframe near it aligns to the frame: nothing speaks against it
-    kRefused,    ///< as many or more of them align elsewhere
+    kRefused,    ///< at least one aligns elsewhere, and no fewer elsewhere than at the answer
   };
   /// Checks `answer` (a success of relocalize()) against the map keyframes nearest to its pose
-  /// other than the one it was found in: direct alignment of each (at most three, nearest
-  /// first) from the answer's pose; those whose fit holds vote, at the answer (`agree` with its
-  /// pose) or elsewhere. One keyframe's fit can hold at a wrong pose (a repeated texture, a far
-  /// viewpoint), the answer's and a neighbour's alike. Where the neighbours agree among
-  /// themselves elsewhere they are no surer: from a pose 0.2 median depths off on
-  /// vamr_desk_loop's checkerboard they ended 0.02-0.08 median depths from it, and taking their
-  /// pose made runs worse (docs/map-reuse.md, "Cross-checking the map's answer").
+  /// other than the one it was found in (and the one first found, before refineFromNearer):
+  /// direct alignment of each (at most three, nearest first) from the answer's pose; those whose
+  /// fit holds vote, at the answer (`agree` with its pose) or elsewhere. One keyframe's fit can
+  /// hold at a wrong pose (a repeated texture, a far viewpoint), the answer's and a neighbour's
+  /// alike. Where the neighbours agree among themselves elsewhere they are no surer: from a pose
+  /// 0.2 median depths off on vamr_desk_loop's checkerboard they ended 0.02-0.08 median depths
+  /// from it, and taking their pose made runs worse (docs/map-reuse.md, "Cross-checking the map's
+  /// answer").
   CrossCheck crossCheck(const ImagePyramid& frame, double exposure, const MapStore& map,
                         double median_depth,
                         const std::function<bool(const SE3d&, const SE3d&)>& agree,
@@ -127,12 +131,13 @@ class Relocalizer {
                         double median_depth, RelocalizationResult& best) const;
   /// Direct alignment from `T_c_w` of the map keyframes with points among candidates() around
   /// that pose (with `skip_id`'s covisible neighbours, when >= 0), nearer than `max_distance` and
-  /// other than `skip_id`, at most three, nearest first: each fit that holds goes to `visit` as a
-  /// result (keyframe, pose, brightness, direct counts; success set); true once `visit` returns
-  /// true (the rest are not tried).
+  /// other than `skip_id` and `also_skip_id`, at most three, nearest first: each fit that holds
+  /// goes to `visit` as a result (keyframe, pose, brightness, direct counts; success set); true
+  /// once `visit` returns true (the rest are not tried).
   bool forEachNearestFit(const ImagePyramid& frame, double exposure, const MapStore& map,
                          const SE3d& T_c_w, double median_depth, int skip_id, double max_distance,
-                         const std::function<bool(const RelocalizationResult&)>& visit) const;
+                         const std::function<bool(const RelocalizationResult&)>& visit,
+                         int also_skip_id = -1) const;
   /// forEachNearestFit from `T_c_w` (a copy: `out` may hold it); the first fit that holds (at a
   /// pose `accept` accepts, when given) sets `out`'s keyframe, pose, brightness and direct counts
   /// and returns true.

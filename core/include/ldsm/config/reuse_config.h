@@ -119,9 +119,10 @@ struct ReuseConfig {
   bool relocalization_direct_start = true;
   /// Before a new window is built on the map's answer (found away from the kept window, or in a
   /// loaded map), the map keyframes nearest to its pose other than the one it was found in are
-  /// aligned from it; unless more of those that hold end at the answer than elsewhere, the answer
-  /// is refused (the frame stays lost and the next one is looked for). Only in the first half of
-  /// relocalization_timeout_s after the loss.
+  /// aligned from it; where at least one that holds ends elsewhere and no fewer end elsewhere than
+  /// at the answer, the answer is refused (the frame stays lost and the next one is looked for).
+  /// Only in the first half of relocalization_timeout_s after the loss (in localize-only mode too,
+  /// which never gives up).
   bool relocalization_cross_check = true;
   /// Share of the keyframe's points in view that must be photometric inliers.
   double relocalization_min_direct_inliers = 0.5;

@@ -383,6 +383,15 @@ TEST_F(RelocalizerTest, ConfirmationTriesTheNextNearestKeyframeWhenAFitIsRefused
   EXPECT_EQ(asked, 3);  // every keyframe of the map held and was asked about
 }
 
+/// A relocalisation answer in keyframe `keyframe_id` with the camera at T_w_c.
+RelocalizationResult answerAt(const SE3d& T_w_c, int keyframe_id = 1) {
+  RelocalizationResult answer;
+  answer.success = true;
+  answer.keyframe_id = keyframe_id;
+  answer.T_c_w = T_w_c.inverse();
+  return answer;
+}
+
 /// Whether two world -> camera poses are within 1 cm and half a degree of each other.
 bool within1cm(const SE3d& a, const SE3d& b) {
   const SE3d d = a * b.inverse();
@@ -409,10 +418,7 @@ TEST_F(RelocalizerTest, CrossCheckRefusesAnAnswerTheOtherKeyframesPutElsewhere) 
   const SE3d T_w_frame = cameraAt({0.6, -0.05, 0.35}, 7.0);
   const ImagePyramid frame = frameAt(T_w_frame);
   Relocalizer relocalizer(config_, camera_);
-  RelocalizationResult answer;
-  answer.success = true;
-  answer.keyframe_id = 1;
-  answer.T_c_w = (T_w_frame * SE3d(SO3d(), {0.12, 0.0, 0.0})).inverse();
+  RelocalizationResult answer = answerAt(T_w_frame * SE3d(SO3d(), {0.12, 0.0, 0.0}));
   int asked = 0;
   std::vector<SE3d> fits;
   const auto agree = [&](const SE3d& fit, const SE3d& a) {
@@ -431,6 +437,15 @@ TEST_F(RelocalizerTest, CrossCheckRefusesAnAnswerTheOtherKeyframesPutElsewhere) 
   EXPECT_EQ(relocalizer.crossCheck(frame, 1.0, map_, 3.0, agree, answer),
             Relocalizer::CrossCheck::kConfirmed);
   EXPECT_EQ(asked, 2);
+
+  // An answer refineFromNearer moved from keyframe 0 to keyframe 1: keyframe 0's fit came before
+  // the answer's, so it is not asked; keyframe 2 alone decides.
+  answer.found_keyframe_id = 0;
+  asked = 0;
+  fits.clear();
+  EXPECT_EQ(relocalizer.crossCheck(frame, 1.0, map_, 3.0, agree, answer),
+            Relocalizer::CrossCheck::kConfirmed);
+  EXPECT_EQ(asked, 1);
 }
 
 // The neighbours that hold vote: one that lands at the answer does not outweigh one that lands
@@ -441,10 +456,7 @@ TEST_F(RelocalizerTest, CrossCheckNeedsMoreNeighboursAtTheAnswerThanElsewhere) {
   const SE3d T_w_frame = cameraAt({0.6, -0.05, 0.35}, 7.0);
   const ImagePyramid frame = frameAt(T_w_frame);
   Relocalizer relocalizer(config_, camera_);
-  RelocalizationResult answer;
-  answer.success = true;
-  answer.keyframe_id = 1;
-  answer.T_c_w = T_w_frame.inverse();
+  const RelocalizationResult answer = answerAt(T_w_frame);
   int asked = 0;
   const auto first_agrees = [&](const SE3d&, const SE3d&) { return ++asked == 1; };
   EXPECT_EQ(relocalizer.crossCheck(frame, 1.0, map_, 3.0, first_agrees, answer),
@@ -466,10 +478,7 @@ TEST_F(RelocalizerTest, CrossCheckLeavesAnAnswerUncheckedWhereNoNeighbourAligns)
   const SE3d T_w_frame = cameraAt({0.6, -0.05, 0.35}, 7.0);
   const ImagePyramid frame = frameAt(T_w_frame);
   Relocalizer relocalizer(config_, camera_);
-  RelocalizationResult answer;
-  answer.success = true;
-  answer.keyframe_id = 1;
-  answer.T_c_w = (T_w_frame * SE3d(SO3d(), {0.12, 0.0, 0.0})).inverse();
+  const RelocalizationResult answer = answerAt(T_w_frame * SE3d(SO3d(), {0.12, 0.0, 0.0}));
   MapStore alone;
   addKeyframe(1, cameraAt({0.5, 0.0, 0.25}, 6.0), {}, &alone);
   EXPECT_EQ(relocalizer.crossCheck(frame, 1.0, alone, 3.0, within1cm, answer),
