@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
 
 #include "camera/radial_distortion.h"
 #include "features/orb_matching.h"
@@ -24,6 +25,16 @@ constexpr double kMinPatternCorrelation = 0.3;
 // correlates 0.85-0.9 (vamr_desk_loop after a gap); a fit that wandered 12 degrees off to a
 // look-alike of the checkerboard, 0.53 with 71 % inliers.
 constexpr double kMinPatternCorrelationWithoutPnp = 0.7;
+
+/// Debug line: where a map keyframe's fit ended (`fit`) relative to `reference`, in median depths
+/// and degrees; `what` names the reference.
+void logFitOffset(const char* check, int keyframe_id, const SE3d& fit, const SE3d& reference,
+                  double median_depth, const std::string& what) {
+  const SE3d d = fit * reference.inverse();
+  spdlog::debug("relocalisation{}: keyframe {} aligns {:.3f} median depths and {:.2f} degrees {}",
+                check, keyframe_id, d.translation().norm() / std::max(median_depth, 1e-9),
+                degrees(d.so3().log().norm()), what);
+}
 
 }  // namespace
 
@@ -333,24 +344,20 @@ bool Relocalizer::alignNearest(const ImagePyramid& frame, double exposure, const
                                const SE3d T_c_w, double median_depth, int skip_id,
                                double max_distance, const std::function<bool(const SE3d&)>& accept,
                                RelocalizationResult& out) const {
-  return forEachNearestFit(
-      frame, exposure, map, T_c_w, median_depth, skip_id, max_distance,
-      [&](const RelocalizationResult& fit) {
-        if (accept && !accept(fit.T_c_w)) {
-          const SE3d d = fit.T_c_w * T_c_w.inverse();
-          spdlog::debug(
-              "relocalisation: keyframe {} aligns {:.3f} median depths and {:.2f} degrees away",
-              fit.keyframe_id, d.translation().norm() / std::max(median_depth, 1e-9),
-              degrees(d.so3().log().norm()));
-          return false;
-        }
-        out.keyframe_id = fit.keyframe_id;
-        out.direct_inliers = fit.direct_inliers;
-        out.direct_points = fit.direct_points;
-        out.T_c_w = fit.T_c_w;
-        out.aff = fit.aff;
-        return true;
-      });
+  return forEachNearestFit(frame, exposure, map, T_c_w, median_depth, skip_id, max_distance,
+                           [&](const RelocalizationResult& fit) {
+                             if (accept && !accept(fit.T_c_w)) {
+                               logFitOffset("", fit.keyframe_id, fit.T_c_w, T_c_w, median_depth,
+                                            "away");
+                               return false;
+                             }
+                             out.keyframe_id = fit.keyframe_id;
+                             out.direct_inliers = fit.direct_inliers;
+                             out.direct_points = fit.direct_points;
+                             out.T_c_w = fit.T_c_w;
+                             out.aff = fit.aff;
+                             return true;
+                           });
 }
 
 Relocalizer::CrossCheck Relocalizer::crossCheck(
@@ -363,12 +370,8 @@ Relocalizer::CrossCheck Relocalizer::crossCheck(
       ++there;
       return false;
     }
-    const SE3d d = fit.T_c_w * answer.T_c_w.inverse();
-    spdlog::debug(
-        "relocalisation cross-check: keyframe {} aligns {:.3f} median depths and {:.2f} degrees "
-        "from the answer (keyframe {})",
-        fit.keyframe_id, d.translation().norm() / std::max(median_depth, 1e-9),
-        degrees(d.so3().log().norm()), answer.keyframe_id);
+    logFitOffset(" cross-check", fit.keyframe_id, fit.T_c_w, answer.T_c_w, median_depth,
+                 "from the answer (keyframe " + std::to_string(answer.keyframe_id) + ")");
     ++elsewhere;
     return false;
   };
