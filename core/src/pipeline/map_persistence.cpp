@@ -6,6 +6,7 @@
 
 #include "camera/radial_distortion.h"
 #include "ldsm/error.h"
+#include "map/map_depth.h"
 #include "mapfile/map_calibration.h"
 
 namespace ldsm {
@@ -160,7 +161,7 @@ void importMap(const MapData& map, const MapCalibration& now, const std::string&
   }
   int next_id = 0;
   for (const KeyframeRecord& r : map.keyframes) next_id = std::max(next_id, r.id + 1);
-  mapping.continueAfterLoadedMap(next_id, map.calibration);
+  mapping.continueAfterLoadedMap(next_id, map.calibration, medianKeyframeDepth(stored));
   tracking.startInLoadedMap();
 }
 

@@ -241,8 +241,13 @@ void MappingStage::startWindow(const MapperFrame& info, int points, bool initial
                                  newest.T_c_w.inverse().toPose(), points});
 }
 
-void MappingStage::continueAfterLoadedMap(int next_keyframe_id, const MapCalibration& calibration) {
+void MappingStage::continueAfterLoadedMap(int next_keyframe_id, const MapCalibration& calibration,
+                                          std::optional<double> median_depth) {
   mapper_.setNextKeyframeId(next_keyframe_id);
+  if (median_depth && *median_depth > 0.0 && std::isfinite(*median_depth)) {
+    median_depth_ = *median_depth;
+    spdlog::debug("loaded map: median depth {:.4g} map units", median_depth_);
+  }
   mapper_.startCalibrationAt(calibration.focal_log_scale, calibration.cx_shift,
                              calibration.cy_shift);
   publishSnapshot();

@@ -151,8 +151,11 @@ class MappingStage {
   std::vector<MarginalizedKeyframe> windowForMap();
   /// A loaded map's keyframes keep their ids: the next keyframe is `next_keyframe_id`.
   /// It was measured with the refinement's correction `calibration` (focal and principal point):
-  /// the window starts with it.
-  void continueAfterLoadedMap(int next_keyframe_id, const MapCalibration& calibration);
+  /// the window starts with it. Until a window measures its own, the snapshot's median depth
+  /// (the unit of relocalisation's search radius and of whether two poses agree) is the map's
+  /// `median_depth` (map/map_depth.h), when it has points.
+  void continueAfterLoadedMap(int next_keyframe_id, const MapCalibration& calibration,
+                              std::optional<double> median_depth);
 
   /// End of a run: waits for the loop task, applies what it found and publishes the window.
   void finish();

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "camera/radial_distortion.h"
+#include "map/map_depth.h"
 #include "math/constants.h"
 
 namespace ldsm {
@@ -20,20 +21,17 @@ RedundancyCheck checkRedundancy(const MarginalizedKeyframe& keyframe, const Keyf
   RedundancyCheck out;
   if (keyframe.points.empty()) return out;
   // Its points in the world, and its median depth.
+  const std::optional<double> host_depth = medianHostDepth(keyframe.points);
+  if (!host_depth) return out;
   std::vector<Eigen::Vector3d> world;
-  std::vector<float> depths;
   world.reserve(keyframe.points.size());
   for (const PatchPoint& p : keyframe.points) {
     if (!(p.idepth > 0.f)) continue;
     const Eigen::Vector3d X = radialRay(camera, keyframe.radial_k, p.u, p.v).cast<double>() /
                               static_cast<double>(p.idepth);
     world.push_back(pose.T_w_c * (pose.scale * X));
-    depths.push_back(1.f / p.idepth);
   }
-  if (world.empty()) return out;
-  const auto mid = depths.begin() + static_cast<std::ptrdiff_t>(depths.size() / 2);
-  std::nth_element(depths.begin(), mid, depths.end());
-  const double median_depth = pose.scale * static_cast<double>(*mid);
+  const double median_depth = pose.scale * *host_depth;
   const Eigen::Vector3d centre = pose.T_w_c.translation();
   const Eigen::Vector3d axis = pose.T_w_c.so3() * Eigen::Vector3d::UnitZ();
   for (const int id : map.keyframesNear(centre, config.redundancy_distance * median_depth)) {

@@ -8,9 +8,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <limits>
+#include <optional>
 #include <thread>
 #include <vector>
 
+#include "map/map_depth.h"
 #include "synthetic_window.h"
 
 namespace ldsm {
@@ -297,6 +300,34 @@ TEST(MappingStage, RelocalizeStartsAWindowAtAMapKeyframe) {
   EXPECT_EQ(m.listener.initialized.size(), 1u);
   EXPECT_EQ(m.stage.snapshot()->reuse.reactivations, 1);
   EXPECT_LT(test::poseError(outcome.T_c_w, m.w.T_c_w(frame))[1], 0.05);
+}
+
+TEST(MappingStage, ALoadedMapGivesRelocalisationItsMedianDepthBeforeAnyWindow) {
+  // A map of the wall-and-floor scene (4 units away), saved and loaded into a new stage.
+  MappedWindow m(26, reuseConfig());
+  m.keyframes(3, 24, 3);
+  const StoredMap saved = m.store.firstMap();
+  const std::optional<double> depth = medianKeyframeDepth(saved);
+  ASSERT_TRUE(depth.has_value());
+  // The window's own measure of the same scene, and the truth's range.
+  EXPECT_NEAR(*depth, m.stage.snapshot()->median_depth, 0.25 * m.stage.snapshot()->median_depth);
+  EXPECT_GT(*depth, 2.0);
+  EXPECT_LT(*depth, 5.0);
+
+  MapStore store;
+  store.loadMap(saved);
+  EventSink events;
+  MappingStage stage(mappingStageSettings(reuseConfig(), false), m.w.camera(), m.w.pool(), store,
+                     events, nullptr, /*inline_mode=*/true);
+  EXPECT_EQ(stage.snapshot()->median_depth, 1.0) << "the default before anything is known";
+  stage.continueAfterLoadedMap(100, MapCalibration{}, depth);
+  EXPECT_FALSE(stage.snapshot()->has_window);
+  EXPECT_EQ(stage.snapshot()->median_depth, *depth);
+  // A map without points (or a depth that is no depth) keeps what the stage had.
+  stage.continueAfterLoadedMap(100, MapCalibration{}, std::nullopt);
+  EXPECT_EQ(stage.snapshot()->median_depth, *depth);
+  stage.continueAfterLoadedMap(100, MapCalibration{}, std::numeric_limits<double>::quiet_NaN());
+  EXPECT_EQ(stage.snapshot()->median_depth, *depth);
 }
 
 TEST(MappingStage, ReturningCameraBringsMapKeyframesBack) {
