@@ -310,6 +310,8 @@ MarginalizedKeyframe MappingStage::asMapKeyframe(const MarginalizedKeyframe& kf)
                              return p.observations < settings_.reuse.min_point_observations;
                            }),
             pts.end());
+  // The map store keeps this keyframe for the whole run: no room for the points left out.
+  pts.shrink_to_fit();
   return data;
 }
 
