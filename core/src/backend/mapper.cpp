@@ -52,8 +52,14 @@ std::size_t Mapper::windowImageBytes() const {
   return n;
 }
 
+void Mapper::releaseLeavingPyramids() {
+  for (std::unique_ptr<ImagePyramid>& p : leaving_pyramids_) pyramids_.release(std::move(p));
+  leaving_pyramids_.clear();
+}
+
 WindowKeyframe& Mapper::insertKeyframe(std::unique_ptr<ImagePyramid> pyramid,
                                        const MapperFrame& info) {
+  releaseLeavingPyramids();  // a caller that did not compact the newest keyframe
   auto kf = std::make_unique<WindowKeyframe>(next_keyframe_id_++, info.frame_index, info.timestamp,
                                              info.exposure, std::move(pyramid));
   kf->setInitialState(info.T_c_w, info.aff);
@@ -371,7 +377,7 @@ void Mapper::marginalizeFrame(int window_index) {
   if (describe_leaving_) f.takeImage(leaving.image);
   update_.left.push_back(std::move(leaving));
   update_.points.insert(update_.points.end(), finished.begin(), finished.end());
-  pyramids_.release(f.releasePyramid());
+  leaving_pyramids_.push_back(f.releasePyramid());
   window_.erase(window_.begin() + window_index);
 }
 
@@ -572,6 +578,7 @@ MapUpdate Mapper::reset() {
   // find them), with the points they host.
   if (describe_leaving_) out.left = describeWindow();
   for (auto& kf : window_) pyramids_.release(kf->releasePyramid());
+  releaseLeavingPyramids();
   window_.clear();
   reactivated_.clear();
   reactivated_fit_.clear();

@@ -98,8 +98,10 @@ class Mapper {
   std::size_t windowImageBytes() const;
   /// Frees all but the newest keyframe's level-0 intensities, once the tracking reference was
   /// made from it (a newer keyframe frees the rest anyway).
+  /// Then gives the pyramids of the keyframes that left the window back to the pool.
   void compactNewestImage() {
     if (!window_.empty()) window_.back()->compactPyramid(settings_.window.keyframe_images_16bit);
+    releaseLeavingPyramids();
   }
   /// The newest keyframe as the tracker's reference (its pyramid stays owned by the window).
   TrackingReference newestReference() const;
@@ -243,6 +245,12 @@ class Mapper {
   PyramidCamera base_camera_;  ///< as configured
   PyramidCamera camera_;       ///< with the calibration correction applied
   PyramidPool& pyramids_;
+  /// Pyramids of keyframes that left the window, given back to the pool (which expands them to
+  /// whole pyramids again) only once the newest keyframe is compacted (compactNewestImage(), or
+  /// the next insertion at the latest): a whole spare pyramid and the newest keyframe's whole
+  /// pyramid are then never held at once.
+  std::vector<std::unique_ptr<ImagePyramid>> leaving_pyramids_;
+  void releaseLeavingPyramids();
   WindowOptimizer optimizer_;
   concurrency::ParallelTasks* tasks_ = nullptr;
   CalibrationRefinement calibration_;

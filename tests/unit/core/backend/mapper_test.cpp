@@ -112,6 +112,31 @@ TEST(Mapper, KeyframesWithSixteenBitImagesConvergeToTheTruthAndTheWindowStaysBou
   expectConvergesToTheTruthAndStaysBounded(true);
 }
 
+TEST(Mapper, ALeavingKeyframesPyramidGoesBackToThePoolOnlyOnceTheNewestIsCompacted) {
+  // The pool makes a leaving keyframe's compacted pyramid whole again: were that done while the
+  // newest keyframe still holds its whole pyramid, two whole pyramids would be held at once.
+  SyntheticWindow w(30);
+  Mapper mapper(mapperSettings(mapperConfig(), false), w.camera(), w.pool());
+  ASSERT_TRUE(mapper.initialize(w.initialization(2), frameInfo(w, 0, w.T_c_w(0)), w.pyramid(0),
+                                frameInfo(w, 2, w.T_c_w(2)), w.pyramid(2), nullptr));
+  mapper.compactNewestImage();
+  int left = 0;
+  for (int i = 3; i < w.frames() && left == 0; i += 3) {
+    ASSERT_EQ(w.pool().freeCount(), 0u) << "the frames here take every pyramid the pool has";
+    const KeyframeInsertion ins = mapper.addKeyframe(w.pyramid(i), frameInfo(w, i, w.T_c_w(i)));
+    left = static_cast<int>(ins.map.left.size());
+    EXPECT_EQ(w.pool().freeCount(), 0u) << "keyframe of frame " << i;
+    mapper.compactNewestImage();
+    // Back in the pool (which keeps one spare) once the newest is compacted.
+    EXPECT_EQ(w.pool().freeCount(), left > 0 ? 1u : 0u) << "keyframe of frame " << i;
+    if (left == 0) continue;
+    // Taken by the next frame, as tracking would.
+    std::unique_ptr<ImagePyramid> next = w.pool().acquire();
+    EXPECT_EQ(next->bytes(), w.pyramid(0)->bytes()) << "a whole pyramid again";
+  }
+  EXPECT_GT(left, 0) << "no keyframe left the window";
+}
+
 TEST(Mapper, ParallelTracingAndLinearisationGiveTheSameWindowBitForBit) {
   // system.parallel_threads: tracing one task per keyframe, linearising one per host keyframe.
   SyntheticWindow w(24);
