@@ -79,9 +79,8 @@ inline MapData syntheticMap(const SyntheticMapSize& size, std::uint64_t seed = 1
     kf.culled = i % 11 == 10;
     kf.map_points_in_view = static_cast<int>(rng.next() % 50);
     kf.path_length = 0.3 * i;
-    kf.newest_when_left = map.keyframes[static_cast<std::size_t>(
-                                            std::min(size.keyframes - 1, i + 6))]
-                              .id;
+    kf.newest_when_left =
+        map.keyframes[static_cast<std::size_t>(std::min(size.keyframes - 1, i + 6))].id;
     for (int j = 0; j < size.points_per_keyframe; ++j) {
       PatchPoint p;
       p.u = rng.uniformf(4, 748);
@@ -95,9 +94,9 @@ inline MapData syntheticMap(const SyntheticMapSize& size, std::uint64_t seed = 1
       kf.points.push_back(p);
       HostedPoint h;
       const Eigen::Vector3d ray((p.u - 367.2) / 458.5, (p.v - 248.4) / 457.25, 1.0);
-      h.point.position = pose.T_w_c * (ray / static_cast<double>(p.idepth));
-      h.point.intensity = p.colors[4];
-      h.point.is_corner = p.is_corner;
+      h.position = (pose.T_w_c * (ray / static_cast<double>(p.idepth))).cast<float>();
+      h.intensity = p.colors[4];
+      h.is_corner = p.is_corner;
       h.host = kf.id;
       map.points.push_back(h);
     }
@@ -134,16 +133,17 @@ inline MapData syntheticMap(const SyntheticMapSize& size, std::uint64_t seed = 1
     map.graph.push_back(e);
   }
   for (int l = 0; l < size.loop_edges && size.keyframes > 4; ++l) {
-    const auto i = static_cast<std::size_t>(rng.next() % static_cast<std::uint64_t>(size.keyframes));
+    const auto i =
+        static_cast<std::size_t>(rng.next() % static_cast<std::uint64_t>(size.keyframes));
     const std::size_t j = (i + static_cast<std::size_t>(size.keyframes) / 2) %
                           static_cast<std::size_t>(size.keyframes);
     MapGraphEdge e;
     e.from_id = map.keyframes[i].id;
     e.to_id = map.keyframes[j].id;
     e.kind = 1 + l % 2;
-    e.S_from_to = Sim3d(SO3d::exp(Eigen::Vector3d(0.01, -0.02, 0.03)),
-                        Eigen::Vector3d(rng.uniform(-1, 1), rng.uniform(-1, 1), 0.5),
-                        rng.uniform(0.9, 1.1));
+    e.S_from_to =
+        Sim3d(SO3d::exp(Eigen::Vector3d(0.01, -0.02, 0.03)),
+              Eigen::Vector3d(rng.uniform(-1, 1), rng.uniform(-1, 1), 0.5), rng.uniform(0.9, 1.1));
     e.information = 100.0 * Eigen::Matrix<double, 7, 7>::Identity();
     e.information(0, 1) = e.information(1, 0) = 0.5;
     map.graph.push_back(e);

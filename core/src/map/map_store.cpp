@@ -356,7 +356,7 @@ int MapStore::applyCorrection(const std::map<int, Sim3d>& S_world_camera) {
     auto copy = std::make_shared<MapSnapshot::PointBlock>(*block);
     for (HostedPoint& p : *copy) {
       const auto it = moves.find(p.host);
-      if (it != moves.end()) p.point.position = it->second * p.point.position;
+      if (it != moves.end()) p.position = (it->second * p.position.cast<double>()).cast<float>();
     }
     block = std::move(copy);
   }
@@ -467,7 +467,7 @@ std::vector<MapPoint> MapStore::points(std::size_t extra) const {
   const KeyframeTable& keyframes = *s->keyframes;
   for (const auto& block : s->points)
     for (const HostedPoint& p : *block) {
-      MapPoint m = p.point;
+      MapPoint m = p.mapPoint();
       const bool hosted = p.host >= 0 && p.host < static_cast<int>(keyframes.size());
       m.map = hosted ? s->maps.label(keyframes[p.host].map) : 0;
       if (m.map == 0) m.position = s->maps.reportFrame() * m.position;

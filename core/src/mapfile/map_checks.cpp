@@ -14,7 +14,9 @@ bool finite(const SE3d& T) {
   return T.quaternion().coeffs().allFinite() && T.translation().allFinite();
 }
 
-bool positive(double v) { return std::isfinite(v) && v > 0.0; }
+bool positive(double v) {
+  return std::isfinite(v) && v > 0.0;
+}
 
 /// Collects the first problem; each check returns false once one is found.
 class Checker {
@@ -100,10 +102,11 @@ class Checker {
 
   bool dataScalars(const MarginalizedKeyframe& kf, const std::string& at) {
     if (!std::isfinite(kf.timestamp))
-      return fail(kKeyframeDataTag, at + "timestamp " + numberText(kf.timestamp) + " is not finite");
+      return fail(kKeyframeDataTag,
+                  at + "timestamp " + numberText(kf.timestamp) + " is not finite");
     if (!positive(kf.exposure))
-      return fail(kKeyframeDataTag, at + "exposure " + numberText(kf.exposure) +
-                                        " is not a finite positive number");
+      return fail(kKeyframeDataTag,
+                  at + "exposure " + numberText(kf.exposure) + " is not a finite positive number");
     if (!std::isfinite(kf.aff.a) || !std::isfinite(kf.aff.b))
       return fail(kKeyframeDataTag, at + "affine brightness (" + numberText(kf.aff.a) + ", " +
                                         numberText(kf.aff.b) + ") is not finite");
@@ -117,8 +120,8 @@ class Checker {
       return fail(kKeyframeDataTag, at + "path length " + numberText(kf.path_length) +
                                         " is not a finite non-negative number");
     if (kf.newest_when_left < -1)
-      return fail(kKeyframeDataTag, at + "newest_when_left " +
-                                        std::to_string(kf.newest_when_left) + " is not an id");
+      return fail(kKeyframeDataTag,
+                  at + "newest_when_left " + std::to_string(kf.newest_when_left) + " is not an id");
     return true;
   }
 
@@ -127,19 +130,18 @@ class Checker {
       const PatchPoint& p = kf.points[j];
       const std::string pt = at + "point " + std::to_string(j) + ": ";
       if (!std::isfinite(p.u) || !std::isfinite(p.v))
-        return fail(kKeyframeDataTag, pt + "pixel (" + numberText(p.u) + ", " + numberText(p.v) +
-                                          ") is not finite");
+        return fail(kKeyframeDataTag,
+                    pt + "pixel (" + numberText(p.u) + ", " + numberText(p.v) + ") is not finite");
       if (!positive(p.idepth))
         return fail(kKeyframeDataTag, pt + "inverse depth " + numberText(p.idepth) +
                                           " is not a finite positive number");
       if (!std::isfinite(p.idepth_hessian) || p.idepth_hessian < 0.f)
-        return fail(kKeyframeDataTag, pt + "inverse depth hessian " +
-                                          numberText(p.idepth_hessian) +
+        return fail(kKeyframeDataTag, pt + "inverse depth hessian " + numberText(p.idepth_hessian) +
                                           " is not a finite non-negative number");
       for (int k = 0; k < kPatternSize; ++k) {
         if (!std::isfinite(p.colors[k]) || !std::isfinite(p.grad_weights[k]))
-          return fail(kKeyframeDataTag, pt + "pattern sample " + std::to_string(k) +
-                                            " (colour " + numberText(p.colors[k]) + ", weight " +
+          return fail(kKeyframeDataTag, pt + "pattern sample " + std::to_string(k) + " (colour " +
+                                            numberText(p.colors[k]) + ", weight " +
                                             numberText(p.grad_weights[k]) + ") is not finite");
       }
       if (p.observations < 0)
@@ -157,8 +159,8 @@ class Checker {
     for (std::size_t j = 0; j < kf.corner_idepth.size(); ++j) {
       // NaN: unknown depth; an infinity is no depth at all.
       if (std::isinf(kf.corner_idepth[j]))
-        return fail(kKeyframeDataTag, at + "corner " + std::to_string(j) +
-                                          ": inverse depth is infinite");
+        return fail(kKeyframeDataTag,
+                    at + "corner " + std::to_string(j) + ": inverse depth is infinite");
     }
     return true;
   }
@@ -179,11 +181,9 @@ class Checker {
     for (std::size_t j = 0; j < map_.points.size(); ++j) {
       const HostedPoint& p = map_.points[j];
       const std::string at = "point " + std::to_string(j) + ": ";
-      if (!p.point.position.allFinite())
-        return fail(kPointsTag, at + "position is not finite");
-      if (!std::isfinite(p.point.intensity))
-        return fail(kPointsTag, at + "intensity " + numberText(p.point.intensity) +
-                                    " is not finite");
+      if (!p.position.allFinite()) return fail(kPointsTag, at + "position is not finite");
+      if (!std::isfinite(p.intensity))
+        return fail(kPointsTag, at + "intensity " + numberText(p.intensity) + " is not finite");
       if (p.host != -1 && !known(p.host))
         return fail(kPointsTag, at + "host keyframe " + std::to_string(p.host) + " does not exist");
     }
@@ -192,8 +192,7 @@ class Checker {
 
   bool covisibility() {
     for (const MapCovisibility& e : map_.covisibility) {
-      const std::string at =
-          "edge " + std::to_string(e.a) + " - " + std::to_string(e.b) + ": ";
+      const std::string at = "edge " + std::to_string(e.a) + " - " + std::to_string(e.b) + ": ";
       if (!known(e.a) || !known(e.b))
         return fail(kCovisibilityTag,
                     at + "keyframe " + std::to_string(known(e.a) ? e.b : e.a) + " does not exist");
@@ -232,7 +231,9 @@ class Checker {
 
 }  // namespace
 
-std::optional<MapProblem> findMapProblem(const MapData& map) { return Checker(map).run(); }
+std::optional<MapProblem> findMapProblem(const MapData& map) {
+  return Checker(map).run();
+}
 
 std::string numberText(double v) {
   char buf[32];

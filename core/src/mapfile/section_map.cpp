@@ -62,11 +62,11 @@ void readRefinement(ByteReader& r, MapCalibration& c) {
 void writePoints(ByteWriter& w, const std::vector<HostedPoint>& points) {
   w.count(points.size());
   for (const HostedPoint& p : points) {
-    for (int i = 0; i < 3; ++i) w.f64(p.point.position[i]);
-    w.f32(p.point.intensity);
+    for (int i = 0; i < 3; ++i) w.f64(p.position[i]);
+    w.f32(p.intensity);
     w.i32(p.host);
-    w.i32(p.point.map);
-    w.u8(p.point.is_corner ? kCornerFlag : 0);
+    w.i32(p.map);
+    w.u8(p.is_corner ? kCornerFlag : 0);
   }
 }
 
@@ -74,15 +74,15 @@ std::vector<HostedPoint> readPoints(ByteReader& r) {
   std::vector<HostedPoint> points(r.count("points", kPointBytes));
   for (std::size_t j = 0; j < points.size(); ++j) {
     HostedPoint& p = points[j];
-    for (int i = 0; i < 3; ++i) p.point.position[i] = r.f64();
-    p.point.intensity = r.f32();
+    for (int i = 0; i < 3; ++i) p.position[i] = static_cast<float>(r.f64());
+    p.intensity = r.f32();
     p.host = r.i32();
-    p.point.map = r.i32();
+    p.map = r.i32();
     const std::uint8_t flags = r.u8();
     if ((flags & ~kCornerFlag) != 0)
       r.fail("point " + std::to_string(j) + ": flags " + std::to_string(flags) +
              " have unknown bits");
-    p.point.is_corner = (flags & kCornerFlag) != 0;
+    p.is_corner = (flags & kCornerFlag) != 0;
   }
   return points;
 }

@@ -29,10 +29,35 @@ struct FrameRecord {
 };
 
 /// A point that left the window, with the id of the keyframe that hosted it (-1: none); it moves
-/// with that keyframe on loop closure.
+/// with that keyframe on loop closure. The map keeps one per point for the whole run, so it is
+/// stored compactly (28 bytes, where a MapPoint and the host took 48): the world position in
+/// float, which holds a point cloud's coordinates to about 1e-7 of the map's extent (nothing in
+/// the odometry reads these positions; the window's and the map keyframes' points are their own).
 struct HostedPoint {
-  MapPoint point;
+  HostedPoint() = default;
+  HostedPoint(const MapPoint& p, int host_id)
+      : position(p.position.cast<float>()),
+        intensity(p.intensity),
+        host(host_id),
+        map(p.map),
+        is_corner(p.is_corner) {}
+
+  /// As the public API reports it (MapPoint::map as stored).
+  MapPoint mapPoint() const {
+    MapPoint m;
+    m.position = position.cast<double>();
+    m.intensity = intensity;
+    m.is_corner = is_corner;
+    m.map = map;
+    return m;
+  }
+
+  Eigen::Vector3f position = Eigen::Vector3f::Zero();  ///< world
+  float intensity = 0.f;
   int host = -1;
+  int map = 0;  ///< as MapPoint::map
+  bool is_corner = false;
 };
+static_assert(sizeof(HostedPoint) <= 28, "a map point is kept for the whole run: keep it compact");
 
 }  // namespace ldsm

@@ -94,8 +94,8 @@ MapData exportMap(const MapStore& store, MappingStage& mapping, const loop::Loop
   for (const HostedPoint& p : stored.points) {
     if (!kept(p.host)) continue;
     HostedPoint q = p;
-    q.point.position = S * p.point.position;
-    q.point.map = 0;
+    q.position = (S * p.position.cast<double>()).cast<float>();
+    q.map = 0;
     out.points.push_back(q);
   }
   // The window's keyframes join the map as they would if they left it now, with their points.
@@ -110,9 +110,9 @@ MapData exportMap(const MapStore& store, MappingStage& mapping, const loop::Loop
       const Eigen::Vector3d ray = radialRay(camera, kf.radial_k, p.u, p.v).cast<double>();
       HostedPoint q;
       q.host = kf.id;
-      q.point.position = r.T_w_c * (r.scale * ray / static_cast<double>(p.idepth));
-      q.point.intensity = p.colors[0];
-      q.point.is_corner = p.is_corner;
+      q.position = (r.T_w_c * (r.scale * ray / static_cast<double>(p.idepth))).cast<float>();
+      q.intensity = p.colors[0];
+      q.is_corner = p.is_corner;
       out.points.push_back(q);
     }
     out.data.push_back(std::move(kf));

@@ -2,6 +2,8 @@
 // folded out of the pose graph move with the keyframe they follow.
 #include <gtest/gtest.h>
 
+#include <cfloat>
+
 #include "map/map_store.h"
 
 namespace ldsm {
@@ -34,7 +36,10 @@ TEST(MapStoreCorrection, KeyframesFramesAndPointsMoveWithTheSim3) {
   EXPECT_LT((frames[0].pose.translation - S1_new * Eigen::Vector3d(0, 0, 0.5)).norm(), 1e-12);
   const std::vector<MapPoint> pts = store.points();
   ASSERT_EQ(pts.size(), 3u);
-  EXPECT_LT((pts[0].position - S1_new * Eigen::Vector3d(0, 0, 2)).norm(), 1e-9);
+  // Points are stored in float (HostedPoint): the moved point is where the Sim(3) puts it, to
+  // within the rounding of its stored and of its moved coordinates.
+  const Eigen::Vector3d ideal = S1_new * Eigen::Vector3d(0, 0, 2);
+  EXPECT_LT((pts[0].position - ideal).norm(), 4.0 * FLT_EPSILON * ideal.norm());
   EXPECT_LT((pts[1].position - q.position).norm(), 1e-12);
   EXPECT_LT((pts[2].position - r.position).norm(), 1e-12);
 }

@@ -43,9 +43,8 @@ inline std::size_t sectionOffset(const Bytes& file, std::uint32_t tag) {
 inline void refreshHeaderChecksum(Bytes& file) {
   const std::size_t n = mapfile::loadU32(file.data() + 12);
   const std::uint32_t c = mapfile::crc32(file.data(), 16);
-  mapfile::storeU32(file.data() + 16,
-                    mapfile::crc32(file.data() + mapfile::kHeaderBytes,
-                                   n * mapfile::kTableEntryBytes, c));
+  mapfile::storeU32(file.data() + 16, mapfile::crc32(file.data() + mapfile::kHeaderBytes,
+                                                     n * mapfile::kTableEntryBytes, c));
 }
 
 /// Recomputes every checksum, as a writer of a forged file would.
@@ -81,7 +80,9 @@ void poke(Bytes& file, std::size_t at, T value) {
   std::memcpy(file.data() + at, &value, sizeof(T));  // tests run on little-endian hosts only
 }
 
-inline bool sameBits(float a, float b) { return std::memcmp(&a, &b, sizeof(float)) == 0; }
+inline bool sameBits(float a, float b) {
+  return std::memcmp(&a, &b, sizeof(float)) == 0;
+}
 
 inline void expectSamePose(const SE3d& a, const SE3d& b) {
   EXPECT_TRUE(a.quaternion().coeffs().isApprox(b.quaternion().coeffs(), 1e-15));
@@ -161,10 +162,10 @@ inline void expectSameMap(const MapData& a, const MapData& b) {
   }
   ASSERT_EQ(a.points.size(), b.points.size());
   for (std::size_t j = 0; j < a.points.size(); ++j) {
-    EXPECT_EQ(a.points[j].point.position, b.points[j].point.position);
-    EXPECT_EQ(a.points[j].point.intensity, b.points[j].point.intensity);
-    EXPECT_EQ(a.points[j].point.is_corner, b.points[j].point.is_corner);
-    EXPECT_EQ(a.points[j].point.map, b.points[j].point.map);
+    EXPECT_EQ(a.points[j].position, b.points[j].position);
+    EXPECT_EQ(a.points[j].intensity, b.points[j].intensity);
+    EXPECT_EQ(a.points[j].is_corner, b.points[j].is_corner);
+    EXPECT_EQ(a.points[j].map, b.points[j].map);
     EXPECT_EQ(a.points[j].host, b.points[j].host);
   }
   ASSERT_EQ(a.covisibility.size(), b.covisibility.size());
@@ -180,8 +181,8 @@ inline void expectSameMap(const MapData& a, const MapData& b) {
     EXPECT_EQ(x.from_id, y.from_id);
     EXPECT_EQ(x.to_id, y.to_id);
     EXPECT_EQ(x.kind, y.kind);
-    EXPECT_TRUE(x.S_from_to.quaternion().coeffs().isApprox(y.S_from_to.quaternion().coeffs(),
-                                                           1e-15));
+    EXPECT_TRUE(
+        x.S_from_to.quaternion().coeffs().isApprox(y.S_from_to.quaternion().coeffs(), 1e-15));
     EXPECT_EQ(x.S_from_to.translation(), y.S_from_to.translation());
     EXPECT_EQ(x.S_from_to.scale(), y.S_from_to.scale());
     EXPECT_EQ(x.information, y.information);
