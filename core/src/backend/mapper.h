@@ -94,7 +94,8 @@ class Mapper {
   const WindowKeyframe& newestKeyframe() const { return *window_.back(); }
   /// Bytes of image data the window holds: the level-0 intensities of each keyframe
   /// (ImagePyramid::compact), and the newest keyframe's whole pyramid until
-  /// compactNewestImage().
+  /// compactNewestImage(). Not counted: the compacted pyramids of keyframes that just left,
+  /// held until then (leaving_pyramids_).
   std::size_t windowImageBytes() const;
   /// Frees all but the newest keyframe's level-0 intensities, once the tracking reference was
   /// made from it (a newer keyframe frees the rest anyway).

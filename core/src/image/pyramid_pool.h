@@ -1,5 +1,6 @@
 // Image pyramids of one size, recycled: a frame takes one, and it comes back when the frame is
-// done with (an ordinary frame after tracking and tracing, a keyframe when it leaves the window).
+// done with (an ordinary frame after tracking and tracing, a keyframe after it left the window,
+// once the newest keyframe is compacted: Mapper::compactNewestImage).
 // Safe to use from the tracking and the mapping thread at once; once enough pyramids circulate,
 // nothing is allocated.
 //

@@ -1,7 +1,10 @@
 // CALB (calibration), CALR (calibration refinement), PNTS (points), COVI (covisibility) and GRPH
 // (pose graph): docs/map-file.md.
+#include <cmath>
+#include <limits>
 #include <string>
 
+#include "mapfile/map_checks.h"
 #include "mapfile/map_sections.h"
 #include "mapfile/pose_codec.h"
 
@@ -74,7 +77,16 @@ std::vector<HostedPoint> readPoints(ByteReader& r) {
   std::vector<HostedPoint> points(r.count("points", kPointBytes));
   for (std::size_t j = 0; j < points.size(); ++j) {
     HostedPoint& p = points[j];
-    for (int i = 0; i < 3; ++i) p.position[i] = static_cast<float>(r.f64());
+    // Held in float (HostedPoint): a finite coordinate beyond float's range is refused here
+    // (it would become infinite); NaN and infinities are named by the checks.
+    for (int i = 0; i < 3; ++i) {
+      const double v = r.f64();
+      if (std::isfinite(v) && std::fabs(v) > std::numeric_limits<float>::max())
+        r.fail("point " + std::to_string(j) + ": coordinate " + numberText(v) +
+               " is beyond the range the map holds points in (float, " +
+               numberText(std::numeric_limits<float>::max()) + ")");
+      p.position[i] = static_cast<float>(v);
+    }
     p.intensity = r.f32();
     p.host = r.i32();
     p.map = r.i32();

@@ -31,8 +31,8 @@ struct FrameRecord {
 /// A point that left the window, with the id of the keyframe that hosted it (-1: none); it moves
 /// with that keyframe on loop closure. The map keeps one per point for the whole run, so it is
 /// stored compactly (28 bytes, where a MapPoint and the host took 48): the world position in
-/// float, which holds a point cloud's coordinates to about 1e-7 of the map's extent (nothing in
-/// the odometry reads these positions; the window's and the map keyframes' points are their own).
+/// float, each coordinate to about 6e-8 of its magnitude (nothing in the odometry reads these
+/// positions; the window's and the map keyframes' points are their own).
 struct HostedPoint {
   HostedPoint() = default;
   HostedPoint(const MapPoint& p, int host_id)

@@ -74,9 +74,11 @@ struct MappingSnapshot {
   /// The refinement's history (pipeline/calibration_history.h; never null once published).
   std::shared_ptr<const std::vector<CalibrationSample>> calibration_history;
   bool has_window = false;
-  SE3d newest_T_c_w;             ///< the newest keyframe's pose (or the last one, no window)
-  std::vector<int> window_ids;   ///< the active keyframes (or the last ones, no window)
-  double median_depth = 1.0;     ///< of the window's points seen from the newest keyframe
+  SE3d newest_T_c_w;            ///< the newest keyframe's pose (or the last one, no window)
+  std::vector<int> window_ids;  ///< the active keyframes (or the last ones, no window)
+  /// Of the window's points seen from the newest keyframe; before any window, a loaded map's
+  /// (continueAfterLoadedMap), else 1.
+  double median_depth = 1.0;
   std::vector<int> reactivated;  ///< map keyframes in the window
   ReuseStats reuse;
 };

@@ -30,11 +30,11 @@ std::string errorOf(const Bytes& bytes) {
   return "";
 }
 
-#define EXPECT_MESSAGE(bytes, text)                                      \
-  do {                                                                   \
-    const std::string message_ = errorOf(bytes);                         \
+#define EXPECT_MESSAGE(bytes, text)                                           \
+  do {                                                                        \
+    const std::string message_ = errorOf(bytes);                              \
     EXPECT_EQ(message_.rfind(std::string(kWhere) + ": ", 0), 0u) << message_; \
-    EXPECT_NE(message_.find(text), std::string::npos) << message_;       \
+    EXPECT_NE(message_.find(text), std::string::npos) << message_;            \
   } while (0)
 
 Bytes goodFile() {
@@ -155,8 +155,8 @@ TEST(MapCodecBadInput, AbsurdCountsAreRefusedBeforeAllocating) {
   test::poke<std::uint32_t>(bytes, kfdt + 4 + 121, 0x40000000u);
   test::refreshChecksums(bytes);
   EXPECT_MESSAGE(bytes, "section KFDT (keyframe data): keyframe 0: 1073741824 points need");
-  for (std::uint32_t tag : {mf::kKeyframesTag, mf::kPointsTag, mf::kCovisibilityTag,
-                            mf::kGraphTag}) {
+  for (std::uint32_t tag :
+       {mf::kKeyframesTag, mf::kPointsTag, mf::kCovisibilityTag, mf::kGraphTag}) {
     bytes = good;
     test::poke<std::uint32_t>(bytes, test::sectionOffset(good, tag), 0x7FFFFFFFu);
     test::refreshChecksums(bytes);
@@ -209,6 +209,30 @@ TEST(MapCodecBadInput, NanInKeyframeData) {
   test::poke<std::uint8_t>(bytes, first + 120, 6);  // flags
   test::refreshChecksums(bytes);
   EXPECT_MESSAGE(bytes, "keyframe 0: keyframe flags 6 have unknown bits");
+}
+
+TEST(MapCodecBadInput, APointPositionThatIsNoNumberOrBeyondFloat) {
+  const Bytes good = goodFile();
+  // Point 1's z: after the count, 37 bytes per point, then x and y.
+  const std::size_t z = test::sectionOffset(good, mf::kPointsTag) + 4 + 37 + 16;
+  Bytes bytes = good;
+  test::poke<double>(bytes, z, std::numeric_limits<double>::quiet_NaN());
+  test::refreshChecksums(bytes);
+  EXPECT_MESSAGE(bytes, "section PNTS (points): point 1: position is not finite");
+  bytes = good;
+  test::poke<double>(bytes, z, -std::numeric_limits<double>::infinity());
+  test::refreshChecksums(bytes);
+  EXPECT_MESSAGE(bytes, "section PNTS (points): point 1: position is not finite");
+  // Finite, but no float holds it: named as such, not as "not finite".
+  bytes = good;
+  test::poke<double>(bytes, z, 1e39);
+  test::refreshChecksums(bytes);
+  EXPECT_MESSAGE(bytes, "point 1: coordinate 1e+39 is beyond the range the map holds points in");
+  // The largest float is still a position.
+  bytes = good;
+  test::poke<double>(bytes, z, static_cast<double>(std::numeric_limits<float>::max()));
+  test::refreshChecksums(bytes);
+  EXPECT_NO_THROW(decodeMap(bytes.data(), bytes.size(), kWhere));
 }
 
 TEST(MapCodecBadInput, InconsistentIds) {
