@@ -8,9 +8,12 @@
 // dropped when a relocalisation attempt takes long. In the runs measured frame 390 resumed in the
 // window by the plain rule (1.7-1.8 times the residual before the loss, 69-80 % inliers), not by
 // the map's confirmation, and no frame was dropped (docs/map-reuse.md, "The map confirms the
-// window's track"). Measured on a 2-core AMD EPYC only: 0.00078-0.00102 m in 7 runs (2 of them
-// with a busy loop on one core); the bar is twice DSO's figure for the sequence (0.0008-0.0009
-// m), as in the deterministic test. About 15 s (real time).
+// window's track"). On CI (2026-12-07) it did not: the map relocaliser found the seventh frame
+// tracking received after the gap, 29 frames dropped while its attempts ran, so the test asks what
+// holds either way (below). Measured on a 2-core AMD EPYC only: 0.00078-0.00102 m in 7 runs (2 of
+// them with a busy loop on one core), 0.00086-0.00092 m in 6 under two busy loops; the bar is twice
+// DSO's figure for the sequence (0.0008-0.0009 m), as in the deterministic test. About 15 s (real
+// time).
 #include <gtest/gtest.h>
 #include <spdlog/spdlog.h>
 
@@ -56,8 +59,14 @@ class BlackedOutSource : public drivers::FrameSource {
 
 class LossListener : public SystemListener {
  public:
+  void onFrame(const FrameEvent& e) override { frames.push_back({e.timestamp, e.has_pose}); }
   void onTrackingLost(const TrackingLostEvent&) override { ++lost; }
   void onRelocalized(const RelocalizedEvent& e) override { found.push_back(e); }
+  struct Processed {
+    double timestamp = 0.0;
+    bool has_pose = false;
+  };
+  std::vector<Processed> frames;  ///< every frame tracking received, in order (none dropped)
   int lost = 0;
   std::vector<RelocalizedEvent> found;
 };
@@ -127,11 +136,40 @@ TEST(LiveRelocalisation, VamrDeskLoopResumesInItsMapAfterFortyBlackFramesInRealT
   EXPECT_EQ(s.reuse.relocalizations, 1);
   EXPECT_EQ(s.reuse.new_maps, 0);
   EXPECT_EQ(other_map, 0) << "poses reported in a second map's frame";
-  // Every frame that tracking received and was not black has a pose, but for the frames before
-  // the map exists (the initialisation takes about 12) and those dropped.
-  constexpr std::int64_t kBeforeTheMap = 20;
-  EXPECT_GT(ate.matched, static_cast<std::size_t>(kFrames - (kBlackEnd - kBlackFirst) -
-                                                  kBeforeTheMap - s.dropped_frames));
+  // Which of the frames tracking received (dropped ones never reach it) have a pose: every one
+  // from the map's start to the gap, and every one from the relocalised frame to the end. The map
+  // starts within 1.5 s: 0.4 s (12 frames) on an idle machine, 0.67-0.87 s under two busy loops
+  // (the initialiser's thread falls behind and frames go by while it works). Relocalising may take
+  // several attempts, each dropping frames while it runs: on CI (2026-12-07, the test alone, 29
+  // frames dropped) frame 390 did not resume in the window and the map found the seventh frame
+  // tracking received after the gap, 1.17 s after the first clean one. It must come within 1.5 s,
+  // so that at least 15 poses after it (half a second) are measured.
+  ASSERT_EQ(listener.found.size(), 1u);
+  const double resumed_at = listener.found.front().timestamp;
+  const double first_clean = desc.timestamps[static_cast<std::size_t>(kBlackEnd)];
+  double map_start = -1.0;
+  std::size_t posed = 0, unposed_before_gap = 0, unposed_after_resume = 0;
+  for (const LossListener::Processed& f : listener.frames) {
+    posed += f.has_pose ? 1 : 0;
+    if (f.has_pose && map_start < 0.0) map_start = f.timestamp;
+    if (f.has_pose) continue;
+    if (map_start >= 0.0 && f.timestamp < gap_start) ++unposed_before_gap;
+    if (f.timestamp >= resumed_at) ++unposed_after_resume;
+  }
+  std::printf(
+      "  %zu frames received, %zu with a pose; the map from %.2f s, resumed %.2f s after the "
+      "first clean frame\n",
+      listener.frames.size(), posed, map_start - desc.timestamps.front(), resumed_at - first_clean);
+  EXPECT_GE(map_start, 0.0);
+  EXPECT_LE(map_start - desc.timestamps.front(), 1.5);
+  // Black frames are rejected before tracking (no frame event).
+  EXPECT_GE(listener.frames.size() + (kBlackEnd - kBlackFirst) + s.dropped_frames, kFrames);
+  EXPECT_EQ(unposed_before_gap, 0u) << "frames between the map's start and the gap without a pose";
+  EXPECT_EQ(unposed_after_resume, 0u) << "frames after the relocalisation without a pose";
+  EXPECT_LE(resumed_at - first_clean, 1.5);
+  // The trajectory also holds the initialiser's first frames, posed once the map starts.
+  EXPECT_GE(trajectory.size(), posed);
+  EXPECT_EQ(ate.matched, trajectory.size());
   EXPECT_LT(ate.rmse, 2.0 * 0.0009);
 }
 
