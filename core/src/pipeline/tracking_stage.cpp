@@ -119,9 +119,11 @@ std::optional<TrackingStage::InitializationDone> TrackingStage::initializeFrame(
   const bool done =
       initializer_.addFrame(*job.pyramid, job.info.exposure, job.info.timestamp, job.after_skipped);
   const InitFrameStats& is = initializer_.lastFrameStats();
-  spdlog::debug("frame {}: initialiser {} (flow {:.1f} px, rms {:.1f}, good {:.0f} %)", index,
-                toString(initializer_.status()), is.flow_translation, is.rms_residual,
-                100.0 * is.good_fraction);
+  spdlog::debug(
+      "frame {}: initialiser {} (flow {:.1f} px, rotation-free {:.1f} px, rms {:.1f}, good {:.0f} "
+      "%)",
+      index, toString(initializer_.status()), is.flow_translation, is.parallax, is.rms_residual,
+      100.0 * is.good_fraction);
   if (initializer_.framesTracked() == 0 && !done) {
     // This frame became the initializer's reference: keep its pyramid for the first keyframe.
     pyramids_.release(std::move(init_reference_));
