@@ -15,6 +15,8 @@
 // DSO's figure for the sequence (0.0008-0.0009 m), as in the deterministic test. About 15 s (real
 // time).
 #include <gtest/gtest.h>
+#include <spdlog/sinks/ringbuffer_sink.h>
+#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include <cstdint>
@@ -57,6 +59,45 @@ class BlackedOutSource : public drivers::FrameSource {
   std::unique_ptr<drivers::FrameSource> source_;
 };
 
+/// While alive, the debug log goes to a ring of the last `lines` messages (printed by dump()) and
+/// warnings and errors to stderr as usual; the previous default logger comes back afterwards. A
+/// failure under CI's load then shows what tracking and the relocaliser decided (2026-12-07's
+/// failure said only how many poses there were).
+class RecentDebugLog {
+ public:
+  explicit RecentDebugLog(std::size_t lines)
+      : previous_(spdlog::default_logger()),
+        ring_(std::make_shared<spdlog::sinks::ringbuffer_sink_mt>(lines)) {
+    auto console = std::make_shared<spdlog::sinks::stderr_color_sink_mt>();
+    console->set_level(std::getenv("LDSM_DEBUG") ? spdlog::level::debug : spdlog::level::warn);
+    ring_->set_level(spdlog::level::debug);
+    auto logger = std::make_shared<spdlog::logger>("live_relocalisation_test",
+                                                   spdlog::sinks_init_list{console, ring_});
+    logger->set_level(spdlog::level::debug);
+    spdlog::set_default_logger(logger);
+  }
+  ~RecentDebugLog() { spdlog::set_default_logger(previous_); }
+  RecentDebugLog(const RecentDebugLog&) = delete;
+  RecentDebugLog& operator=(const RecentDebugLog&) = delete;
+  /// The kept messages from the first that contains `from` on (all when none does).
+  void dump(const std::string& from) const {
+    const std::vector<std::string> lines = ring_->last_formatted();
+    std::size_t first = 0;
+    for (std::size_t i = 0; i < lines.size(); ++i)
+      if (lines[i].find(from) != std::string::npos) {
+        first = i;
+        break;
+      }
+    std::printf("  the debug log from \"%s\" on (%zu of %zu kept lines):\n", from.c_str(),
+                lines.size() - first, lines.size());
+    for (std::size_t i = first; i < lines.size(); ++i) std::printf("    %s", lines[i].c_str());
+  }
+
+ private:
+  std::shared_ptr<spdlog::logger> previous_;
+  std::shared_ptr<spdlog::sinks::ringbuffer_sink_mt> ring_;
+};
+
 class LossListener : public SystemListener {
  public:
   void onFrame(const FrameEvent& e) override { frames.push_back({e.timestamp, e.has_pose}); }
@@ -75,7 +116,7 @@ TEST(LiveRelocalisation, VamrDeskLoopResumesInItsMapAfterFortyBlackFramesInRealT
   const std::string folder = test::sharedData("vamr_desk_loop");
   if (folder.empty())
     GTEST_SKIP() << "../shared/data/vamr_desk_loop is absent: real-data test skipped";
-  spdlog::set_level(std::getenv("LDSM_DEBUG") ? spdlog::level::debug : spdlog::level::warn);
+  const RecentDebugLog log(600);
   const auto desc = drivers::describeDataset(folder);
   const auto calib = drivers::loadDatasetCalibration(desc);
   const Trajectory gt =
@@ -171,6 +212,7 @@ TEST(LiveRelocalisation, VamrDeskLoopResumesInItsMapAfterFortyBlackFramesInRealT
   EXPECT_GE(trajectory.size(), posed);
   EXPECT_EQ(ate.matched, trajectory.size());
   EXPECT_LT(ate.rmse, 2.0 * 0.0009);
+  if (::testing::Test::HasFailure()) log.dump("tracking lost");
 }
 
 }  // namespace
