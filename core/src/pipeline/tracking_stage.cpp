@@ -120,8 +120,8 @@ std::optional<TrackingStage::InitializationDone> TrackingStage::initializeFrame(
       initializer_.addFrame(*job.pyramid, job.info.exposure, job.info.timestamp, job.after_skipped);
   const InitFrameStats& is = initializer_.lastFrameStats();
   spdlog::debug(
-      "frame {}: initialiser {} (flow {:.1f} px, rotation-free {:.1f} px, rms {:.1f}, good {:.0f} "
-      "%)",
+      "frame {}: initialiser {} (flow {:.1f} px, rotation-free {:.1f} px, "
+      "rms {:.1f}, good {:.0f} %)",
       index, toString(initializer_.status()), is.flow_translation, is.parallax, is.rms_residual,
       100.0 * is.good_fraction);
   if (initializer_.framesTracked() == 0 && !done) {
